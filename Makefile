@@ -1,0 +1,63 @@
+# Thin wrapper over CMake. On a fresh Debian 12 as root: `make demo` or `make test`.
+BUILD    ?= build
+JOBS     ?= $(shell nproc)
+CMAKE_FLAGS ?=
+
+.PHONY: all deps configure build debug asan test test-only bench demo smoke format clean
+
+all: build
+
+# Every build and run dependency, from Debian's packages only. Safe to re-run.
+DEB_PACKAGES := build-essential cmake pkg-config git jq shellcheck ca-certificates \
+	libeigen3-dev libopencv-dev libopenimageio-dev openimageio-tools libopenexr-dev \
+	libcli11-dev nlohmann-json3-dev libtbb-dev libembree-dev \
+	libgtest-dev libgmock-dev googletest libbenchmark-dev \
+	glslang-tools libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
+	blender-data opencv-doc
+
+deps:
+	@if [ "$$(id -u)" -ne 0 ]; then echo "make deps: run as root (apt-get install)"; exit 2; fi
+	@missing=$$(for p in $(DEB_PACKAGES); do \
+		dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; \
+	done); \
+	if [ -n "$$missing" ]; then \
+		echo "make deps: installing:" $$missing; \
+		export DEBIAN_FRONTEND=noninteractive; \
+		apt-get update -q && apt-get install -y -q --no-install-recommends $$missing; \
+	else echo "make deps: all Debian packages present"; fi
+
+configure:
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+debug:
+	$(MAKE) build BUILD=build-debug CMAKE_FLAGS="-DCMAKE_BUILD_TYPE=Debug"
+
+# AddressSanitizer + UndefinedBehaviorSanitizer build and suite.
+asan:
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DINLIGHT_SANITIZE=address,undefined \
+		-DINLIGHT_BUILD_BENCH=OFF $(CMAKE_FLAGS)
+	cmake --build build-asan -j $(JOBS)
+	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE slow
+
+test: deps build test-only
+
+test-only:
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	./pipelines/bench.sh $(BUILD)
+
+demo: deps build
+	INLIGHT_BIN=$(BUILD)/bin ./pipelines/demo.sh out
+
+smoke: build
+	INLIGHT_BIN=$(BUILD)/bin ./pipelines/demo.sh out
+
+format:
+	find apps lib tests -name '*.h' -o -name '*.cpp' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD) build-debug build-asan

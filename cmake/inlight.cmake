@@ -1,0 +1,63 @@
+# Helpers that keep each module's and tool's CMakeLists.txt to a few lines (like Mitsuba's add_plugin).
+
+add_library(inlight_warnings INTERFACE)
+target_compile_options(inlight_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local
+    -Wnon-virtual-dtor -Wno-unused-parameter)
+if(INLIGHT_WARNINGS_AS_ERRORS)
+    target_compile_options(inlight_warnings INTERFACE -Werror)
+endif()
+if(INLIGHT_SANITIZE)
+    target_compile_options(inlight_warnings INTERFACE -fsanitize=${INLIGHT_SANITIZE}
+        -fno-omit-frame-pointer -fno-sanitize-recover=all)
+    target_link_options(inlight_warnings INTERFACE -fsanitize=${INLIGHT_SANITIZE})
+endif()
+
+# Where tests find ../shared/data and the Debian data packages; tests skip when absent.
+get_filename_component(INLIGHT_SHARED_DIR "${CMAKE_SOURCE_DIR}/../shared" ABSOLUTE)
+set(INLIGHT_TEST_ENV
+    "INLIGHT_SHARED_DIR=${INLIGHT_SHARED_DIR}"
+    "INLIGHT_SOURCE_DIR=${CMAKE_SOURCE_DIR}"
+    "INLIGHT_BIN=${CMAKE_BINARY_DIR}/bin")
+
+# inlight_add_module(name SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...] [TEST_DEPS ...])
+# Builds static library inlight_<name> (alias inlight::<name>) and, when <name>_test.cpp files
+# exist beside it, the test binary inlight_<name>_test registered with ctest under label "unit".
+function(inlight_add_module name)
+    cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS;TESTS;TEST_DEPS" ${ARGN})
+    add_library(inlight_${name} STATIC ${ARG_SOURCES})
+    add_library(inlight::${name} ALIAS inlight_${name})
+    target_include_directories(inlight_${name} PUBLIC ${PROJECT_SOURCE_DIR}/lib)
+    target_link_libraries(inlight_${name} PUBLIC ${ARG_PUBLIC_DEPS}
+        PRIVATE inlight_warnings ${ARG_PRIVATE_DEPS})
+    if(INLIGHT_BUILD_TESTS)
+        file(GLOB tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*_test.cpp)
+        if(tests)
+            add_executable(inlight_${name}_test ${tests})
+            target_link_libraries(inlight_${name}_test PRIVATE inlight_${name} inlight_testing
+                ${ARG_TEST_DEPS} inlight_warnings GTest::gtest_main)
+            set_target_properties(inlight_${name}_test PROPERTIES
+                RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+            gtest_discover_tests(inlight_${name}_test
+                PROPERTIES LABELS unit ENVIRONMENT "${INLIGHT_TEST_ENV}"
+                DISCOVERY_TIMEOUT 60)
+        endif()
+    endif()
+endfunction()
+
+# inlight_add_tool(name DEPS ...): apps/<name>/main.cpp -> build/bin/<name>
+function(inlight_add_tool name)
+    cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+    add_executable(${name} main.cpp)
+    target_link_libraries(${name} PRIVATE ${ARG_DEPS} inlight::core inlight_warnings)
+endfunction()
+
+# inlight_add_bench(name SOURCES ... DEPS ...): a Google Benchmark binary in build/bench
+function(inlight_add_bench name)
+    cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+    if(NOT INLIGHT_BUILD_BENCH)
+        return()
+    endif()
+    add_executable(${name} ${ARG_SOURCES})
+    target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark inlight_warnings)
+    set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bench)
+endfunction()

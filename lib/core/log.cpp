@@ -1,0 +1,52 @@
+#include "core/log.h"
+
+#include <atomic>
+#include <cstdio>
+#include <mutex>
+
+namespace inlight::log {
+namespace {
+
+std::atomic<int> g_level{static_cast<int>(Level::kNormal)};
+std::mutex g_mutex;  // serialises stderr lines and the warning list
+
+std::vector<std::string>& warnings() {
+    static std::vector<std::string> list;
+    return list;
+}
+
+void emit(const char* prefix, const std::string& message) {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    std::fprintf(stderr, "%s%s\n", prefix, message.c_str());
+    std::fflush(stderr);
+}
+
+}  // namespace
+
+void set_level(Level l) { g_level = static_cast<int>(l); }
+Level level() { return static_cast<Level>(g_level.load()); }
+
+void info(const std::string& message) {
+    if (g_level >= static_cast<int>(Level::kNormal)) emit("", message);
+}
+
+void verbose(const std::string& message) {
+    if (g_level >= static_cast<int>(Level::kVerbose)) emit("", message);
+}
+
+void warn(const std::string& message) {
+    if (g_level >= static_cast<int>(Level::kNormal)) emit("warning: ", message);
+    std::lock_guard<std::mutex> lock(g_mutex);
+    warnings().push_back(message);
+}
+
+void error(const std::string& message) { emit("", message); }
+
+std::vector<std::string> take_warnings() {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    std::vector<std::string> out;
+    out.swap(warnings());
+    return out;
+}
+
+}  // namespace inlight::log

@@ -1,0 +1,28 @@
+// testing/testing.h: locating real data for tests; a test that needs absent data skips.
+#pragma once
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace inlight::testing {
+
+/// The project's ../shared directory (from INLIGHT_SHARED_DIR, set by ctest), or "" if absent.
+std::string shared_dir();
+/// ../shared/data/<sub>, or "" if it does not exist.
+std::string shared_data(const std::string& sub);
+/// The blender-data studio-light HDRIs (/usr/share/blender/datafiles/studiolights/world), or "".
+std::string blender_hdri_dir();
+/// The eight blender-data HDRI names.
+inline const char* const kBlenderHdris[] = {"city",  "courtyard", "forest", "interior",
+                                             "night", "studio",    "sunrise", "sunset"};
+/// A fresh empty temporary directory for one test (removed by the OS, not by the test).
+std::string temp_dir(const std::string& name);
+
+}  // namespace inlight::testing
+
+/// Skips the current test with a message when `path` (a string) is empty.
+#define INLIGHT_SKIP_IF_MISSING(path, what)                                   \
+    if ((path).empty()) {                                                     \
+        GTEST_SKIP() << what << " not found; skipping (see shared/data/README.md)"; \
+    }
