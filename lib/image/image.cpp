@@ -1,0 +1,345 @@
+#include "image/image.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+
+#include "core/check.h"
+#include "core/error.h"
+#include "core/fs.h"
+#include "core/log.h"
+#include "core/parallel.h"
+#include "image/color.h"
+
+// Notes on conventions that the header leaves implicit:
+// - Metadata written: "inlight:color_space" (house name of the in-memory space),
+//   "inlight:transfer" ("srgb" or "linear": how integer samples were encoded) and
+//   "oiio:ColorSpace" (the name OpenImageIO 2.4 understands: "sRGB" for encoded integer files,
+//   "Linear" for linear_srgb, ...). OpenImageIO's TIFF and JPEG writers drop custom attributes,
+//   so the two inlight keys are also written into ImageDescription as
+//   "inlight:color_space=<name> inlight:transfer=<srgb|linear>", which those formats keep.
+//   On reading, a file this module wrote is decoded with the transfer it records and tagged
+//   with the space it records. Radiance HDR has no metadata in OpenImageIO: it reads back as
+//   linear_srgb, and writing another space there logs a warning.
+// - Alpha is passed through as the file stores it: no premultiplication or division is done
+//   (PNG and TIFF alpha are read and written unassociated, EXR alpha as stored). Alpha (the last
+//   channel of 2- and 4-channel images) is never sRGB-encoded or decoded.
+
+namespace inlight::image {
+namespace {
+
+struct NameEntry {
+    ColorSpace cs;
+    const char* name;
+    const char* oiio_name;  // "oiio:ColorSpace" for linear (float or linear-integer) files
+};
+
+constexpr NameEntry kNames[] = {
+    {ColorSpace::kLinearSrgb, "linear_srgb", "Linear"},
+    {ColorSpace::kSrgb, "srgb", "sRGB"},
+    {ColorSpace::kAcescg, "acescg", "ACEScg"},
+    {ColorSpace::kAces2065_1, "aces2065_1", "ACES2065-1"},
+    {ColorSpace::kLinearRec2020, "linear_rec2020", "lin_rec2020"},
+    {ColorSpace::kXyzD65, "xyz_d65", "CIE-XYZ-D65"},
+    {ColorSpace::kRawCamera, "raw_camera", "Raw"},
+    {ColorSpace::kData, "data", "Raw"},
+};
+
+const NameEntry& entry(ColorSpace cs) {
+    for (const auto& e : kNames) {
+        if (e.cs == cs) return e;
+    }
+    INLIGHT_CHECK(false) << "unknown ColorSpace value " << static_cast<int>(cs);
+    return kNames[0];
+}
+
+enum class Format { kExr, kHdr, kPng, kJpeg, kTiff };
+
+constexpr int kJpegMaxSide = 65500;  // libjpeg's limit; beyond it libjpeg calls exit()
+
+// The metadata value for `key`: the attribute if present, else "key=value" in
+// ImageDescription (see the note at the top), else "".
+std::string inlight_value(const OIIO::ImageSpec& spec, const std::string& key) {
+    std::string v = spec.get_string_attribute(key);
+    if (!v.empty()) return v;
+    const std::string desc = spec.get_string_attribute("ImageDescription");
+    const std::string tag = key + "=";
+    size_t at = desc.find(tag);
+    if (at == std::string::npos || (at > 0 && desc[at - 1] != ' ')) return "";
+    at += tag.size();
+    const size_t end = desc.find(' ', at);
+    return desc.substr(at, end == std::string::npos ? std::string::npos : end - at);
+}
+
+// OIIO error strings end with newlines and sometimes hold several lines; keep one line.
+std::string clean(std::string msg) {
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    while (!msg.empty() && msg.back() == ' ') msg.pop_back();
+    return msg.empty() ? "unknown OpenImageIO error" : msg;
+}
+
+bool is_alpha(int c, int channels) { return (channels == 2 || channels == 4) && c == channels - 1; }
+
+bool is_integer(OIIO::TypeDesc t) {
+    switch (t.basetype) {
+        case OIIO::TypeDesc::UINT8:
+        case OIIO::TypeDesc::INT8:
+        case OIIO::TypeDesc::UINT16:
+        case OIIO::TypeDesc::INT16:
+        case OIIO::TypeDesc::UINT32:
+        case OIIO::TypeDesc::INT32:
+            return true;
+        default:
+            return false;
+    }
+}
+
+// Applies fn(value, channel) to every sample in parallel; chunks are whole rows.
+template <typename Fn>
+void for_each_sample(Image& img, Fn fn) {
+    const int64_t row = static_cast<int64_t>(img.width) * img.channels;
+    parallel::for_chunks(img.height, 16, [&](int64_t y0, int64_t y1) {
+        for (int64_t i = y0 * row; i < y1 * row; ++i) {
+            float& v = img.pixels[static_cast<size_t>(i)];
+            v = fn(v, static_cast<int>(i % img.channels));
+        }
+    });
+}
+
+Format format_for(const std::string& path) {
+    const std::string ext = fs::extension(path);
+    if (ext == "exr") return Format::kExr;
+    if (ext == "hdr") return Format::kHdr;
+    if (ext == "png") return Format::kPng;
+    if (ext == "jpg" || ext == "jpeg") return Format::kJpeg;
+    if (ext == "tif" || ext == "tiff") return Format::kTiff;
+    throw Error(str(path, ": cannot write: unsupported extension '", ext,
+                    "' (use .exr, .hdr, .png, .jpg, .jpeg, .tif or .tiff)"));
+}
+
+// Quantises encoded values in [0, 1] to integers with round-to-nearest; NaN -> 0.
+template <typename T>
+std::vector<T> quantise(const std::vector<float>& v, double max_code) {
+    std::vector<T> out(v.size());
+    parallel::for_chunks(static_cast<int64_t>(v.size()), 1 << 16, [&](int64_t b, int64_t e) {
+        for (int64_t i = b; i < e; ++i) {
+            double x = v[static_cast<size_t>(i)];
+            x = x >= 0.0 ? std::min(x, 1.0) : 0.0;  // also maps NaN to 0
+            out[static_cast<size_t>(i)] = static_cast<T>(std::lround(x * max_code));
+        }
+    });
+    return out;
+}
+
+}  // namespace
+
+std::string to_string(ColorSpace cs) { return entry(cs).name; }
+
+ColorSpace color_space_from_string(const std::string& name) {
+    for (const auto& e : kNames) {
+        if (name == e.name) return e.cs;
+    }
+    std::string names;
+    for (const auto& e : kNames) names += std::string(names.empty() ? "" : ", ") + e.name;
+    throw UsageError(str("unknown colour space '", name, "' (accepted: ", names, ")"));
+}
+
+Image::Image(int w, int h, int c, ColorSpace cs)
+    : width(w), height(h), channels(c), color_space(cs) {
+    INLIGHT_CHECK(w > 0 && h > 0 && c > 0) << "image size " << w << "x" << h << "x" << c;
+    pixels.assign(static_cast<size_t>(w) * h * c, 0.0f);
+}
+
+ImageInfo read_info(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error(str(path, ": cannot open: ", clean(OIIO::geterror())));
+    const OIIO::ImageSpec& spec = in->spec();
+    ImageInfo info;
+    info.width = spec.width;
+    info.height = spec.height;
+    info.channels = spec.nchannels;
+    info.bits_per_channel =
+        spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
+    info.is_float = !is_integer(spec.format);
+    info.format = in->format_name();
+    in->close();
+    return info;
+}
+
+Image read_image(const std::string& path, const ReadOptions& options) {
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);  // pass alpha through as stored
+    auto in = OIIO::ImageInput::open(path, &config);
+    if (!in) throw Error(str(path, ": cannot open: ", clean(OIIO::geterror())));
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.deep) throw Error(str(path, ": deep images are not supported"));
+    if (spec.depth > 1) throw Error(str(path, ": volume images are not supported"));
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+        throw Error(str(path, ": invalid image size ", spec.width, "x", spec.height, "x",
+                        spec.nchannels));
+    }
+    constexpr double kMaxSamples = 4.0e9;  // 16 GB of floats: beyond this the header is corrupt
+    if (double(spec.width) * spec.height * spec.nchannels > kMaxSamples) {
+        throw Error(str(path, ": image too large (", spec.width, "x", spec.height, "x",
+                        spec.nchannels, ")"));
+    }
+
+    Image img(spec.width, spec.height, spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, img.pixels.data())) {
+        throw Error(str(path, ": cannot read pixels: ", clean(in->geterror())));
+    }
+
+    // What the file says about itself (only files this module wrote carry the inlight keys).
+    const std::string stored_cs = inlight_value(spec, "inlight:color_space");
+    const std::string transfer = inlight_value(spec, "inlight:transfer");
+    ColorSpace tagged = ColorSpace::kLinearSrgb;
+    bool known = false;
+    for (const auto& e : kNames) {
+        if (stored_cs == e.name && e.cs != ColorSpace::kSrgb) {
+            tagged = e.cs;
+            known = true;
+        }
+    }
+
+    if (is_integer(spec.format)) {
+        const bool encoded = transfer != "linear";  // third-party integer files: sRGB
+        if (encoded && options.decode_srgb) {
+            const int n = img.channels;
+            for_each_sample(img, [n](float v, int c) { return is_alpha(c, n) ? v : srgb_decode(v); });
+        } else if (encoded || !known) {
+            tagged = ColorSpace::kData;  // values as stored, in [0, 1]
+        }
+    }
+    img.color_space = tagged;
+    in->close();
+    return img;
+}
+
+void write_image(const std::string& path, const Image& img, const WriteOptions& options) {
+    const Format format = format_for(path);
+    if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
+        img.pixels.size() != img.pixel_count() * static_cast<size_t>(img.channels)) {
+        throw Error(str(path, ": cannot write: inconsistent image ", img.width, "x", img.height,
+                        "x", img.channels, " with ", img.pixels.size(), " values"));
+    }
+    if (img.color_space == ColorSpace::kSrgb) {
+        throw Error(str(path, ": cannot write: in-memory pixels must be linear, but the image is ",
+                        "tagged srgb (srgb names an encoding of 8/16-bit files only)"));
+    }
+
+    int channels = img.channels;
+    const std::vector<float>* src = &img.pixels;
+    std::vector<float> expanded;
+    if (format == Format::kHdr) {
+        if (channels == 1) {
+            expanded.resize(img.pixels.size() * 3);
+            for (size_t i = 0; i < img.pixels.size(); ++i) {
+                expanded[3 * i] = expanded[3 * i + 1] = expanded[3 * i + 2] = img.pixels[i];
+            }
+            src = &expanded;
+            channels = 3;
+        } else if (channels != 3) {
+            throw Error(str(path, ": Radiance HDR stores 3 channels, got ", channels));
+        }
+    }
+    if (format == Format::kJpeg && channels != 1 && channels != 3) {
+        throw Error(str(path, ": JPEG stores 1 or 3 channels, got ", channels));
+    }
+    if (format == Format::kJpeg && std::max(img.width, img.height) > kJpegMaxSide) {
+        throw Error(str(path, ": JPEG stores at most ", kJpegMaxSide, " pixels per side, got ",
+                        img.width, "x", img.height));
+    }
+    if (format == Format::kPng && channels > 4) {
+        throw Error(str(path, ": PNG stores 1 to 4 channels, got ", channels));
+    }
+
+    const bool integer = format == Format::kPng || format == Format::kJpeg ||
+                         (format == Format::kTiff && options.bits != 32);
+    if (format == Format::kJpeg && options.bits != 8) {
+        throw Error(str(path, ": JPEG stores 8 bits per channel, asked for ", options.bits));
+    }
+    if (integer && options.bits != 8 && options.bits != 16) {
+        throw Error(str(path, ": cannot write ", options.bits,
+                        " bits per channel (use 8 or 16; TIFF also takes 32 for float)"));
+    }
+
+    OIIO::TypeDesc file_type = OIIO::TypeFloat;
+    if (format == Format::kExr && options.exr_half) file_type = OIIO::TypeHalf;
+    if (integer) file_type = options.bits == 8 ? OIIO::TypeUInt8 : OIIO::TypeUInt16;
+
+    OIIO::ImageSpec spec(img.width, img.height, channels, file_type);
+    if (format == Format::kExr) {
+        if (channels == 1) spec.channelnames = {"Y"};
+        if (channels == 2) spec.channelnames = {"Y", "A"};
+        if (channels == 3) spec.channelnames = {"R", "G", "B"};
+        if (channels == 4) spec.channelnames = {"R", "G", "B", "A"};
+        spec.alpha_channel = (channels == 2 || channels == 4) ? channels - 1 : -1;
+        spec.attribute("compression", "zip");
+    }
+    if (format == Format::kJpeg) spec.attribute("Compression", "jpeg:95");
+    if (format == Format::kPng || format == Format::kTiff) {
+        spec.attribute("oiio:UnassociatedAlpha", 1);
+    }
+    const bool encode = integer && options.encode_srgb;
+    const std::string cs_name = to_string(img.color_space);
+    const std::string transfer = encode ? "srgb" : "linear";
+    spec.attribute("inlight:color_space", cs_name);
+    if (integer) spec.attribute("inlight:transfer", transfer);
+    spec.attribute("oiio:ColorSpace", encode ? "sRGB" : entry(img.color_space).oiio_name);
+    if (format == Format::kTiff || format == Format::kJpeg) {
+        spec.attribute("ImageDescription",
+                       "inlight:color_space=" + cs_name + " inlight:transfer=" + transfer);
+    }
+    if (format == Format::kHdr && img.color_space != ColorSpace::kLinearSrgb) {
+        log::warn(str(path, ": Radiance HDR keeps no colour space; this ", cs_name,
+                      " image will read back as linear_srgb"));
+    }
+
+    // Pixel data in the type the file stores (integers quantised here, not by OpenImageIO).
+    std::vector<float> encoded_values;
+    std::vector<uint8_t> data8;
+    std::vector<uint16_t> data16;
+    const void* data = src->data();
+    OIIO::TypeDesc data_type = OIIO::TypeFloat;
+    if (integer) {
+        encoded_values = *src;
+        if (encode) {
+            const int n = channels;
+            parallel::for_chunks(static_cast<int64_t>(encoded_values.size()), 1 << 16,
+                                 [&](int64_t b, int64_t e) {
+                                     for (int64_t i = b; i < e; ++i) {
+                                         float& v = encoded_values[static_cast<size_t>(i)];
+                                         if (!is_alpha(static_cast<int>(i % n), n)) {
+                                             v = srgb_encode(v);
+                                         }
+                                     }
+                                 });
+        }
+        if (options.bits == 8) {
+            data8 = quantise<uint8_t>(encoded_values, 255.0);
+            data = data8.data();
+            data_type = OIIO::TypeUInt8;
+        } else {
+            data16 = quantise<uint16_t>(encoded_values, 65535.0);
+            data = data16.data();
+            data_type = OIIO::TypeUInt16;
+        }
+    }
+
+    fs::write_atomic(path, [&](const std::string& tmp) {
+        auto out = OIIO::ImageOutput::create(tmp);
+        if (!out) throw Error(str(path, ": cannot write: ", clean(OIIO::geterror())));
+        if (!out->open(tmp, spec)) {
+            throw Error(str(path, ": cannot write: ", clean(out->geterror())));
+        }
+        if (!out->write_image(data_type, data)) {
+            throw Error(str(path, ": cannot write pixels: ", clean(out->geterror())));
+        }
+        if (!out->close()) throw Error(str(path, ": cannot finish: ", clean(out->geterror())));
+    });
+}
+
+}  // namespace inlight::image
