@@ -32,6 +32,11 @@ double lab_f(double t) {
 }
 
 // Hue angle in degrees in [0, 360); 0 for the achromatic axis (Sharma et al. eq. 4).
+double pow7(double x) {
+    const double x2 = x * x;
+    return x2 * x2 * x2 * x;
+}
+
 double hue_deg(double b, double a_prime) {
     if (b == 0.0 && a_prime == 0.0) return 0.0;
     double h = deg_from_rad(std::atan2(b, a_prime));
@@ -108,7 +113,7 @@ double delta_e2000(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2) {
 
     // eq. 2-5: a' stretched by G, C', h'.
     const double c_ab = 0.5 * (std::hypot(a1, b1) + std::hypot(a2, b2));
-    const double c_ab7 = std::pow(c_ab, 7.0);
+    const double c_ab7 = pow7(c_ab);
     const double g = 0.5 * (1.0 - std::sqrt(c_ab7 / (c_ab7 + k25_7)));
     const double a1p = (1.0 + g) * a1, a2p = (1.0 + g) * a2;
     const double c1p = std::hypot(a1p, b1), c2p = std::hypot(a2p, b2);
@@ -146,8 +151,9 @@ double delta_e2000(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2) {
                      0.24 * std::cos(rad_from_deg(2.0 * hbp)) +
                      0.32 * std::cos(rad_from_deg(3.0 * hbp + 6.0)) -
                      0.20 * std::cos(rad_from_deg(4.0 * hbp - 63.0));
-    const double dtheta = 30.0 * std::exp(-std::pow((hbp - 275.0) / 25.0, 2.0));
-    const double cbp7 = std::pow(Cbp, 7.0);
+    const double hr = (hbp - 275.0) / 25.0;
+    const double dtheta = 30.0 * std::exp(-hr * hr);
+    const double cbp7 = pow7(Cbp);
     const double rc = 2.0 * std::sqrt(cbp7 / (cbp7 + k25_7));
     const double l50 = (Lbp - 50.0) * (Lbp - 50.0);
     const double sl = 1.0 + 0.015 * l50 / std::sqrt(20.0 + l50);

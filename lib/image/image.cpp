@@ -178,8 +178,8 @@ Image read_image(const std::string& path, const ReadOptions& options) {
     if (spec.deep) throw Error(str(path, ": deep images are not supported"));
     if (spec.depth > 1) throw Error(str(path, ": volume images are not supported"));
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
-        throw Error(str(path, ": invalid image size ", spec.width, "x", spec.height, "x",
-                        spec.nchannels));
+        throw Error(
+            str(path, ": invalid image size ", spec.width, "x", spec.height, "x", spec.nchannels));
     }
     constexpr double kMaxSamples = 4.0e9;  // 16 GB of floats: beyond this the header is corrupt
     if (double(spec.width) * spec.height * spec.nchannels > kMaxSamples) {
@@ -208,7 +208,8 @@ Image read_image(const std::string& path, const ReadOptions& options) {
         const bool encoded = transfer != "linear";  // third-party integer files: sRGB
         if (encoded && options.decode_srgb) {
             const int n = img.channels;
-            for_each_sample(img, [n](float v, int c) { return is_alpha(c, n) ? v : srgb_decode(v); });
+            for_each_sample(img,
+                            [n](float v, int c) { return is_alpha(c, n) ? v : srgb_decode(v); });
         } else if (encoded || !known) {
             tagged = ColorSpace::kData;  // values as stored, in [0, 1]
         }

@@ -69,22 +69,31 @@ ImageInfo read_info(const std::string& path);
 /// Reads any format OpenImageIO reads into linear float. Float formats (EXR, HDR, float TIFF)
 /// are taken as linear_srgb; integer formats are sRGB-decoded (see ReadOptions) and tagged
 /// linear_srgb, or tagged data when decode_srgb is false. Throws Error naming the file.
+/// Files written by write_image carry their colour space and integer encoding in metadata:
+/// the space is restored, and integer files written with encode_srgb = false are read back
+/// as stored (never decoded). Alpha (the last of 2 or 4 channels) is passed through as the
+/// file stores it: never decoded, premultiplied or divided. Reads subimage 0, mip level 0.
 Image read_image(const std::string& path, const ReadOptions& options = {});
 
 /// How to write.
 struct WriteOptions {
-    /// For PNG/JPEG/TIFF: 8 or 16 bits per channel; EXR is always half or float (see below).
+    /// For PNG/JPEG/TIFF: 8 or 16 bits per channel (JPEG: 8 only; TIFF also takes 32 for a
+    /// linear float TIFF); EXR is always half or float (see below), HDR always RGBE.
     int bits = 8;
     /// EXR only: write 16-bit half instead of 32-bit float.
     bool exr_half = false;
     /// For integer formats: encode linear values with the sRGB curve (true) or write them
-    /// linearly (false, for data images). Values are clamped to [0, 1] before quantising.
+    /// linearly (false, for data images). Values are clamped to [0, 1] (NaN to 0) and rounded
+    /// to the nearest code. Alpha (the last of 2 or 4 channels) is never encoded.
     bool encode_srgb = true;
 };
 
 /// Writes by extension (.exr .hdr .png .jpg/.jpeg .tif/.tiff) atomically: a temporary file is
 /// renamed into place, so a failure never leaves a partial file. The colour space is stored in
 /// the file's metadata ("oiio:ColorSpace" and "inlight:color_space"). Throws Error on failure.
+/// Channels: EXR names 1 -> Y, 2 -> Y,A, 3 -> R,G,B, 4 -> R,G,B,A; HDR takes 3 (1 is expanded
+/// to grey RGB, others are an Error) and keeps no colour space (anything but linear_srgb logs
+/// a warning); PNG takes 1-4; JPEG 1 or 3 and at most 65500 pixels per side.
 void write_image(const std::string& path, const Image& img, const WriteOptions& options = {});
 
 }  // namespace inlight::image

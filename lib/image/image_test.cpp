@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/log.h"
 #include "image/color.h"
 #include "testing/testing.h"
 
@@ -52,8 +53,8 @@ std::string starts(const std::string& s, size_t n) { return s.substr(0, std::min
 
 TEST(ColorSpace, NamesRoundTrip) {
     for (ColorSpace cs : {ColorSpace::kLinearSrgb, ColorSpace::kSrgb, ColorSpace::kAcescg,
-                          ColorSpace::kAces2065_1, ColorSpace::kLinearRec2020,
-                          ColorSpace::kXyzD65, ColorSpace::kRawCamera, ColorSpace::kData}) {
+                          ColorSpace::kAces2065_1, ColorSpace::kLinearRec2020, ColorSpace::kXyzD65,
+                          ColorSpace::kRawCamera, ColorSpace::kData}) {
         EXPECT_EQ(color_space_from_string(to_string(cs)), cs);
     }
     EXPECT_EQ(to_string(ColorSpace::kLinearSrgb), "linear_srgb");
@@ -207,8 +208,8 @@ TEST(ImageIo, Png8And16RoundTripWithinQuantisation) {
             // Half a code step in the encoded domain, plus float rounding of the curve.
             const double tol = 0.5 / max_code + 1e-6;
             const Image img = random_image(19, 7, c, 0.0f, 1.0f, 20 + c);
-            const std::string path = dir + "/p" + std::to_string(bits) + "_" +
-                                     std::to_string(c) + ".png";
+            const std::string path =
+                dir + "/p" + std::to_string(bits) + "_" + std::to_string(c) + ".png";
             WriteOptions opt;
             opt.bits = bits;
             write_image(path, img, opt);
@@ -291,9 +292,11 @@ TEST(ImageIo, TiffRoundTrip) {
 }
 
 TEST(ImageIo, JpegRoundTripOfFlatColour) {
-    // A flat 16x16 colour has only DC coefficients, which quality 95 quantises with a step of
-    // 2 (8 x 2 / 8 = 2 code units on the sample scale, i.e. error <= 1 code per YCbCr channel);
-    // the RGB <-> YCbCr round trip adds up to 1 more code per channel: within 3 codes of 255.
+    // A flat 16x16 colour has only DC coefficients (and 4:2:0 subsampling of a flat chroma is
+    // exact). Quality 95 scales the standard DC quantisers (16, 17) by 0.1 to a step of 2
+    // (IJG jcparam.c); DC = 8 x block mean, so the mean moves by <= 1/8 code. The integer
+    // RGB -> YCbCr -> RGB conversions round twice (<= 0.5 code each, times the conversion's
+    // largest row sum ~1.8 on the way back): within 3 codes in all.
     constexpr double kJpegTol = 3.0 / 255.0;
     const std::string dir = testing::temp_dir("jpeg");
     Image img(16, 16, 3);
@@ -303,9 +306,13 @@ TEST(ImageIo, JpegRoundTripOfFlatColour) {
     EXPECT_EQ(read_info(dir + "/j.jpg").format, "jpeg");
     const Image back = read_image(dir + "/j.jpg");
     ASSERT_EQ(back.channels, 3);
+    double worst = 0;
     for (size_t i = 0; i < img.pixels.size(); ++i) {
-        EXPECT_NEAR(srgb_encode(back.pixels[i]), srgb_encode(img.pixels[i]), kJpegTol);
+        worst = std::max(
+            worst, std::fabs(double(srgb_encode(back.pixels[i])) - srgb_encode(img.pixels[i])));
     }
+    std::printf("[ jpeg ] flat colour worst error %.2f codes (bound 3)\n", worst * 255);
+    EXPECT_LE(worst, kJpegTol);
     const std::string msg = error_of([&] { write_image(dir + "/a.jpg", Image(4, 4, 4)); });
     EXPECT_EQ(msg, dir + "/a.jpg: JPEG stores 1 or 3 channels, got 4");
 }
@@ -321,26 +328,35 @@ TEST(ImageIo, ColorSpaceRestoredFromMetadata) {
     png16.bits = 16;
     WriteOptions half;
     half.exr_half = true;
-    const Case cases[] = {{"a.exr", ColorSpace::kAcescg, {}},
-                          {"b.exr", ColorSpace::kData, half},
-                          {"c.exr", ColorSpace::kXyzD65, {}},
-                          {"d.png", ColorSpace::kLinearRec2020, png16},
-                          {"e.tif", ColorSpace::kRawCamera, {}},
-                          {"f.jpg", ColorSpace::kAces2065_1, {}}};
+    const Case cases[] = {
+        {"a.exr", ColorSpace::kAcescg, {}},    {"b.exr", ColorSpace::kData, half},
+        {"c.exr", ColorSpace::kXyzD65, {}},    {"d.png", ColorSpace::kLinearRec2020, png16},
+        {"e.tif", ColorSpace::kRawCamera, {}}, {"f.jpg", ColorSpace::kAces2065_1, {}}};
     for (const Case& c : cases) {
         write_image(dir + "/" + c.name, random_image(8, 8, 3, 0.0f, 1.0f, 2, c.cs), c.opt);
-        EXPECT_EQ(to_string(read_image(dir + "/" + c.name).color_space), to_string(c.cs))
-            << c.name;
+        EXPECT_EQ(to_string(read_image(dir + "/" + c.name).color_space), to_string(c.cs)) << c.name;
     }
+}
+
+TEST(ImageIo, HdrWarnsThatItDropsTheColourSpace) {
+    const std::string dir = testing::temp_dir("hdr-warn");
+    log::take_warnings();
+    write_image(dir + "/a.hdr", random_image(4, 4, 3, 0.0f, 1.0f, 1, ColorSpace::kAcescg));
+    const auto warnings = log::take_warnings();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find(dir + "/a.hdr: "), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("acescg"), std::string::npos) << warnings[0];
+    EXPECT_EQ(read_image(dir + "/a.hdr").color_space, ColorSpace::kLinearSrgb);
+    write_image(dir + "/b.hdr", random_image(4, 4, 3, 0.0f, 1.0f, 1));  // linear_srgb: silent
+    EXPECT_TRUE(log::take_warnings().empty());
 }
 
 TEST(ImageIo, RefusesSrgbTaggedPixelsAndUnknownExtensions) {
     const std::string dir = testing::temp_dir("refuse");
-    EXPECT_EQ(starts(error_of([&] {
-                         write_image(dir + "/s.png", Image(2, 2, 3, ColorSpace::kSrgb));
-                     }),
-                     dir.size() + 8),
-              dir + "/s.png: ");
+    EXPECT_EQ(
+        starts(error_of([&] { write_image(dir + "/s.png", Image(2, 2, 3, ColorSpace::kSrgb)); }),
+               dir.size() + 8),
+        dir + "/s.png: ");
     const std::string msg = error_of([&] { write_image(dir + "/x.bmp", Image(2, 2, 3)); });
     EXPECT_NE(msg.find(dir + "/x.bmp: "), std::string::npos) << msg;
     EXPECT_NE(msg.find("unsupported extension 'bmp'"), std::string::npos) << msg;
@@ -457,7 +473,8 @@ TEST(RealData, ProbeGraceHdr) {
 }
 
 TEST(RealData, BlenderFabricPngIsDecoded) {
-    const std::string path = "/usr/share/blender/scripts/addons/archimesh/images/fabric_diffuse.png";
+    const std::string path =
+        "/usr/share/blender/scripts/addons/archimesh/images/fabric_diffuse.png";
     if (!stdfs::exists(path)) GTEST_SKIP() << path << " not found (blender-data); skipping";
     const Image img = read_image(path);
     EXPECT_EQ(img.width, 512);

@@ -166,14 +166,14 @@ Image delta_e2000_map(const Image& test, const Image& ref, double exposure) {
     }
     const Eigen::Matrix3d& m = *xyz_matrix(ref.color_space);
     Image out(ref.width, ref.height, 1, ColorSpace::kData);
-    parallel::for_chunks(static_cast<int64_t>(ref.pixel_count()), kGrainPx,
-                         [&](int64_t begin, int64_t end) {
-                             for (int64_t p = begin; p < end; ++p) {
-                                 const double de = delta_e2000(lab_at(test, p, m, exposure),
-                                                               lab_at(ref, p, m, exposure));
-                                 out.pixels[static_cast<size_t>(p)] = static_cast<float>(de);
-                             }
-                         });
+    parallel::for_chunks(
+        static_cast<int64_t>(ref.pixel_count()), kGrainPx, [&](int64_t begin, int64_t end) {
+            for (int64_t p = begin; p < end; ++p) {
+                const double de =
+                    delta_e2000(lab_at(test, p, m, exposure), lab_at(ref, p, m, exposure));
+                out.pixels[static_cast<size_t>(p)] = static_cast<float>(de);
+            }
+        });
     return out;
 }
 
@@ -184,9 +184,9 @@ Image heat_map(const Image& scalar, double max_value) {
     if (!(max_value > 0)) throw Error(str("heat_map: max_value must be > 0, got ", max_value));
     // matplotlib's viridis at t = i/8, sRGB-encoded 8-bit (van der Walt and Smith, 2015).
     static constexpr unsigned char kViridis[9][3] = {
-        {0x44, 0x01, 0x54}, {0x47, 0x2d, 0x7b}, {0x3b, 0x52, 0x8b}, {0x2c, 0x72, 0x8e},
-        {0x21, 0x91, 0x8c}, {0x28, 0xae, 0x80}, {0x5e, 0xc9, 0x62}, {0xad, 0xdc, 0x30},
-        {0xfd, 0xe7, 0x25}};
+        {0x44, 0x01, 0x54}, {0x47, 0x2d, 0x7b}, {0x3b, 0x52, 0x8b},
+        {0x2c, 0x72, 0x8e}, {0x21, 0x91, 0x8c}, {0x28, 0xae, 0x80},
+        {0x5e, 0xc9, 0x62}, {0xad, 0xdc, 0x30}, {0xfd, 0xe7, 0x25}};
     Image out(scalar.width, scalar.height, 3, ColorSpace::kLinearSrgb);
     parallel::for_chunks(
         static_cast<int64_t>(scalar.pixel_count()), kGrainPx, [&](int64_t begin, int64_t end) {

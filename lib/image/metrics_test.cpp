@@ -181,7 +181,8 @@ TEST(HeatMap, ViridisEndpointsMidpointAndMonotoneLightness) {
     // Encoded back to sRGB, the ends and the middle are viridis' published 8-bit colours
     // #440154, #21918c, #fde725 (float rounding only).
     auto code = [&](int x, int k) { return srgb_encode(map.at(x, 0, k)) * 255.0; };
-    const int expect[3][4] = {{0, 0x44, 0x01, 0x54}, {50, 0x21, 0x91, 0x8c}, {100, 0xfd, 0xe7, 0x25}};
+    const int expect[3][4] = {
+        {0, 0x44, 0x01, 0x54}, {50, 0x21, 0x91, 0x8c}, {100, 0xfd, 0xe7, 0x25}};
     for (const auto& e : expect) {
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(code(e[0], k), e[k + 1], 1e-3) << "x=" << e[0];
     }
