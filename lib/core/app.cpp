@@ -50,6 +50,10 @@ nlohmann::json resolved_config(const CLI::App& app) {
         for (char& c : name) {
             if (c == '-') c = '_';
         }
+        if (opt->get_expected_max() == 0) {  // a flag: record whether it was given
+            out[name] = opt->count() > 0;
+            continue;
+        }
         std::vector<std::string> values =
             opt->count() > 0 ? opt->results() : std::vector<std::string>{};
         if (values.empty() && !opt->get_default_str().empty())

@@ -1,0 +1,425 @@
+// Tests of lib/envmap: exact quadratures, conventions at poles and seam, partial-sphere fit,
+// hard inputs, and real HDRIs against brute-force irradiance.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/conventions.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "envmap/environment.h"
+#include "envmap/project.h"
+#include "envmap/validate.h"
+#include "sh/quadrature.h"
+#include "sh/sh.h"
+#include "testing/testing.h"
+
+namespace inlight::envmap {
+namespace {
+
+// Exact quadratures: only double rounding over up to 1e6 terms of O(1) values.
+constexpr double kExactRel = 1e-11;
+
+using Fn = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
+
+Environment latlong(int w, int h, const Fn& f) {
+    Environment env;
+    env.layout = Layout::kLatLong;
+    env.source = "synthetic";
+    env.radiance = image::Image(w, h, 3);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const Eigen::Vector3d v = f(latlong_direction((x + 0.5) / w, (y + 0.5) / h));
+            for (int c = 0; c < 3; ++c) env.radiance.at(x, y, c) = static_cast<float>(v[c]);
+        }
+    }
+    return env;
+}
+
+Environment cube(int n, const Fn& f) {
+    Environment env;
+    env.layout = Layout::kCube;
+    env.source = "synthetic-cube";
+    env.radiance = image::Image(6 * n, n, 3);
+    for (int face = 0; face < 6; ++face) {
+        for (int j = 0; j < n; ++j) {
+            for (int i = 0; i < n; ++i) {
+                const Eigen::Vector3d v = f(cube_direction(face, (i + 0.5) / n, (j + 0.5) / n));
+                for (int c = 0; c < 3; ++c) env.radiance.at(face * n + i, j, c) = float(v[c]);
+            }
+        }
+    }
+    return env;
+}
+
+Environment angular(int n, const Fn& f) {
+    Environment env;
+    env.layout = Layout::kAngular;
+    env.source = "synthetic-angular";
+    env.radiance = image::Image(n, n, 3);
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            double u = -1 + 2.0 * (x + 0.5) / n, v = 1 - 2.0 * (y + 0.5) / n;
+            const double r = std::sqrt(u * u + v * v);
+            if (r > 1) u /= r, v /= r;
+            const Eigen::Vector3d val = f(angular_direction(u, v));
+            for (int c = 0; c < 3; ++c) env.radiance.at(x, y, c) = float(val[c]);
+        }
+    }
+    return env;
+}
+
+Fn constant(double value) {
+    return [value](const Eigen::Vector3d&) { return Eigen::Vector3d::Constant(value); };
+}
+
+// A smooth, positive, not band-limited test environment.
+Eigen::Vector3d smooth(const Eigen::Vector3d& d) {
+    const double a = std::exp(1.5 * d.dot(Eigen::Vector3d(0.48, 0.6, 0.64)));
+    return {a, 0.5 * a + 0.2 * d.z(), 1.0 + 0.3 * d.x()};
+}
+
+TEST(ProjectLatLong, ConstantMapIsExactAtAnyResolution) {
+    const double value = 0.75;  // exact in float32, the pixel type
+    for (int h : {1, 2, 3, 32, 256}) {
+        const Environment env = latlong(2 * h, h, constant(value));
+        ProjectOptions opt;
+        opt.sh_bands = 9;
+        const ProjectResult r = project(env, opt);
+        EXPECT_NEAR(r.coeffs(0, 0), 2 * std::sqrt(kPi) * value, kExactRel) << "h=" << h;
+        for (int k = 1; k < sh::count(9); ++k) EXPECT_NEAR(r.coeffs(k, 1), 0.0, kExactRel);
+        for (const auto& n : validation_normals(16)) {
+            const Eigen::MatrixXd e = sh_irradiance(r.coeffs, 9, {n});
+            EXPECT_NEAR(e(0, 2), kPi * value, kExactRel);
+        }
+    }
+}
+
+TEST(ProjectLatLong, SeparableSchemeEqualsPerPixelBoxIntegral) {
+    // Reference: integrate Y_lm sin(theta) over each pixel's exact area by 2D Gauss-Legendre in
+    // (theta, phi), 16 x 16 nodes: the integrand is analytic over a pi/8 pixel, so the rule
+    // converges to rounding (~1e-15); times the pixel's value.
+    const int w = 16, h = 8, bands = 5, n = sh::count(bands);
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> u(-0.2, 3);
+    Environment env = latlong(w, h, constant(0));
+    for (float& p : env.radiance.pixels) p = static_cast<float>(u(rng));
+    const Eigen::MatrixXd fast = project_latlong(env.radiance, bands);
+    std::vector<double> gx, gw;
+    sh::gauss_legendre(16, gx, gw);
+    Eigen::MatrixXd ref = Eigen::MatrixXd::Zero(n, 3);
+    std::vector<double> y(static_cast<size_t>(n));
+    for (int row = 0; row < h; ++row) {
+        const double t0 = kPi * row / h, t1 = kPi * (row + 1) / h;
+        for (int col = 0; col < w; ++col) {
+            // Cycles: u = col/W .. (col+1)/W maps to phi = pi(1-2u), decreasing.
+            const double p0 = kPi * (1 - 2.0 * col / w), p1 = kPi * (1 - 2.0 * (col + 1) / w);
+            for (size_t a = 0; a < gx.size(); ++a) {
+                for (size_t b = 0; b < gx.size(); ++b) {
+                    const double t = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * gx[a];
+                    const double phi = 0.5 * (p0 + p1) + 0.5 * (p0 - p1) * gx[b];
+                    const double s = std::sin(t);
+                    sh::eval(bands, {s * std::cos(phi), s * std::sin(phi), std::cos(t)}, y.data());
+                    const double wgt = 0.25 * (t1 - t0) * (p0 - p1) * gw[a] * gw[b] * s;
+                    for (int k = 0; k < n; ++k)
+                        for (int c = 0; c < 3; ++c)
+                            ref(k, c) += wgt * y[size_t(k)] * env.radiance.at(col, row, c);
+                }
+            }
+        }
+    }
+    EXPECT_LT((fast - ref).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(ProjectLatLong, HotPixelsFollowCyclesConventionAtPolesAndSeam) {
+    const int w = 64, h = 32;
+    auto hot = [&](int x, int y) {
+        Environment env = latlong(w, h, constant(0));
+        for (int c = 0; c < 3; ++c) env.radiance.at(x, y, c) = 1;
+        ProjectOptions opt;
+        opt.sh_bands = 2;
+        return project(env, opt).coeffs;
+    };
+    // Y_1,-1 ~ y, Y_1,0 ~ z, Y_1,1 ~ x: the first-band vector points at the hot pixel.
+    auto dir = [](const Eigen::MatrixXd& c) { return Eigen::Vector3d(c(3, 0), c(1, 0), c(2, 0)); };
+    EXPECT_GT(dir(hot(w / 2, h / 2)).normalized().x(), 0.99);      // centre faces +x
+    EXPECT_GT(dir(hot(w / 4, h / 2)).normalized().y(), 0.99);      // u = 1/4 faces +y
+    EXPECT_GT(dir(hot(3 * w / 4, h / 2)).normalized().y(), -1.0);  // finite
+    EXPECT_LT(dir(hot(3 * w / 4, h / 2)).normalized().y(), -0.99); // u = 3/4 faces -y
+    EXPECT_GT(dir(hot(5, 0)).normalized().z(), 0.99);              // top row: +z pole
+    EXPECT_LT(dir(hot(5, h - 1)).normalized().z(), -0.99);         // bottom row: -z pole
+    // Seam: the first and last columns both face -x, mirrored in y.
+    const Eigen::Vector3d left = dir(hot(0, h / 2)), right = dir(hot(w - 1, h / 2));
+    EXPECT_LT(left.normalized().x(), -0.99);
+    EXPECT_GT(left.y(), 0.0);
+    EXPECT_NEAR(left.y(), -right.y(), 1e-15);
+    EXPECT_NEAR(left.x(), right.x(), 1e-15);
+}
+
+TEST(ProjectLatLong, RotationMovesTheLight) {
+    const int w = 64, h = 32;
+    Environment env = latlong(w, h, constant(0));
+    for (int c = 0; c < 3; ++c) env.radiance.at(w / 2, h / 2, c) = 1;  // +x
+    env.world_from_input = parse_rotation("z=90");
+    ProjectOptions opt;
+    opt.sh_bands = 4;
+    const Eigen::MatrixXd c = project(env, opt).coeffs;
+    EXPECT_GT(Eigen::Vector3d(c(3, 0), c(1, 0), c(2, 0)).normalized().y(), 0.99);  // now +y
+}
+
+TEST(ProjectLatLong, IdenticalForAnyThreadCount) {
+    const Environment env = latlong(512, 256, smooth);
+    parallel::set_thread_count(1);
+    const Eigen::MatrixXd one = project_latlong(env.radiance, 9);
+    parallel::set_thread_count(2);
+    const Eigen::MatrixXd two = project_latlong(env.radiance, 9);
+    parallel::set_thread_count(0);
+    EXPECT_EQ((one - two).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(Layouts, CubeAndAngularAgreeWithLatLong) {
+    // The same smooth function sampled at pixel centres of three layouts. Midpoint quadrature
+    // error is O(h^2 |f''|) with h ~ pixel angle (pi/256 here): ~1e-4 of the coefficient scale;
+    // the angular map's rim and the pixel supersampling add O(1e-4). Tolerance 2e-3 of L_00.
+    ProjectOptions opt;
+    opt.sh_bands = 4;
+    const Eigen::MatrixXd ll = project(latlong(1024, 512, smooth), opt).coeffs;
+    const Eigen::MatrixXd cb = project(cube(256, smooth), opt).coeffs;
+    const Eigen::MatrixXd an = project(angular(512, smooth), opt).coeffs;
+    const double scale = std::abs(ll(0, 0));
+    EXPECT_LT((cb - ll).cwiseAbs().maxCoeff(), 2e-3 * scale);
+    EXPECT_LT((an - ll).cwiseAbs().maxCoeff(), 2e-3 * scale);
+}
+
+TEST(Layouts, ConstantCubeAndAngularSolidAngles) {
+    ProjectOptions opt;
+    opt.sh_bands = 3;
+    const ProjectResult c = project(cube(7, constant(1)), opt);
+    EXPECT_NEAR(c.covered_solid_angle_sr, 4 * kPi, 1e-12);  // exact texel solid angles
+    EXPECT_NEAR(c.coeffs(0, 0), 2 * std::sqrt(kPi), 1e-12);
+    // Octahedral symmetry of the cube cancels bands 1..3 exactly: irradiance is pi exactly.
+    for (const auto& n : validation_normals(20))
+        EXPECT_NEAR(sh_irradiance(c.coeffs, 3, {n})(0, 0), kPi, 1e-12);
+    // Angular: 4x4 sub-sampled Jacobian; rim coverage error O(delta^2), delta = 1/(2 n): 1e-3.
+    const ProjectResult a = project(angular(128, constant(1)), opt);
+    EXPECT_NEAR(a.covered_solid_angle_sr, 4 * kPi, 1e-3 * 4 * kPi);
+}
+
+TEST(Partial, FisheyeFitBeatsZeroFillOnAFrameCutFromAKnownEnvironment) {
+    // Synthetic equidistant fisheye, 165 degree field of view, looking along +z, cut from a
+    // smooth band-limited environment; direction and solid-angle maps as calibrate writes them.
+    const int n = 200;
+    const double theta_max = 82.5 * kPi / 180, f = (n / 2.0) / theta_max;
+    auto env_fn = [](const Eigen::Vector3d& d) {
+        const double v = 1.0 + 0.6 * d.x() + 0.3 * d.z() - 0.2 * d.y() + 0.25 * d.x() * d.z();
+        return Eigen::Vector3d(v, 0.8 * v, 0.6 * v);
+    };
+    Environment fe;
+    fe.layout = Layout::kFisheye;
+    fe.source = "synthetic-fisheye";
+    fe.radiance = image::Image(n, n, 3);
+    fe.directions = image::Image(n, n, 3, image::ColorSpace::kData);
+    fe.solid_angle = image::Image(n, n, 1, image::ColorSpace::kData);
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            const double dx = x + 0.5 - n / 2.0, dy = n / 2.0 - (y + 0.5);
+            const double r = std::hypot(dx, dy), theta = r / f;
+            if (theta > theta_max) continue;
+            const double psi = std::atan2(dy, dx);
+            const Eigen::Vector3d d(std::sin(theta) * std::cos(psi), std::sin(theta) * std::sin(psi),
+                                    std::cos(theta));
+            for (int c = 0; c < 3; ++c) {
+                fe.directions.at(x, y, c) = float(d[c]);
+                fe.radiance.at(x, y, c) = float(env_fn(d)[c]);
+            }
+            fe.solid_angle.at(x, y, 0) = float(theta > 0 ? std::sin(theta) / (f * f * theta) : 1 / (f * f));
+        }
+    }
+    check_layout(fe);
+    ProjectOptions fit_opt;
+    fit_opt.sh_bands = 3;
+    fit_opt.fit_lambda = 0;
+    ProjectOptions zero_opt = fit_opt;
+    zero_opt.partial = PartialMethod::kZeroFill;
+    const ProjectResult fit = project(fe, fit_opt);
+    const ProjectResult zero = project(fe, zero_opt);
+    const ProjectResult truth = project(latlong(512, 256, env_fn), fit_opt);
+    EXPECT_TRUE(fit.fitted);
+    // Covered solid angle: 2 pi (1 - cos 82.5 deg) up to the pixelated rim (1 pixel ring).
+    EXPECT_NEAR(fit.covered_solid_angle_sr, 2 * kPi * (1 - std::cos(theta_max)), 0.05);
+    const auto normals = validation_normals(200, kPi / 3);  // the screen's normals: within 60 deg
+    const Eigen::MatrixXd e_true = sh_irradiance(truth.coeffs, 3, normals);
+    const IrradianceError fit_err = irradiance_error(sh_irradiance(fit.coeffs, 3, normals), e_true);
+    const IrradianceError zero_err = irradiance_error(sh_irradiance(zero.coeffs, 3, normals), e_true);
+    std::printf("165-deg fisheye: Gram condition %.0f; irradiance error fit mean %.2e max %.2e, "
+                "zero-fill mean %.3f max %.3f\n",
+                fit.fit.gram_condition, fit_err.mean_rel, fit_err.max_rel, zero_err.mean_rel,
+                zero_err.max_rel);
+    // The fit is limited by the pixel quadrature (midpoint over 200 px): 1e-2; zero-fill loses
+    // the light from behind the 165-degree cone, well over 10% for these normals.
+    EXPECT_LT(fit_err.max_rel, 1e-2);
+    EXPECT_GT(zero_err.mean_rel, 0.1);
+}
+
+TEST(Input, NonFinitePixelsRejectedWithPositionOrReplacedAndCounted) {
+    image::Image img(8, 4, 3);
+    img.at(3, 2, 1) = std::nanf("");
+    img.at(5, 1, 0) = INFINITY;
+    img.at(0, 0, 0) = -0.01f;
+    image::Image copy = img;
+    try {
+        scan_pixels(img, NonFinitePolicy::kReject, "sky.exr");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("sky.exr: pixel (x=5, y=1) channel 0 is Inf"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("2 non-finite"), std::string::npos) << msg;
+    }
+    const InputStats s = scan_pixels(copy, NonFinitePolicy::kZero, "sky.exr");
+    EXPECT_EQ(s.nonfinite_values, 2);
+    EXPECT_EQ(s.negative_values, 1);
+    EXPECT_EQ(copy.at(3, 2, 1), 0.0f);
+    EXPECT_FLOAT_EQ(float(s.min_value), -0.01f);
+}
+
+TEST(Input, WrongAspectNamesTheFileAndSize) {
+    Environment env;
+    env.source = "sky.exr";
+    env.radiance = image::Image(1024, 1000, 3);
+    try {
+        check_layout(env);
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "sky.exr: expected a 2:1 lat-long map, got 1024x1000");
+    }
+    env.layout = Layout::kCube;
+    EXPECT_THROW(check_layout(env), Error);
+    env.layout = Layout::kFisheye;
+    EXPECT_THROW(check_layout(env), Error);  // no direction map
+}
+
+TEST(Input, NegativePixelsProjectLinearly) {
+    // Slightly negative pixels (present in the blender-data EXRs) are kept: projection is linear.
+    Environment env = latlong(64, 32, constant(-1.0 / 1024));  // exact in float32
+    ProjectOptions opt;
+    EXPECT_NEAR(project(env, opt).coeffs(0, 0), -2 * std::sqrt(kPi) / 1024, 1e-15);
+}
+
+// sup over t of |sum_{l<B} A_l (2l+1)/(4 pi) P_l(t) - max(t, 0)|: the truncation error of the
+// clamped-cosine kernel; for non-negative lighting |E_B(n) - E(n)| <= this * integral L dw.
+double kernel_error_bound(int bands) {
+    double worst = 0;
+    for (int i = 0; i <= 20000; ++i) {
+        const double t = -1 + 2.0 * i / 20000;
+        double p0 = 1, p1 = t, k = 0;
+        for (int l = 0; l < bands; ++l) {
+            const double pl = l == 0 ? 1 : l == 1 ? t : ((2.0 * l - 1) * t * p1 - (l - 1.0) * p0) / l;
+            if (l >= 2) p0 = p1, p1 = pl;
+            k += sh::cosine_zonal(l) * (2 * l + 1) / (4 * kPi) * pl;
+        }
+        worst = std::max(worst, std::abs(k - std::max(t, 0.0)));
+    }
+    return worst;
+}
+
+TEST(HardCases, SunThirtyThousandTimesTheSky) {
+    const int w = 512, h = 256;
+    Environment env = latlong(w, h, constant(1.0));
+    for (int c = 0; c < 3; ++c) env.radiance.at(100, 60, c) = 3e4f;
+    ProjectOptions opt;
+    opt.sh_bands = 9;
+    const ProjectResult r = project(env, opt);
+    const double sun_sr = latlong_pixel_solid_angle(60, w, h);
+    const double flux = 4 * kPi + (3e4 - 1) * sun_sr;
+    EXPECT_NEAR(r.coeffs(0, 0), flux / (2 * std::sqrt(kPi)), kExactRel * flux);
+    const auto normals = validation_normals(128);
+    const Eigen::MatrixXd ref = brute_force_irradiance(env, normals);
+    for (int bands : {2, 3, 5, 9}) {
+        const Eigen::MatrixXd est = sh_irradiance(r.coeffs, bands, normals);
+        // Pixel-centre brute force vs box-filtered projection differ by O((pi/h)^2) of the flux.
+        const double slack = 1e-3 * flux;
+        EXPECT_LE((est - ref).cwiseAbs().maxCoeff(), kernel_error_bound(bands) * flux + slack)
+            << bands << " bands";
+        const IrradianceError e = irradiance_error(est, ref);
+        std::printf("sun 3e4 over sky 1: %d bands mean rel %.3f max rel %.3f\n", bands, e.mean_rel,
+                    e.max_rel);
+    }
+}
+
+struct RealMap {
+    std::string name, path;
+    Layout layout;
+};
+
+std::vector<RealMap> real_maps() {
+    std::vector<RealMap> maps;
+    const std::string blender = inlight::testing::blender_hdri_dir();
+    if (!blender.empty()) {
+        for (const char* n : inlight::testing::kBlenderHdris)
+            maps.push_back({n, blender + "/" + n + ".exr", Layout::kLatLong});
+    }
+    const std::string probes = inlight::testing::shared_data("probes-latlong");
+    if (!probes.empty()) {
+        for (const char* n : {"ennis", "grace", "pisa", "uffizi", "wells"})
+            maps.push_back({n, probes + "/" + n + ".hdr", Layout::kLatLong});
+    }
+    return maps;
+}
+
+TEST(RealData, ShIrradianceAgainstBruteForceOnEveryHdri) {
+    const auto maps = real_maps();
+    if (maps.empty()) GTEST_SKIP() << "no blender-data HDRIs and no ../shared/data/probes-latlong";
+    const auto normals = validation_normals(128);
+    std::printf("%-10s %9s | mean/max relative irradiance error, RMS/mean, for 2, 3, 5, 9 bands\n",
+                "map", "peak");
+    for (const auto& m : maps) {
+        LoadOptions lo;
+        lo.layout = m.layout;
+        InputStats stats;
+        const Environment env = load_environment(m.path, lo, &stats);
+        ProjectOptions opt;
+        opt.sh_bands = 9;
+        const ProjectResult r = project(env, opt);
+        const Eigen::MatrixXd ref = brute_force_irradiance(env, normals);
+        double abs_flux = 0;  // integral of |L| (luminance), for the bound
+        {
+            const auto samples = make_sample_set(env);
+            Eigen::Vector3d d;
+            double w, v[3];
+            for (int64_t i = 0; i < samples->size(); ++i) {
+                samples->sample(i, d, w, v);
+                abs_flux += w * std::abs(luminance(v[0], v[1], v[2]));
+            }
+        }
+        std::printf("%-10s %9.0f |", m.name.c_str(), stats.max_value);
+        double prev_rms_abs = INFINITY;
+        for (int bands : {3, 5, 9}) {
+            const Eigen::MatrixXd est = sh_irradiance(r.coeffs, bands, normals);
+            double max_abs = 0, rms_abs = 0;
+            for (int i = 0; i < est.rows(); ++i) {
+                const double d = luminance(est(i, 0), est(i, 1), est(i, 2)) -
+                                 luminance(ref(i, 0), ref(i, 1), ref(i, 2));
+                max_abs = std::max(max_abs, std::abs(d));
+                rms_abs += d * d;
+            }
+            rms_abs = std::sqrt(rms_abs / double(est.rows()));
+            // Kernel bound plus the O((pi/h)^2) pixel-centre vs box-filter difference.
+            EXPECT_LE(max_abs, (kernel_error_bound(bands) + 2e-3) * abs_flux) << m.name << " " << bands;
+            // The L2 error over the sphere of normals is a tail sum over bands: it falls.
+            EXPECT_LE(rms_abs, prev_rms_abs * 1.0001) << m.name << " " << bands;
+            prev_rms_abs = rms_abs;
+        }
+        for (int bands : {2, 3, 5, 9}) {
+            const IrradianceError e = irradiance_error(sh_irradiance(r.coeffs, bands, normals), ref);
+            std::printf("  %.4f/%.4f/%.4f", e.mean_rel, e.max_rel, e.rms_over_mean);
+        }
+        std::printf("\n");
+    }
+}
+
+}  // namespace
+}  // namespace inlight::envmap

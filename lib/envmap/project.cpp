@@ -1,0 +1,163 @@
+#include "envmap/project.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/check.h"
+#include "core/conventions.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "sh/quadrature.h"
+#include "sh/rotation.h"
+
+namespace inlight::envmap {
+
+PartialMethod partial_method_from_string(const std::string& name) {
+    if (name == "fit") return PartialMethod::kFit;
+    if (name == "zero-fill") return PartialMethod::kZeroFill;
+    throw UsageError(str("partial method '", name, "': expected fit or zero-fill"));
+}
+
+Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
+    INLIGHT_CHECK_EQ(img.channels, 3);
+    INLIGHT_CHECK_EQ(img.width, 2 * img.height);
+    const int w = img.width, h = img.height, n = sh::count(sh_bands);
+    const double dphi = 2.0 * kPi / w;
+    // Azimuth: cos(m phi_c), sin(m phi_c) per column, phi_c = pi (1 - 2 (c + 0.5) / W) (Cycles),
+    // and the exact integral over the pixel's phi range: dphi * sinc(m dphi / 2) * cos(m phi_c).
+    std::vector<double> cos_t(static_cast<size_t>(sh_bands) * w), sin_t(cos_t.size());
+    std::vector<double> phi_int(static_cast<size_t>(sh_bands));
+    for (int m = 0; m < sh_bands; ++m) {
+        const double x = 0.5 * m * dphi;
+        phi_int[static_cast<size_t>(m)] = m == 0 ? dphi : dphi * std::sin(x) / x;
+    }
+    for (int c = 0; c < w; ++c) {
+        const double phi = kPi * (1.0 - 2.0 * (c + 0.5) / w);
+        for (int m = 0; m < sh_bands; ++m) {
+            cos_t[static_cast<size_t>(m) * w + c] = std::cos(m * phi);
+            sin_t[static_cast<size_t>(m) * w + c] = std::sin(m * phi);
+        }
+    }
+    // Polar: the row integral of Y_lm(theta, 0) sin(theta) dtheta. For even m the factor is a
+    // polynomial of degree <= sh_bands - 1 in z = cos(theta): Gauss-Legendre in z is exact. For
+    // odd m it carries sin(theta) = sqrt(1 - z^2), singular in z at the poles but analytic in
+    // theta: Gauss-Legendre in theta converges geometrically.
+    std::vector<double> gz_x, gz_w, gt_x, gt_w;
+    sh::gauss_legendre(sh_bands / 2 + 2, gz_x, gz_w);
+    sh::gauss_legendre(sh_bands + 6, gt_x, gt_w);
+
+    using Acc = Eigen::MatrixXd;
+    const int64_t rows_per_chunk = 4;  // fixed: sums do not depend on the thread count
+    return parallel::reduce(
+        h, rows_per_chunk, Acc(Acc::Zero(n, 3)),
+        [&](int64_t begin, int64_t end) {
+            Acc acc = Acc::Zero(n, 3);
+            std::vector<double> y(static_cast<size_t>(n)), row(static_cast<size_t>(n)),
+                row_odd(static_cast<size_t>(n));
+            std::vector<double> cs(static_cast<size_t>(sh_bands) * 6);
+            for (int64_t ri = begin; ri < end; ++ri) {
+                const int r = static_cast<int>(ri);
+                // Row factors: sqrt2 N_lm(z) sin^m(theta) (m > 0) or N_l0(z) (m = 0), integrated
+                // over the row; `row` keeps the even-m entries, `row_odd` the odd-m ones.
+                const double t0 = kPi * r / h, t1 = kPi * (r + 1) / h;
+                const double z0 = std::cos(t0), z1 = std::cos(t1);
+                std::fill(row.begin(), row.end(), 0.0);
+                std::fill(row_odd.begin(), row_odd.end(), 0.0);
+                for (size_t k = 0; k < gz_x.size(); ++k) {
+                    const double z = 0.5 * (z0 + z1) + 0.5 * (z0 - z1) * gz_x[k];
+                    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+                    sh::eval(sh_bands, Eigen::Vector3d(s, 0.0, z), y.data());
+                    const double wk = 0.5 * (z0 - z1) * gz_w[k];
+                    for (int i = 0; i < n; ++i) row[static_cast<size_t>(i)] += wk * y[static_cast<size_t>(i)];
+                }
+                if (sh_bands > 1) {
+                    for (size_t k = 0; k < gt_x.size(); ++k) {
+                        const double t = 0.5 * (t0 + t1) + 0.5 * (t1 - t0) * gt_x[k];
+                        sh::eval(sh_bands, Eigen::Vector3d(std::sin(t), 0.0, std::cos(t)), y.data());
+                        const double wk = 0.5 * (t1 - t0) * gt_w[k] * std::sin(t);
+                        for (int i = 0; i < n; ++i)
+                            row_odd[static_cast<size_t>(i)] += wk * y[static_cast<size_t>(i)];
+                    }
+                }
+                const float* px = img.pixels.data() + static_cast<size_t>(r) * w * 3;
+                for (int m = 0; m < sh_bands; ++m) {
+                    const double* ct = cos_t.data() + static_cast<size_t>(m) * w;
+                    const double* st = sin_t.data() + static_cast<size_t>(m) * w;
+                    double c0 = 0, c1 = 0, c2 = 0, s0 = 0, s1 = 0, s2 = 0;
+                    for (int c = 0; c < w; ++c) {
+                        const double r0 = px[3 * c], r1 = px[3 * c + 1], r2 = px[3 * c + 2];
+                        c0 += r0 * ct[c];
+                        c1 += r1 * ct[c];
+                        c2 += r2 * ct[c];
+                        s0 += r0 * st[c];
+                        s1 += r1 * st[c];
+                        s2 += r2 * st[c];
+                    }
+                    const double a = phi_int[static_cast<size_t>(m)];
+                    double* out = cs.data() + 6 * m;
+                    out[0] = a * c0, out[1] = a * c1, out[2] = a * c2;
+                    out[3] = a * s0, out[4] = a * s1, out[5] = a * s2;
+                }
+                for (int l = 0; l < sh_bands; ++l) {
+                    for (int m = 0; m <= l; ++m) {
+                        const double f = (m % 2 == 0 ? row : row_odd)[static_cast<size_t>(sh::index(l, m))];
+                        const double* s = cs.data() + 6 * m;
+                        for (int ch = 0; ch < 3; ++ch) {
+                            acc(sh::index(l, m), ch) += f * s[ch];
+                            if (m > 0) acc(sh::index(l, -m), ch) += f * s[3 + ch];
+                        }
+                    }
+                }
+            }
+            return acc;
+        },
+        [](Acc a, const Acc& b) { return Acc(a + b); });
+}
+
+ProjectResult project(const Environment& env, const ProjectOptions& options) {
+    if (options.sh_bands < 1 || options.sh_bands > sh::kMaxBands)
+        throw UsageError(str("sh_bands must be in [1, ", sh::kMaxBands, "], got ", options.sh_bands));
+    ProjectResult result;
+    const bool identity = env.world_from_input.isIdentity(0.0);
+    if (env.layout == Layout::kLatLong) {
+        result.coeffs = project_latlong(env.radiance, options.sh_bands);
+        if (!identity) result.coeffs = sh::rotation_matrix(options.sh_bands, env.world_from_input) *
+                                       result.coeffs;
+        result.method = "latlong-separable";
+        result.covered_solid_angle_sr = 4 * kPi;
+    } else {
+        const auto samples = make_sample_set(env);
+        if (env.full_sphere() || options.partial == PartialMethod::kZeroFill) {
+            result.coeffs = sh::project(options.sh_bands, *samples);
+            result.method = env.full_sphere() ? "quadrature" : "zero-fill";
+            // The covered solid angle comes from the same weights the quadrature used.
+            struct Ones : sh::SampleSet {
+                const sh::SampleSet& s;
+                explicit Ones(const sh::SampleSet& base) : s(base) {}
+                int64_t size() const override { return s.size(); }
+                int channels() const override { return 1; }
+                bool sample(int64_t i, Eigen::Vector3d& d, double& w, double* v) const override {
+                    double tmp[3];
+                    if (!s.sample(i, d, w, tmp)) return false;
+                    v[0] = 1.0;
+                    return true;
+                }
+            } ones(*samples);
+            result.covered_solid_angle_sr = sh::project(1, ones)(0, 0) * 2.0 * std::sqrt(kPi);
+        } else {
+            sh::FitOptions fit;
+            fit.lambda = options.fit_lambda;
+            result.fit = sh::fit_least_squares(options.sh_bands, *samples, fit);
+            result.coeffs = result.fit.coeffs;
+            result.fitted = true;
+            result.method = "least-squares";
+            result.covered_solid_angle_sr = result.fit.observed_solid_angle_sr;
+        }
+    }
+    result.coeffs_unwindowed = result.coeffs;
+    sh::apply_window(options.window, options.sh_bands, result.coeffs);
+    return result;
+}
+
+}  // namespace inlight::envmap

@@ -1,0 +1,52 @@
+// envmap/project.h: SH coefficients of an environment. Full-sphere layouts are projected by
+// quadrature over their exact pixel solid angles (lat-long by a separable row/column scheme);
+// partial-sphere input (a fisheye frame) is fitted by regularised weighted least squares, or
+// projected with the unseen part black when asked.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "envmap/environment.h"
+#include "sh/fit.h"
+#include "sh/sh.h"
+
+namespace inlight::envmap {
+
+/// How to obtain coefficients for partial-sphere input.
+enum class PartialMethod {
+    kFit,       ///< weighted regularised least squares over the observed directions (default)
+    kZeroFill,  ///< projection that treats unobserved directions as black
+};
+/// "fit" | "zero-fill"; throws UsageError otherwise.
+PartialMethod partial_method_from_string(const std::string& name);
+
+struct ProjectOptions {
+    int sh_bands = 3;                       ///< max l + 1, 1..sh::kMaxBands
+    sh::Window window = sh::Window::kNone;  ///< optional band-limiting window (off by default)
+    PartialMethod partial = PartialMethod::kFit;
+    double fit_lambda = 1e-4;               ///< see sh::FitOptions::lambda
+};
+
+struct ProjectResult {
+    Eigen::MatrixXd coeffs;          ///< count(sh_bands) x 3, world frame, after the window
+    Eigen::MatrixXd coeffs_unwindowed;  ///< the same before the window
+    std::string method;              ///< "latlong-separable", "quadrature", "least-squares", "zero-fill"
+    double covered_solid_angle_sr = 0;
+    bool fitted = false;
+    sh::FitResult fit;               ///< when fitted (conditioning, residual)
+};
+
+/// Projects or fits `env` into SH. Deterministic for any thread count.
+ProjectResult project(const Environment& env, const ProjectOptions& options);
+
+/// Projection of a 2:1 lat-long image (3 channels) in its own frame, taking each pixel as
+/// constant over its exact area (box filter): the integral of Y_lm over every pixel is exact in
+/// phi (dphi sinc(m dphi/2) cos(m phi_c)) and Gauss-Legendre over the row (in z, exact, for
+/// even m; in theta, to ~1e-15, for odd m). A constant map therefore gives L_00 = 2 sqrt(pi) value and L_lm = 0 for
+/// l > 0 for any resolution, a 2x1 map included. Separable: per row the column sums
+/// f cos(m phi), f sin(m phi) cost O(W sh_bands), the row factors O(sh_bands^2).
+Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands);
+
+}  // namespace inlight::envmap

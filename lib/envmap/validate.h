@@ -1,0 +1,43 @@
+// envmap/validate.h: irradiance of an environment by brute-force integration over its pixels,
+// and the error of the SH approximation against it (the --validate of envmap-project).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "envmap/environment.h"
+
+namespace inlight::envmap {
+
+/// A fixed, deterministic set of unit normals: the 6 axis directions followed by a Fibonacci
+/// sphere of `count` points. With `max_angle_from_z` < pi only those within that angle of +z
+/// (the screen's side, for fisheye frames) are kept.
+std::vector<Eigen::Vector3d> validation_normals(int count, double max_angle_from_z = 4.0);
+
+/// E_c(n) = sum_i L_c(w_i) dw_i max(0, n . w_i) over every sample of the environment, in double,
+/// deterministic for any thread count. Returns normals x 3.
+Eigen::MatrixXd brute_force_irradiance(const Environment& env,
+                                       const std::vector<Eigen::Vector3d>& normals);
+
+/// Irradiance from the first count(sh_bands) rows of coeffs (zonal cosine convolution).
+Eigen::MatrixXd sh_irradiance(const Eigen::MatrixXd& coeffs, int sh_bands,
+                              const std::vector<Eigen::Vector3d>& normals);
+
+/// Error of an irradiance estimate on the Rec.709 luminance of each normal's irradiance.
+/// Relative errors divide by max(E_ref(n), kRelFloor * max_n E_ref(n)) so that normals facing
+/// a black region do not dominate.
+struct IrradianceError {
+    double mean_rel = 0;
+    double rms_rel = 0;
+    double max_rel = 0;
+    double max_abs = 0;  ///< max |E - E_ref| (luminance, W/m^2 in the map's units)
+    double rms_over_mean = 0;  ///< RMS of E - E_ref over the mean of E_ref (normalised RMSE)
+};
+inline constexpr double kRelFloor = 1e-3;
+IrradianceError irradiance_error(const Eigen::MatrixXd& approx, const Eigen::MatrixXd& reference);
+
+/// Rec.709 luminance of a linear RGB triple.
+inline double luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+
+}  // namespace inlight::envmap
