@@ -52,9 +52,16 @@ void BM_MemoryBound(benchmark::State& state) {
         const double s = inlight::parallel::reduce(
             static_cast<int64_t>(img.pixels.size()), 1 << 16, 0.0,
             [&](int64_t b, int64_t e) {
-                double acc = 0;
-                for (int64_t i = b; i < e; ++i) acc += img.pixels[static_cast<size_t>(i)];
-                return acc;
+                // Eight independent accumulators so the loop is limited by memory, not by the
+                // latency of one chain of additions.
+                double acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+                const float* p = img.pixels.data();
+                int64_t i = b;
+                for (; i + 8 <= e; i += 8) {
+                    for (int k = 0; k < 8; ++k) acc[k] += p[i + k];
+                }
+                for (; i < e; ++i) acc[0] += p[i];
+                return acc[0] + acc[1] + acc[2] + acc[3] + acc[4] + acc[5] + acc[6] + acc[7];
             },
             [](double a, double b) { return a + b; });
         benchmark::DoNotOptimize(s);

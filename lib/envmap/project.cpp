@@ -26,17 +26,16 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
     const double dphi = 2.0 * kPi / w;
     // Azimuth: cos(m phi_c), sin(m phi_c) per column, phi_c = pi (1 - 2 (c + 0.5) / W) (Cycles),
     // and the exact integral over the pixel's phi range: dphi * sinc(m dphi / 2) * cos(m phi_c).
-    std::vector<double> cos_t(static_cast<size_t>(sh_bands) * w), sin_t(cos_t.size());
-    std::vector<double> phi_int(static_cast<size_t>(sh_bands));
-    for (int m = 0; m < sh_bands; ++m) {
-        const double x = 0.5 * m * dphi;
-        phi_int[static_cast<size_t>(m)] = m == 0 ? dphi : dphi * std::sin(x) / x;
-    }
+    // trig(c, m) = cos(m phi_c) and trig(c, sh_bands + m) = sin(m phi_c), times the exact
+    // azimuthal integral factor; one row's sums are then a (3 x W) x (W x 2 sh_bands) product.
+    Eigen::MatrixXd trig(w, 2 * sh_bands);
     for (int c = 0; c < w; ++c) {
         const double phi = kPi * (1.0 - 2.0 * (c + 0.5) / w);
         for (int m = 0; m < sh_bands; ++m) {
-            cos_t[static_cast<size_t>(m) * w + c] = std::cos(m * phi);
-            sin_t[static_cast<size_t>(m) * w + c] = std::sin(m * phi);
+            const double x = 0.5 * m * dphi;
+            const double a = m == 0 ? dphi : dphi * std::sin(x) / x;
+            trig(c, m) = a * std::cos(m * phi);
+            trig(c, sh_bands + m) = a * std::sin(m * phi);
         }
     }
     // Polar: the row integral of Y_lm(theta, 0) sin(theta) dtheta. For even m the factor is a
@@ -55,7 +54,8 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
             Acc acc = Acc::Zero(n, 3);
             std::vector<double> y(static_cast<size_t>(n)), row(static_cast<size_t>(n)),
                 row_odd(static_cast<size_t>(n));
-            std::vector<double> cs(static_cast<size_t>(sh_bands) * 6);
+            Eigen::Matrix<double, 3, Eigen::Dynamic> rgb(3, w);
+            Eigen::Matrix<double, 3, Eigen::Dynamic> sums(3, 2 * sh_bands);
             for (int64_t ri = begin; ri < end; ++ri) {
                 const int r = static_cast<int>(ri);
                 // Row factors: sqrt2 N_lm(z) sin^m(theta) (m > 0) or N_l0(z) (m = 0), integrated
@@ -81,31 +81,15 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
                     }
                 }
                 const float* px = img.pixels.data() + static_cast<size_t>(r) * w * 3;
-                for (int m = 0; m < sh_bands; ++m) {
-                    const double* ct = cos_t.data() + static_cast<size_t>(m) * w;
-                    const double* st = sin_t.data() + static_cast<size_t>(m) * w;
-                    double c0 = 0, c1 = 0, c2 = 0, s0 = 0, s1 = 0, s2 = 0;
-                    for (int c = 0; c < w; ++c) {
-                        const double r0 = px[3 * c], r1 = px[3 * c + 1], r2 = px[3 * c + 2];
-                        c0 += r0 * ct[c];
-                        c1 += r1 * ct[c];
-                        c2 += r2 * ct[c];
-                        s0 += r0 * st[c];
-                        s1 += r1 * st[c];
-                        s2 += r2 * st[c];
-                    }
-                    const double a = phi_int[static_cast<size_t>(m)];
-                    double* out = cs.data() + 6 * m;
-                    out[0] = a * c0, out[1] = a * c1, out[2] = a * c2;
-                    out[3] = a * s0, out[4] = a * s1, out[5] = a * s2;
-                }
+                rgb = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic>>(px, 3, w)
+                          .cast<double>();
+                sums.noalias() = rgb * trig;  // 3 x 2 sh_bands: cosine sums, then sine sums
                 for (int l = 0; l < sh_bands; ++l) {
                     for (int m = 0; m <= l; ++m) {
                         const double f = (m % 2 == 0 ? row : row_odd)[static_cast<size_t>(sh::index(l, m))];
-                        const double* s = cs.data() + 6 * m;
                         for (int ch = 0; ch < 3; ++ch) {
-                            acc(sh::index(l, m), ch) += f * s[ch];
-                            if (m > 0) acc(sh::index(l, -m), ch) += f * s[3 + ch];
+                            acc(sh::index(l, m), ch) += f * sums(ch, m);
+                            if (m > 0) acc(sh::index(l, -m), ch) += f * sums(ch, sh_bands + m);
                         }
                     }
                 }

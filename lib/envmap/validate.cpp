@@ -1,5 +1,6 @@
 #include "envmap/validate.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/conventions.h"
@@ -56,6 +57,17 @@ Eigen::MatrixXd brute_force_irradiance(const Environment& env,
             return acc;
         },
         [](Acc a, const Acc& b) { return Acc(a + b); });
+}
+
+double brute_force_self_error(const Environment& env, const std::vector<Eigen::Vector3d>& normals) {
+    if (!env.full_sphere()) return 0.0;
+    Environment unit;
+    unit.layout = env.layout;
+    unit.world_from_input = env.world_from_input;
+    unit.radiance = image::Image(env.radiance.width, env.radiance.height, 3);
+    std::fill(unit.radiance.pixels.begin(), unit.radiance.pixels.end(), 1.0f);
+    const Eigen::MatrixXd e = brute_force_irradiance(unit, normals);
+    return (e.col(0).array() - kPi).abs().maxCoeff() / kPi;
 }
 
 Eigen::MatrixXd sh_irradiance(const Eigen::MatrixXd& coeffs, int sh_bands,

@@ -20,6 +20,11 @@ std::vector<Eigen::Vector3d> validation_normals(int count, double max_angle_from
 Eigen::MatrixXd brute_force_irradiance(const Environment& env,
                                        const std::vector<Eigen::Vector3d>& normals);
 
+/// The brute-force reference's own error: max over normals of |E(n) - pi| / pi when the same
+/// quadrature integrates a constant unit environment (exact answer pi). Errors below this are
+/// not resolved by the reference. (Full-sphere layouts only; 0 for fisheye frames.)
+double brute_force_self_error(const Environment& env, const std::vector<Eigen::Vector3d>& normals);
+
 /// Irradiance from the first count(sh_bands) rows of coeffs (zonal cosine convolution).
 Eigen::MatrixXd sh_irradiance(const Eigen::MatrixXd& coeffs, int sh_bands,
                               const std::vector<Eigen::Vector3d>& normals);
