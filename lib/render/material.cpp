@@ -1,0 +1,89 @@
+#include "render/material.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "core/error.h"
+
+namespace inlight::render {
+
+void load_textures(SurfaceMaterial& m) {
+    if (!m.albedo_texture_path.empty()) {
+        m.albedo_texture = std::make_shared<image::Image>(image::read_image(m.albedo_texture_path));
+    }
+    image::ReadOptions data;
+    data.decode_srgb = false;
+    if (!m.normal_texture_path.empty()) {
+        auto img = std::make_shared<image::Image>(image::read_image(m.normal_texture_path, data));
+        if (img->channels < 3) {
+            throw Error(str(m.normal_texture_path, ": a normal map needs 3 channels, got ",
+                            img->channels));
+        }
+        m.normal_texture = std::move(img);
+    }
+    if (!m.roughness_texture_path.empty()) {
+        m.roughness_texture =
+            std::make_shared<image::Image>(image::read_image(m.roughness_texture_path, data));
+    }
+}
+
+Eigen::Vector3d sample_texture(const image::Image& img, const Eigen::Vector2d& uv) {
+    const double x = uv[0] * img.width - 0.5;
+    const double y = uv[1] * img.height - 0.5;
+    const double fx = std::floor(x), fy = std::floor(y);
+    const double ax = x - fx, ay = y - fy;
+    auto wrap = [](long long i, int n) {
+        const long long r = i % n;
+        return static_cast<int>(r < 0 ? r + n : r);
+    };
+    const int x0 = wrap(static_cast<long long>(fx), img.width);
+    const int x1 = wrap(static_cast<long long>(fx) + 1, img.width);
+    const int y0 = wrap(static_cast<long long>(fy), img.height);
+    const int y1 = wrap(static_cast<long long>(fy) + 1, img.height);
+    auto texel = [&img](int px, int py) {
+        Eigen::Vector3d v;
+        for (int c = 0; c < 3; ++c) v[c] = img.at(px, py, std::min(c, img.channels - 1));
+        return v;
+    };
+    return (1 - ay) * ((1 - ax) * texel(x0, y0) + ax * texel(x1, y0)) +
+           ay * ((1 - ax) * texel(x0, y1) + ax * texel(x1, y1));
+}
+
+ShadingPoint shade(const SurfaceMaterial& m, const SurfaceHit& hit, const Eigen::Vector3d& wo) {
+    ShadingPoint sp;
+    sp.brdf = m.brdf;
+    const Eigen::Vector2d uv = hit.uv.cwiseProduct(m.uv_scale);
+    if (m.albedo_texture) {
+        sp.brdf.albedo = sp.brdf.albedo.cwiseProduct(sample_texture(*m.albedo_texture, uv));
+    }
+    if (m.roughness_texture) {
+        const double r = std::clamp(sample_texture(*m.roughness_texture, uv)[0], 0.0, 1.0);
+        sp.brdf.alpha *= r;
+        sp.brdf.report_r *= r;
+    }
+    Eigen::Vector3d n = hit.ns;
+    Eigen::Vector3d t = hit.dpdu;
+    if (m.normal_texture) {
+        const Eigen::Vector3d c = sample_texture(*m.normal_texture, uv) * 2.0 - Eigen::Vector3d::Ones();
+        const Eigen::Vector3d b = n.cross(t);
+        const Eigen::Vector3d mapped = t * c.x() + b * c.y() + n * c.z();
+        if (mapped.squaredNorm() > 1e-12) n = mapped.normalized();
+    }
+    sp.ng = hit.ng;
+    if (sp.ng.dot(wo) < 0) {
+        sp.ng = -sp.ng;
+        n = -n;
+    }
+    if (n.dot(wo) <= 0) n = sp.ng;
+    Eigen::Vector3d tangent = t - n * n.dot(t);
+    if (tangent.squaredNorm() < 1e-20) tangent = brdf::world_from_local(n).col(0);
+    tangent.normalize();
+    sp.world_from_local.col(0) = tangent;
+    sp.world_from_local.col(1) = n.cross(tangent);
+    sp.world_from_local.col(2) = n;
+    return sp;
+}
+
+}  // namespace inlight::render

@@ -1,0 +1,255 @@
+#include "render/mesh.h"
+
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "core/error.h"
+#include "core/fs.h"
+
+namespace inlight::render {
+namespace {
+
+void check_mesh(const TriangleMesh& mesh, const std::string& source) {
+    if (mesh.triangles.empty()) throw Error(str(source, ": the mesh has no triangles"));
+    const int n = static_cast<int>(mesh.positions.size());
+    for (const auto& t : mesh.triangles) {
+        for (int k = 0; k < 3; ++k) {
+            if (t[k] < 0 || t[k] >= n) {
+                throw Error(str(source, ": vertex index ", t[k], " out of range (", n,
+                                " vertices)"));
+            }
+        }
+    }
+    for (const auto& p : mesh.positions) {
+        if (!p.allFinite()) throw Error(str(source, ": non-finite vertex position"));
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// PLY
+
+struct PlyProperty {
+    std::string name;
+    std::string type;        ///< scalar type, or the item type of a list
+    std::string count_type;  ///< non-empty for lists
+};
+struct PlyElement {
+    std::string name;
+    int64_t count = 0;
+    std::vector<PlyProperty> props;
+};
+
+int ply_type_size(const std::string& t, const std::string& source) {
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" ||
+        t == "float32") {
+        return 4;
+    }
+    if (t == "double" || t == "float64") return 8;
+    throw Error(str(source, ": unknown PLY property type '", t, "'"));
+}
+
+double ply_read_binary(const char* p, const std::string& t) {
+    auto get = [p](auto v) {
+        std::memcpy(&v, p, sizeof(v));
+        return static_cast<double>(v);
+    };
+    if (t == "char" || t == "int8") return get(int8_t{});
+    if (t == "uchar" || t == "uint8") return get(uint8_t{});
+    if (t == "short" || t == "int16") return get(int16_t{});
+    if (t == "ushort" || t == "uint16") return get(uint16_t{});
+    if (t == "int" || t == "int32") return get(int32_t{});
+    if (t == "uint" || t == "uint32") return get(uint32_t{});
+    if (t == "float" || t == "float32") return get(float{});
+    return get(double{});
+}
+
+TriangleMesh load_ply(const std::string& path) {
+    const std::string data = fs::read_file(path);
+    std::istringstream header(data);
+    std::string line;
+    std::getline(header, line);
+    if (line.rfind("ply", 0) != 0) throw Error(str(path, ": not a PLY file (no 'ply' magic)"));
+    std::string format;
+    std::vector<PlyElement> elements;
+    while (std::getline(header, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        std::istringstream ls(line);
+        std::string word;
+        ls >> word;
+        if (word == "format") {
+            ls >> format;
+        } else if (word == "element") {
+            PlyElement e;
+            ls >> e.name >> e.count;
+            elements.push_back(e);
+        } else if (word == "property") {
+            if (elements.empty()) throw Error(str(path, ": PLY property before any element"));
+            PlyProperty p;
+            std::string t;
+            ls >> t;
+            if (t == "list") {
+                ls >> p.count_type >> p.type >> p.name;
+            } else {
+                p.type = t;
+                ls >> p.name;
+            }
+            elements.back().props.push_back(p);
+        } else if (word == "end_header") {
+            break;
+        }
+    }
+    if (format != "ascii" && format != "binary_little_endian") {
+        throw Error(str(path, ": PLY format '", format,
+                        "' is not supported (ascii or binary_little_endian)"));
+    }
+    size_t offset = static_cast<size_t>(header.tellg());
+    std::istringstream ascii(format == "ascii" ? data.substr(offset) : std::string());
+
+    TriangleMesh mesh;
+    for (const PlyElement& e : elements) {
+        for (int64_t i = 0; i < e.count; ++i) {
+            std::map<std::string, double> scalars;
+            std::vector<int> list;
+            for (const PlyProperty& p : e.props) {
+                auto read_value = [&](const std::string& type) -> double {
+                    if (format == "ascii") {
+                        double v;
+                        if (!(ascii >> v)) throw Error(str(path, ": truncated PLY data in '", e.name, "'"));
+                        return v;
+                    }
+                    const int size = ply_type_size(type, path);
+                    if (offset + static_cast<size_t>(size) > data.size()) {
+                        throw Error(str(path, ": truncated PLY data in '", e.name, "'"));
+                    }
+                    const double v = ply_read_binary(data.data() + offset, type);
+                    offset += static_cast<size_t>(size);
+                    return v;
+                };
+                if (!p.count_type.empty()) {
+                    const int n = static_cast<int>(read_value(p.count_type));
+                    std::vector<int> items(static_cast<size_t>(std::max(n, 0)));
+                    for (int& item : items) item = static_cast<int>(read_value(p.type));
+                    if (p.name == "vertex_indices" || p.name == "vertex_index") list = items;
+                } else {
+                    scalars[p.name] = read_value(p.type);
+                }
+            }
+            if (e.name == "vertex") {
+                mesh.positions.emplace_back(scalars["x"], scalars["y"], scalars["z"]);
+                if (scalars.count("nx")) {
+                    mesh.normals.push_back(
+                        Eigen::Vector3d(scalars["nx"], scalars["ny"], scalars["nz"]).normalized());
+                }
+                for (const auto& [u, v] : {std::pair<const char*, const char*>{"u", "v"},
+                                           {"s", "t"}, {"texture_u", "texture_v"}}) {
+                    if (scalars.count(u) && scalars.count(v)) {
+                        mesh.uvs.emplace_back(scalars[u], 1.0 - scalars[v]);
+                        break;
+                    }
+                }
+            } else if (e.name == "face") {
+                for (size_t k = 1; k + 1 < list.size(); ++k) {
+                    mesh.triangles.emplace_back(list[0], list[k], list[k + 1]);
+                }
+            }
+        }
+    }
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) mesh.normals.clear();
+    if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size()) mesh.uvs.clear();
+    check_mesh(mesh, path);
+    return mesh;
+}
+
+}  // namespace
+
+TriangleMesh parse_obj(const std::string& text, const std::string& source) {
+    std::vector<Eigen::Vector3d> v, vn;
+    std::vector<Eigen::Vector2d> vt;
+    std::map<std::tuple<int, int, int>, int> vertex_of;
+    TriangleMesh mesh;
+    bool any_uv = false, any_normal = false;
+    std::istringstream in(text);
+    std::string line;
+    int line_no = 0;
+    auto fail = [&](const std::string& what) -> Error {
+        return Error(str(source, ":", line_no, ": ", what));
+    };
+    while (std::getline(in, line)) {
+        ++line_no;
+        std::istringstream ls(line);
+        std::string tag;
+        if (!(ls >> tag) || tag[0] == '#') continue;
+        if (tag == "v" || tag == "vn") {
+            Eigen::Vector3d p;
+            if (!(ls >> p[0] >> p[1] >> p[2])) throw fail(str("expected 3 numbers after '", tag, "'"));
+            (tag == "v" ? v : vn).push_back(p);
+        } else if (tag == "vt") {
+            Eigen::Vector2d t;
+            if (!(ls >> t[0] >> t[1])) throw fail("expected 2 numbers after 'vt'");
+            vt.push_back(t);
+        } else if (tag == "f") {
+            std::vector<int> corners;
+            std::string item;
+            while (ls >> item) {
+                int idx[3] = {0, 0, 0};
+                std::istringstream is(item);
+                std::string part;
+                for (int k = 0; k < 3 && std::getline(is, part, '/'); ++k) {
+                    if (part.empty()) continue;
+                    try {
+                        idx[k] = std::stoi(part);
+                    } catch (const std::exception&) {
+                        throw fail(str("bad face index '", item, "'"));
+                    }
+                }
+                const int sizes[3] = {static_cast<int>(v.size()), static_cast<int>(vt.size()),
+                                      static_cast<int>(vn.size())};
+                for (int k = 0; k < 3; ++k) {
+                    if (idx[k] < 0) idx[k] += sizes[k] + 1;  // relative index
+                    if ((k == 0 || idx[k] != 0) && (idx[k] < 1 || idx[k] > sizes[k])) {
+                        throw fail(str("face index '", item, "' out of range"));
+                    }
+                }
+                const auto key = std::make_tuple(idx[0], idx[1], idx[2]);
+                auto it = vertex_of.find(key);
+                if (it == vertex_of.end()) {
+                    it = vertex_of.emplace(key, static_cast<int>(mesh.positions.size())).first;
+                    mesh.positions.push_back(v[static_cast<size_t>(idx[0] - 1)]);
+                    const Eigen::Vector2d t = idx[1] ? vt[static_cast<size_t>(idx[1] - 1)]
+                                                     : Eigen::Vector2d(0, 1);
+                    mesh.uvs.emplace_back(t[0], 1.0 - t[1]);
+                    mesh.normals.push_back(idx[2] ? vn[static_cast<size_t>(idx[2] - 1)].normalized()
+                                                  : Eigen::Vector3d::Zero());
+                    any_uv |= idx[1] != 0;
+                    any_normal |= idx[2] != 0;
+                }
+                corners.push_back(it->second);
+            }
+            if (corners.size() < 3) throw fail("a face needs at least 3 vertices");
+            for (size_t k = 1; k + 1 < corners.size(); ++k) {
+                mesh.triangles.emplace_back(corners[0], corners[k], corners[k + 1]);
+            }
+        }
+        // Other tags (o, g, s, usemtl, mtllib, l, p) do not change the geometry.
+    }
+    if (!any_uv) mesh.uvs.clear();
+    if (!any_normal) mesh.normals.clear();
+    for (const auto& n : mesh.normals) {
+        if (n.squaredNorm() == 0) throw Error(str(source, ": some faces have normals, others not"));
+    }
+    check_mesh(mesh, source);
+    return mesh;
+}
+
+TriangleMesh load_mesh(const std::string& path) {
+    const std::string ext = fs::extension(path);
+    if (ext == "obj") return parse_obj(fs::read_file(path), path);
+    if (ext == "ply") return load_ply(path);
+    throw Error(str(path, ": unknown mesh format '.", ext, "' (expected .obj or .ply)"));
+}
+
+}  // namespace inlight::render

@@ -1,0 +1,322 @@
+#include "render/path_tracer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "brdf/brdf.h"
+#include "core/check.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+
+namespace inlight::render {
+namespace {
+
+constexpr double kLumR = 0.2126, kLumG = 0.7152, kLumB = 0.0722;  // Rec.709 luminance
+
+double luminance(const Eigen::Vector3d& c) { return kLumR * c[0] + kLumG * c[1] + kLumB * c[2]; }
+
+/// Power heuristic (Veach eq. 9.13, beta = 2) for the strategy of pdf a against pdf b.
+double power_heuristic(double a, double b) {
+    const double a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0;
+}
+
+/// A ray leaving the surface at `p` in direction `dir`, its origin pushed off the surface along
+/// the geometric normal `ng` (on the side of dir) to avoid self-intersection in float.
+Ray spawn_ray(const Eigen::Vector3d& p, const Eigen::Vector3d& ng, const Eigen::Vector3d& dir,
+              double scene_scale) {
+    // Relative offset: Embree intersects in float (2^-24 = 6e-8 relative); 1e-5 of the scene
+    // size plus the position's magnitude keeps well clear of that and far below a pixel.
+    const double eps = 1e-5 * (scene_scale + p.cwiseAbs().maxCoeff());
+    Ray r;
+    r.origin = p + (ng.dot(dir) >= 0 ? eps : -eps) * ng;
+    r.dir = dir;
+    return r;
+}
+
+struct Welford {
+    int64_t n = 0;
+    double mean[4] = {0, 0, 0, 0};  // R, G, B, Y
+    double m2[4] = {0, 0, 0, 0};
+    void add(const Eigen::Vector3d& x) {
+        ++n;
+        const double v[4] = {x[0], x[1], x[2], luminance(x)};
+        for (int c = 0; c < 4; ++c) {
+            const double d = v[c] - mean[c];
+            mean[c] += d / static_cast<double>(n);
+            m2[c] += d * (v[c] - mean[c]);
+        }
+    }
+    /// Standard error of the mean of channel c (0 for n < 2).
+    double std_error(int c) const {
+        if (n < 2) return 0.0;
+        return std::sqrt(m2[c] / static_cast<double>(n - 1) / static_cast<double>(n));
+    }
+};
+
+double rel_error_of(const std::vector<Welford>& acc) {
+    if (acc.empty() || acc[0].n < 2) return std::numeric_limits<double>::quiet_NaN();
+    double se2 = 0, y = 0;
+    for (const auto& a : acc) {
+        const double se = a.std_error(3);
+        se2 += se * se;
+        y += a.mean[3];
+    }
+    const double n = static_cast<double>(acc.size());
+    if (!(y != 0)) return std::numeric_limits<double>::quiet_NaN();
+    return std::sqrt(se2 / n) / std::abs(y / n);
+}
+
+image::Image mean_image(const std::vector<Welford>& acc, int w, int h) {
+    image::Image img(w, h, 3, image::ColorSpace::kLinearSrgb);
+    for (size_t i = 0; i < acc.size(); ++i) {
+        for (int c = 0; c < 3; ++c) img.pixels[i * 3 + static_cast<size_t>(c)] = static_cast<float>(acc[i].mean[c]);
+    }
+    return img;
+}
+
+}  // namespace
+
+Strategy strategy_from_string(const std::string& name) {
+    if (name == "mis") return Strategy::kMis;
+    if (name == "bsdf") return Strategy::kBsdf;
+    if (name == "light") return Strategy::kLight;
+    throw UsageError(str("strategy '", name, "': expected 'mis', 'bsdf' or 'light'"));
+}
+
+Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Rng& rng,
+                           const RenderOptions& options, int64_t* rays) {
+    const EnvironmentLight& env = scene.environment();
+    const Accel& accel = scene.accel();
+    const double scale = accel.scene_scale();
+    Eigen::Vector3d radiance = Eigen::Vector3d::Zero();
+    Eigen::Vector3d beta = Eigen::Vector3d::Ones();
+    Ray ray = camera_ray;
+    double prev_bsdf_pdf = 0;
+    for (int depth = 0;; ++depth) {
+        SurfaceHit hit;
+        ++*rays;
+        if (!accel.intersect(ray, &hit)) {
+            const Eigen::Vector3d le = env.eval(ray.dir);
+            if (depth == 0 || options.strategy == Strategy::kBsdf) {
+                radiance += beta.cwiseProduct(le);
+            } else if (options.strategy == Strategy::kMis) {
+                radiance += beta.cwiseProduct(le) * power_heuristic(prev_bsdf_pdf, env.pdf(ray.dir));
+            }
+            break;
+        }
+        if (depth >= options.max_depth) break;
+        const Eigen::Vector3d wo = -ray.dir;
+        const ShadingPoint sp = shade(scene.material(hit.shape), hit, wo);
+        const Eigen::Matrix3d local_from_world = sp.world_from_local.transpose();
+        const Eigen::Vector3d wo_l = local_from_world * wo;
+
+        // Next-event estimation: one environment sample, weighted against BSDF sampling.
+        if (options.strategy != Strategy::kBsdf) {
+            const EnvironmentLight::Sample ls = env.sample(rng.uniform2());
+            if (ls.pdf > 0 && ls.dir.dot(sp.ng) > 0) {
+                const Eigen::Vector3d wi_l = local_from_world * ls.dir;
+                const Eigen::Vector3d f = brdf::eval(sp.brdf, wo_l, wi_l);
+                if (wi_l.z() > 0 && f.maxCoeff() > 0) {
+                    ++*rays;
+                    if (!accel.occluded(spawn_ray(hit.p, sp.ng, ls.dir, scale))) {
+                        const double w = options.strategy == Strategy::kMis
+                                             ? power_heuristic(ls.pdf, brdf::pdf(sp.brdf, wo_l, wi_l))
+                                             : 1.0;
+                        radiance += beta.cwiseProduct(f).cwiseProduct(ls.radiance) *
+                                    (wi_l.z() * w / ls.pdf);
+                    }
+                }
+            }
+        }
+
+        // Continue the path by BSDF sampling.
+        const Eigen::Vector2d u = rng.uniform2();
+        const double u_lobe = rng.uniform();
+        const brdf::Sample bs = brdf::sample(sp.brdf, wo_l, u, u_lobe);
+        if (!bs.valid || !(bs.pdf > 0)) break;
+        const Eigen::Vector3d wi = sp.world_from_local * bs.wi;
+        if (wi.dot(sp.ng) <= 0) break;  // the shading normal sent it into the surface
+        beta = beta.cwiseProduct(bs.value) * (bs.wi.z() / bs.pdf);
+        prev_bsdf_pdf = bs.pdf;
+        if (depth + 1 >= options.rr_depth) {
+            const double q = std::min(1.0, beta.maxCoeff());
+            if (!(q > 0)) break;
+            if (q < 1.0) {
+                if (rng.uniform() >= q) break;
+                beta /= q;
+            }
+        }
+        ray = spawn_ray(hit.p, sp.ng, wi, scale);
+    }
+    return radiance;
+}
+
+RenderResult render(const Scene& scene, const RenderOptions& options,
+                    const std::function<void(int)>& progress) {
+    INLIGHT_CHECK_GE(options.spp, 1);
+    INLIGHT_CHECK_GE(options.tile_px, 1);
+    const Camera& cam = scene.camera();
+    const int w = cam.width_px, h = cam.height_px;
+    const int tiles_x = (w + options.tile_px - 1) / options.tile_px;
+    const int tiles_y = (h + options.tile_px - 1) / options.tile_px;
+    const int64_t tiles = static_cast<int64_t>(tiles_x) * tiles_y;
+
+    std::vector<Welford> acc(static_cast<size_t>(w) * h);
+    std::vector<int64_t> tile_rays(static_cast<size_t>(tiles), 0);
+    std::vector<int64_t> tile_bad(static_cast<size_t>(tiles), 0);
+    std::vector<int> snapshots = options.snapshot_spp;
+    std::sort(snapshots.begin(), snapshots.end());
+
+    RenderResult result;
+    Progress bar("render", static_cast<int64_t>(options.spp) * tiles);
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&start] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    int done = 0;
+    int pass_spp = 1;
+    result.stop_reason = "spp";
+    while (done < options.spp) {
+        int n = std::min(pass_spp, options.spp - done);
+        for (int s : snapshots) {
+            if (s > done && s < done + n) n = s - done;  // end the pass at the snapshot
+        }
+        if (options.time_budget_s > 0 && done > 0) {
+            const double per_spp = elapsed() / done;
+            const double left = options.time_budget_s - elapsed();
+            n = std::max(1, std::min(n, static_cast<int>(left / std::max(per_spp, 1e-12))));
+        }
+        const int first = done;
+        parallel::for_chunks(tiles, 1, [&](int64_t begin, int64_t end) {
+            for (int64_t tile = begin; tile < end; ++tile) {
+                const int tx = static_cast<int>(tile % tiles_x), ty = static_cast<int>(tile / tiles_x);
+                const int x0 = tx * options.tile_px, y0 = ty * options.tile_px;
+                const int x1 = std::min(w, x0 + options.tile_px), y1 = std::min(h, y0 + options.tile_px);
+                int64_t rays = 0, bad = 0;
+                for (int y = y0; y < y1; ++y) {
+                    for (int x = x0; x < x1; ++x) {
+                        const uint64_t pixel = static_cast<uint64_t>(y) * w + x;
+                        Welford& a = acc[pixel];
+                        for (int s = first; s < first + n; ++s) {
+                            Rng rng(options.seed, pixel, static_cast<uint64_t>(s));
+                            const Eigen::Vector2d j = options.jitter ? rng.uniform2()
+                                                                     : Eigen::Vector2d(0.5, 0.5);
+                            const Ray ray = cam.generate_ray(x + j[0], y + j[1]);
+                            Eigen::Vector3d l = trace_path(scene, ray, rng, options, &rays);
+                            if (!l.allFinite()) {
+                                l.setZero();
+                                ++bad;
+                            }
+                            a.add(l);
+                        }
+                    }
+                }
+                tile_rays[static_cast<size_t>(tile)] += rays;
+                tile_bad[static_cast<size_t>(tile)] += bad;
+                bar.add(n);
+            }
+        });
+        done += n;
+        ++result.passes;
+        pass_spp = std::min(2 * pass_spp, 32);
+        if (progress) progress(done);
+        if (std::binary_search(snapshots.begin(), snapshots.end(), done)) {
+            result.snapshots.push_back({done, elapsed(), mean_image(acc, w, h)});
+        }
+        if (done >= options.spp) break;
+        if (options.target_rel_error > 0 && done >= 2 &&
+            rel_error_of(acc) <= options.target_rel_error) {
+            result.stop_reason = "target_rel_error";
+            break;
+        }
+        if (options.time_budget_s > 0 && elapsed() >= options.time_budget_s) {
+            result.stop_reason = "time_budget";
+            break;
+        }
+    }
+    result.render_time_s = elapsed();
+    result.spp = done;
+    result.samples = static_cast<int64_t>(done) * w * h;
+    for (int64_t r : tile_rays) result.rays += r;
+    for (int64_t b : tile_bad) result.nonfinite_samples += b;
+    result.radiance = mean_image(acc, w, h);
+    result.std_error = image::Image(w, h, 3, image::ColorSpace::kData);
+    for (size_t i = 0; i < acc.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            result.std_error.pixels[i * 3 + static_cast<size_t>(c)] = static_cast<float>(acc[i].std_error(c));
+        }
+    }
+    result.rel_error = rel_error_of(acc);
+    return result;
+}
+
+ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
+                                    int reference_spp, const std::vector<int>& spp_list) {
+    INLIGHT_CHECK(!spp_list.empty());
+    ConvergenceResult out;
+    out.reference_spp = reference_spp;
+    RenderOptions ref_opt = options;
+    ref_opt.spp = reference_spp;
+    ref_opt.seed = mix64(options.seed ^ 0x7265666572656e63ull);  // "referenc": independent
+    ref_opt.time_budget_s = ref_opt.target_rel_error = 0;
+    ref_opt.snapshot_spp.clear();
+    const RenderResult ref = render(scene, ref_opt);
+    out.reference_rel_error = ref.rel_error;
+    double ref_mean = 0, ref_var = 0;
+    for (size_t i = 0; i < ref.radiance.pixels.size(); ++i) {
+        ref_mean += ref.radiance.pixels[i];
+        ref_var += static_cast<double>(ref.std_error.pixels[i]) * ref.std_error.pixels[i];
+    }
+    const double count = static_cast<double>(ref.radiance.pixels.size());
+    ref_mean /= count;
+    ref_var /= count;
+
+    RenderOptions run_opt = options;
+    run_opt.spp = *std::max_element(spp_list.begin(), spp_list.end());
+    run_opt.snapshot_spp = spp_list;
+    run_opt.time_budget_s = run_opt.target_rel_error = 0;
+    const RenderResult run = render(scene, run_opt);
+    std::vector<double> xs, ys;
+    for (const Snapshot& s : run.snapshots) {
+        double mse = 0;
+        for (size_t i = 0; i < s.radiance.pixels.size(); ++i) {
+            const double d = static_cast<double>(s.radiance.pixels[i]) - ref.radiance.pixels[i];
+            mse += d * d;
+        }
+        mse /= count;
+        ConvergencePoint p;
+        p.spp = s.spp;
+        p.time_s = s.time_s;
+        p.rel_rmse = std::sqrt(mse) / std::abs(ref_mean);
+        p.rel_rmse_corrected = std::sqrt(std::max(0.0, mse - ref_var)) / std::abs(ref_mean);
+        out.points.push_back(p);
+        if (p.rel_rmse_corrected > 0) {
+            xs.push_back(std::log(static_cast<double>(p.spp)));
+            ys.push_back(std::log(p.rel_rmse_corrected));
+        }
+    }
+    if (xs.size() >= 2) {
+        double mx = 0, my = 0;
+        for (size_t i = 0; i < xs.size(); ++i) {
+            mx += xs[i];
+            my += ys[i];
+        }
+        mx /= static_cast<double>(xs.size());
+        my /= static_cast<double>(xs.size());
+        double sxy = 0, sxx = 0;
+        for (size_t i = 0; i < xs.size(); ++i) {
+            sxy += (xs[i] - mx) * (ys[i] - my);
+            sxx += (xs[i] - mx) * (xs[i] - mx);
+        }
+        out.slope = sxx > 0 ? sxy / sxx : 0;
+    } else {
+        out.slope = std::numeric_limits<double>::quiet_NaN();
+    }
+    return out;
+}
+
+}  // namespace inlight::render

@@ -1,0 +1,110 @@
+// render/path_tracer.h: the ground-truth renderer: a unidirectional path tracer lit by the
+// environment, with next-event estimation by environment importance sampling, BSDF sampling,
+// multiple importance sampling (power heuristic, beta = 2), Russian roulette, and progressive
+// passes with a per-pixel running mean and variance.
+//
+// References: Veach 1997, PhD thesis, ch. 9 (MIS, eq. 9.13 power heuristic); Pharr, Jakob and
+// Humphreys, PBR 3rd ed., sec. 14.5 (path tracing with NEE and MIS), 13.7 (Russian roulette);
+// Welford 1962 (running variance).
+//
+// Determinism: sample s of pixel p draws from its own PCG32 stream seeded by (seed, p, s), pixels
+// are rendered in fixed tiles over core/parallel.h, and each pixel's samples are accumulated in
+// sample order, so the output is bit-identical for any thread count and any pass schedule (the
+// time budget changes only how many samples are taken).
+//
+// Unbiasedness of MIS: the power heuristic weights sum to one over the strategies whose pdf is
+// non-zero at a direction, so each direction that carries light is counted once as long as one
+// strategy can produce it: the environment strategy covers every pixel with non-zero radiance
+// (render/environment.h) and BSDF sampling covers the rest of the hemisphere.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "image/image.h"
+#include "render/sampling.h"
+#include "render/scene.h"
+
+namespace inlight::render {
+
+/// Which estimator lights each bounce (kMis is the renderer; the others exist for tests).
+enum class Strategy {
+    kMis,    ///< environment sample + BSDF sample, power-heuristic weights
+    kBsdf,   ///< BSDF sampling only (environment found when the path escapes)
+    kLight,  ///< environment sampling only at each bounce (escaping paths add nothing)
+};
+/// "mis" | "bsdf" | "light"; throws UsageError otherwise.
+Strategy strategy_from_string(const std::string& name);
+
+struct RenderOptions {
+    int spp = 64;                 ///< samples per pixel (the maximum when a stop rule is given)
+    uint64_t seed = 1;
+    int max_depth = 32;           ///< surface interactions per path (a cap: RR ends most paths)
+    int rr_depth = 3;             ///< Russian roulette after this many interactions
+    double time_budget_s = 0;     ///< > 0: stop after the pass that reaches this render time
+    double target_rel_error = 0;  ///< > 0: stop when rel_error (RenderResult) <= this
+    int tile_px = 16;             ///< square tiles, the unit of parallel work
+    bool jitter = true;           ///< box filter over the pixel; false = the pixel centre only
+    Strategy strategy = Strategy::kMis;
+    std::vector<int> snapshot_spp;  ///< also keep the image after these sample counts
+};
+
+/// The image after a given number of samples (for convergence studies).
+struct Snapshot {
+    int spp = 0;
+    double time_s = 0;  ///< render time until then
+    image::Image radiance;
+};
+
+struct RenderResult {
+    image::Image radiance;   ///< 3 channels, linear_srgb: mean of the samples
+    image::Image std_error;  ///< 3 channels, data: standard error of that mean (0 when spp < 2)
+    int spp = 0;             ///< samples per pixel taken (the same for every pixel)
+    int passes = 0;
+    int64_t samples = 0;     ///< camera paths
+    int64_t rays = 0;        ///< closest-hit plus shadow rays
+    int64_t nonfinite_samples = 0;  ///< NaN/Inf path values, counted and replaced by 0
+    double render_time_s = 0;
+    /// Relative noise of the image: sqrt(mean over pixels of se_Y^2) / mean over pixels of Y,
+    /// Y = Rec.709 luminance, se_Y its standard error. NaN when spp < 2 or the image is black.
+    double rel_error = 0;
+    std::string stop_reason;  ///< "spp" | "time_budget" | "target_rel_error"
+    std::vector<Snapshot> snapshots;
+};
+
+/// Renders the scene's camera view progressively. `progress`, if given, is called on the
+/// calling thread after each pass with the samples per pixel done so far.
+RenderResult render(const Scene& scene, const RenderOptions& options,
+                    const std::function<void(int)>& progress = {});
+
+/// One path's radiance estimate along `ray` (exposed for tests). Adds the rays it traces to
+/// *rays.
+Eigen::Vector3d trace_path(const Scene& scene, const Ray& ray, Rng& rng,
+                           const RenderOptions& options, int64_t* rays);
+
+/// Error of the path tracer against sample count (it must fall as 1/sqrt(N)).
+struct ConvergencePoint {
+    int spp = 0;
+    double time_s = 0;
+    double rel_rmse = 0;  ///< sqrt(mean (x - ref)^2) / mean(ref) over pixels and channels
+    /// The same with the reference's own noise subtracted: sqrt(max(0, mse - mean se_ref^2)).
+    double rel_rmse_corrected = 0;
+};
+struct ConvergenceResult {
+    int reference_spp = 0;
+    double reference_rel_error = 0;
+    std::vector<ConvergencePoint> points;
+    /// Least-squares slope of log(rel_rmse_corrected) against log(spp): -0.5 for an unbiased
+    /// Monte Carlo estimator.
+    double slope = 0;
+};
+/// Renders a reference with `reference_spp` (seed ^ a constant, independent of the measured
+/// run), then the measured run with snapshots at `spp_list`, and fits the slope.
+ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
+                                    int reference_spp, const std::vector<int>& spp_list);
+
+}  // namespace inlight::render
