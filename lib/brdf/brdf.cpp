@@ -263,6 +263,29 @@ double pdf(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector3d& 
     return p;
 }
 
+namespace {
+// Half vector for the specular lobe's sampling rule (upper hemisphere).
+Eigen::Vector3d sample_specular_h(const Material& m, const Eigen::Vector3d& wo,
+                                  const Eigen::Vector2d& u) {
+    switch (m.specular) {
+        case Model::kGgx:
+            return sample_ggx_vndf(clamp_alpha(m.alpha), wo, u);
+        case Model::kCookTorranceReport: {
+            const double r2 = clamp_alpha(m.report_r) * clamp_alpha(m.report_r);
+            return from_cos(std::sqrt(u.x() / (1.0 + r2 * (1.0 - u.x()))), u.y());
+        }
+        case Model::kCharlie: {
+            const double a = std::clamp(m.alpha, kMinAlpha, 1.0);
+            const double sin_h = std::pow(u.x(), a / (1.0 + 2.0 * a));
+            return from_cos(std::sqrt(std::max(0.0, 1.0 - sin_h * sin_h)), u.y());
+        }
+        case Model::kLambert:
+            break;
+    }
+    return Eigen::Vector3d::UnitZ();
+}
+}  // namespace
+
 Sample sample(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector2d& u,
               double u_lobe) {
     Sample s;
@@ -270,25 +293,7 @@ Sample sample(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector2
     const double ps = specular_probability(m, wo);
     Eigen::Vector3d wi;
     if (u_lobe < ps) {
-        Eigen::Vector3d h = Eigen::Vector3d::UnitZ();
-        switch (m.specular) {
-            case Model::kGgx:
-                h = sample_ggx_vndf(clamp_alpha(m.alpha), wo, u);
-                break;
-            case Model::kCookTorranceReport: {
-                const double r2 = clamp_alpha(m.report_r) * clamp_alpha(m.report_r);
-                h = from_cos(std::sqrt(u.x() / (1.0 + r2 * (1.0 - u.x()))), u.y());
-                break;
-            }
-            case Model::kCharlie: {
-                const double a = std::clamp(m.alpha, kMinAlpha, 1.0);
-                const double sin_h = std::pow(u.x(), a / (1.0 + 2.0 * a));
-                h = from_cos(std::sqrt(std::max(0.0, 1.0 - sin_h * sin_h)), u.y());
-                break;
-            }
-            case Model::kLambert:
-                return s;  // unreachable: ps = 0 without a specular lobe
-        }
+        const Eigen::Vector3d h = sample_specular_h(m, wo, u);
         if (wo.dot(h) <= 0) return s;
         wi = reflect(wo, h);
     } else {
@@ -302,6 +307,49 @@ Sample sample(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector2
     s.value = eval(m, wo, wi);
     s.valid = true;
     return s;
+}
+
+Eigen::Vector3d eval_baked_lobe(const Material& m, const Eigen::Vector3d& wo,
+                                const Eigen::Vector3d& wi) {
+    return m.specular == Model::kLambert ? eval_diffuse(m, wo, wi) : eval_specular(m, wo, wi);
+}
+
+double pdf_baked_lobe(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector3d& wi) {
+    if (!above(wo) || !above(wi)) return 0;
+    if (m.specular == Model::kLambert) return wi.z() * kInvPi;
+    return pdf_specular(m, wo, wi);
+}
+
+Sample sample_baked_lobe(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector2d& u) {
+    Sample s;
+    if (!above(wo)) return s;
+    Eigen::Vector3d wi;
+    if (m.specular == Model::kLambert) {
+        wi = cosine_hemisphere(u);
+    } else {
+        const Eigen::Vector3d h = sample_specular_h(m, wo, u);
+        if (wo.dot(h) <= 0) return s;
+        wi = reflect(wo, h);
+    }
+    if (!above(wi)) return s;
+    wi.normalize();
+    s.wi = wi;
+    s.pdf = pdf_baked_lobe(m, wo, wi);
+    if (!(s.pdf > 0)) return s;
+    s.value = eval_baked_lobe(m, wo, wi);
+    s.valid = true;
+    return s;
+}
+
+bool baked_lobe_is_achromatic(const Material& m) {
+    auto flat = [](const Eigen::Vector3d& c) { return c[0] == c[1] && c[1] == c[2]; };
+    switch (m.specular) {
+        case Model::kLambert: return flat(m.albedo);
+        case Model::kCookTorranceReport: return true;
+        case Model::kGgx: return flat(m.f0);
+        case Model::kCharlie: return flat(m.sheen_color);
+    }
+    return false;
 }
 
 }  // namespace inlight::brdf

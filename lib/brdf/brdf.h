@@ -124,6 +124,20 @@ Sample sample(const Material& material, const Eigen::Vector3d& wo, const Eigen::
 /// Mixture pdf (1/sr) of sample() producing wi; 0 if wo.z <= 0 or wi.z <= 0.
 double pdf(const Material& material, const Eigen::Vector3d& wo, const Eigen::Vector3d& wi);
 
+/// The lobe that brdf-sh-bake tabulates: eval_specular, or eval_diffuse when
+/// material.specular is kLambert (so that Lambert can be baked for energy tests).
+Eigen::Vector3d eval_baked_lobe(const Material& material, const Eigen::Vector3d& wo,
+                                const Eigen::Vector3d& wi);
+/// Samples only the baked lobe with the rule sample() uses for it (always that lobe, no
+/// mixture); pdf = pdf_baked_lobe(wo, wi), value = eval_baked_lobe(wo, wi).
+Sample sample_baked_lobe(const Material& material, const Eigen::Vector3d& wo,
+                         const Eigen::Vector2d& u);
+/// pdf (1/sr) of sample_baked_lobe; 0 below the horizon.
+double pdf_baked_lobe(const Material& material, const Eigen::Vector3d& wo,
+                      const Eigen::Vector3d& wi);
+/// True if the baked lobe has the same value in every channel (then one table channel).
+bool baked_lobe_is_achromatic(const Material& material);
+
 // --- Model terms, exposed for tests and docs (all in the local frame, c = cosine to +z) ---
 
 /// The report's D_report(c) = r^2 / (pi (c^2 r^2 + 1)^2), 1/sr; r clamped to kMinAlpha.

@@ -1,0 +1,138 @@
+// brdf/bake.h: projection of a cosine-weighted BRDF lobe into SH at each normal of a grid
+// (brdf-sh-bake), the integrators, and the error of a bake against a converged reference.
+//
+// What is projected (the inlight report, section 2.4.1, made precise): for a grid normal n and
+// the fixed view v (device frame),
+//   B_lm(n) = integral over the sphere of f_r(n; v, w) max(0, n.w) Y_lm(w) dw,
+// with f_r = eval_baked_lobe() (the specular/sheen lobe; the Lambert lobe only for the kLambert
+// model) evaluated in n's local frame (world_from_local(n), Duff et al. 2017), and Y_lm real SH
+// in the DEVICE frame (sh/sh.h), so that sum_lm L_lm B_lm(n) is the reflected radiance toward
+// v for lighting coefficients L_lm projected in the device frame. B = 0 where n.v <= 0.
+//
+// Integrators (per normal; all sums in double, in a fixed order):
+//  - stratified-mc: the report's Snippet 1: sqrt(N) x sqrt(N) jittered strata uniform over the
+//    whole sphere (theta = 2 acos(sqrt(1 - p)), phi = 2 pi q), weight 4 pi / N.
+//  - gauss-legendre: a product rule in the lobe's own variables: Gauss-Legendre in u x uniform
+//    phi, mapped through the inverse CDF of the lobe's D(h)(n.h) (half-vector h, local frame;
+//    Jacobian 4 (wo.h)); for Lambert, Gauss-Legendre in cos(theta_i) x uniform phi (exact for
+//    the polynomial integrand). n = max(1, round(sqrt(samples / 2))) x 2n nodes.
+//  - sobol-is: the first N points of the 2-D Sobol sequence with a random digital shift per
+//    normal, through sample_baked_lobe() (GGX: visible normals, Heitz 2018).
+// Random numbers derive from (seed, the normal's quantised coordinates) only: identical output
+// for any thread count, and identical nodes (the thetaphi pole row, the report grid's folded
+// duplicates) get identical coefficients.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "brdf/brdf.h"
+#include "brdf/grid.h"
+#include "brdf/table.h"
+
+namespace inlight::brdf {
+
+/// Largest band count a table holds (8 bands = 64 coefficients).
+inline constexpr int kMaxBakeBands = 8;
+
+enum class Integrator { kStratifiedMc, kGaussLegendre, kSobolIs };
+/// "stratified-mc" | "gauss-legendre" | "sobol-is".
+std::string to_string(Integrator integrator);
+/// Inverse of to_string; throws UsageError.
+Integrator integrator_from_string(const std::string& name);
+
+/// Options of bake() and project_normal().
+struct BakeOptions {
+    int sh_bands = 3;  ///< 1 .. kMaxBakeBands (checked by bake())
+    Integrator integrator = Integrator::kGaussLegendre;
+    int samples = 4096;                ///< integrand evaluations per normal (see the file comment)
+    Eigen::Vector3d view{0, 0, 1};     ///< toward the viewer, device frame, unit length
+    uint64_t seed = 1;
+};
+
+/// Parses a view: "x,y,z" (normalised; must be non-zero) -> unit vector. Throws UsageError.
+Eigen::Vector3d parse_view(const std::string& xyz);
+/// View at polar angle theta_deg from +z toward azimuth phi_deg (from +x toward +y).
+Eigen::Vector3d view_from_deg(double theta_deg, double phi_deg);
+
+/// B_lm(n) for one normal: 3 (linear_srgb channels) x count(sh_bands), double.
+/// Precondition: n unit length (checked in Debug), 1 <= sh_bands <= sh::kMaxBands.
+Eigen::MatrixXd project_normal(const Material& material, const Eigen::Vector3d& n,
+                               const BakeOptions& options);
+
+/// Bakes the table (parallel over nodes, deterministic). channels = 1 when
+/// baked_lobe_is_achromatic(material), else 3. Throws UsageError on bad options.
+Table bake(const Material& material, const Grid& grid, const BakeOptions& options);
+
+/// An analytic test environment (device frame), radiance per direction (achromatic).
+struct TestLighting {
+    std::string name;
+    std::function<double(const Eigen::Vector3d&)> radiance;
+};
+/// The fixed set used for radiance errors: "uniform" (1), "front_gradient" (1 + w.z),
+/// "key_vmf10" (exp(10 (mu.w - 1)), mu at theta 35 deg toward +y) and "window_vmf50"
+/// (exp(50 (mu.w - 1)), mu at theta 50 deg, phi -20 deg).
+std::vector<TestLighting> test_lightings();
+/// Their SH coefficients, count(sh_bands) per lighting, by a 128 x 256 product rule (error
+/// < 1e-12 for these smooth functions up to 8 bands).
+std::vector<Eigen::VectorXd> test_lighting_coeffs(int sh_bands);
+
+/// Options of validate().
+struct ValidateOptions {
+    int reference_gl_n = 128;  ///< reference: gauss-legendre with n x 2n nodes, 8 bands
+    int max_nodes = 128;       ///< grid nodes checked (evenly strided); 0 = all
+    int test_normals = 64;     ///< off-grid normals (spherical Fibonacci inside the grid)
+};
+
+/// Errors of a bake (see docs/brdf.md). "rel" errors of radiance are relative to the largest
+/// exact radiance of that lighting over the normals checked; all are maxima over lightings,
+/// channels and normals unless named rms.
+struct Validation {
+    // Integration: baked coefficients vs the reference at grid nodes (same bands).
+    double integration_coeff_max_abs = 0;
+    double integration_coeff_rms = 0;
+    double integration_coeff_max_rel = 0;  ///< max abs / largest |reference coefficient|
+    double integration_radiance_max_rel = 0;
+    // Interpolation: lookup in a table of reference coefficients vs the reference bake at
+    // off-grid normals (same bands): the grid's own error.
+    double interpolation_coeff_max_abs = 0;
+    double interpolation_radiance_max_rel = 0;
+    // Truncation: reference SH product at sh_bands vs the exact integral of L f cos.
+    double truncation_radiance_max_rel = 0;
+    std::vector<double> truncation_radiance_max_rel_by_bands;  ///< [b-1] for b = 1 .. 8
+    // Total: lookup in the baked table vs the exact integral at off-grid normals.
+    double total_radiance_max_rel = 0;
+    // The reference against itself at 2n: evidence that it has converged.
+    double reference_self_coeff_max_rel = 0;
+    int nodes_checked = 0;
+    int test_normals = 0;
+    nlohmann::json per_lighting = nlohmann::json::object();
+    double time_s = 0;
+    nlohmann::json to_json() const;
+};
+
+/// Compares `baked` (from bake(material, grid, options)) with a converged reference.
+Validation validate(const Material& material, const Table& baked, const BakeOptions& options,
+                    const ValidateOptions& vopt = {});
+
+/// The smallest band count b in [1, kMaxBakeBands] whose truncation error meets max_error, or
+/// 0 if none does.
+int choose_bands(const Validation& validation, double max_error);
+
+/// The SH spectrum of the lobe at one normal: fraction of the lobe's energy
+/// integral (f cos)^2 dw (Parseval) captured by the first b bands, for b = 1 .. max_bands.
+/// Uses the gauss-legendre rule with n x 2n nodes (n = gl_n).
+std::vector<double> lobe_energy_captured(const Material& material, const Eigen::Vector3d& n,
+                                         const Eigen::Vector3d& view, int max_bands,
+                                         int gl_n = 256);
+
+/// Smallest b with sqrt(1 - captured(b)) <= rel_l2_error (the relative L2 error of the lobe
+/// reconstructed from b bands), or 0 if max_bands is not enough.
+int bands_for_lobe_error(const std::vector<double>& captured, double rel_l2_error);
+
+}  // namespace inlight::brdf

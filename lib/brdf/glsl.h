@@ -1,0 +1,21 @@
+// brdf/glsl.h: the GLSL ES 3.0 text of the shader-side lookup of a baked table: constants, the
+// uniform array or RGBA32F texture declaration, brdf_grid_coord() and brdf_sh_lookup(). It is
+// the same computation as grid_coord() + lookup() in C++ (same float constants and order).
+#pragma once
+
+#include <string>
+
+#include "brdf/table.h"
+
+namespace inlight::brdf {
+
+/// GLSL ES 3.0 source to paste after "#version 300 es". By default it declares
+///   uniform float u_brdf_coeffs[channels * rows * cols * coeff_count];  (table.h layout)
+/// and with "#define BRDF_USE_TEXTURE" before it instead
+///   uniform highp sampler2D u_brdf_texture;  (texture_texels() layout, read with texelFetch)
+/// Both give  void brdf_sh_lookup(vec3 n, int channel, out float coeffs[BRDF_NCOEFFS]).
+/// GLES 3.0 guarantees only 224 fragment uniform vectors and a float array may take one vector
+/// per element: tables over ~200 floats need the texture path.
+std::string glsl_lookup_source(const Table& table);
+
+}  // namespace inlight::brdf
