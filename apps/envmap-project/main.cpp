@@ -115,6 +115,7 @@ nlohmann::json process(const Args& a, const std::string& input, Report& report) 
             envmap::sh_irradiance(result.coeffs, a.sh_bands, normals), ref);
         m["validation"] = nlohmann::json{{"normals", normals.size()},
                            {"brute_force_time_s", brute_s},
+                           {"reference_self_error", envmap::brute_force_self_error(env, normals)},
                            {"rel_floor_of_max", envmap::kRelFloor},
                            {"error_by_sh_bands", by_bands},
                            {"mean_rel", final_err.mean_rel},

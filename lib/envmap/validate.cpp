@@ -5,6 +5,7 @@
 
 #include "core/conventions.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "sh/sh.h"
 
 namespace inlight::envmap {
@@ -34,10 +35,12 @@ Eigen::MatrixXd brute_force_irradiance(const Environment& env,
     Eigen::Matrix3Xd nm(3, nn);
     for (int i = 0; i < nn; ++i) nm.col(i) = normals[static_cast<size_t>(i)];
     using Acc = Eigen::MatrixXd;
+    Progress progress("brute-force irradiance", samples->size());
     return parallel::reduce(
         samples->size(), 8192, Acc(Acc::Zero(nn, 3)),
         [&](int64_t begin, int64_t end) {
             Acc acc = Acc::Zero(nn, 3);
+            progress.add(end - begin);
             Eigen::Vector3d dir;
             double w, v[3];
             Eigen::VectorXd cosines(nn);
