@@ -5,6 +5,7 @@
 #include "core/app.h"
 #include "core/log.h"
 #include "image/image.h"
+#include "render/compare.h"
 #include "render/path_tracer.h"
 #include "render/scene.h"
 
@@ -16,7 +17,7 @@ struct Args {
     std::string scene, output, stderr_output, strategy = "mis";
     int width_px = 0, height_px = 0, convergence_ref_spp = 0;
     double max_rel_error = 0;
-    bool no_jitter = false;
+    bool no_jitter = false, compare = false;
 };
 
 std::string default_stderr_path(const std::string& output) {
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
     CLI::App app{"render: ground-truth path tracer (Embree) of a scene file, float EXR output"};
     app::CommonArgs common;
     render::RenderOptions opt;
+    render::CompareOptions cmp;
     Args a;
     app.add_option("scene", a.scene, "Scene file (.toml, see docs/render.md)")
         ->required()->check(CLI::ExistingFile);
@@ -78,6 +80,24 @@ int main(int argc, char** argv) {
     app.add_option("--max-rel-error", a.max_rel_error,
                    "Quality gate: exit 3 if the final relative noise exceeds this (0 = off)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
+    app.add_flag("--compare", a.compare,
+                 "Also run the real-time model (consistent and seed modes, bands 1..--rt-max-bands) "
+                 "and compare it with the path tracer: <output>_rt_*, _compare_*.png, _relerr_*, "
+                 "_de2000_*, metrics.realtime in the report");
+    app.add_option("--exposure", cmp.exposure,
+                   "Linear scale before dE2000 and the PNG panels (0 = 0.18 / mean luminance)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    app.add_option("--heat-max-rel", cmp.heat_max_rel, "Relative error at the top of the heat map")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_option("--rt-max-bands", cmp.max_bands, "Real-time model: largest SH band count swept")
+        ->check(CLI::Range(3, 8))->capture_default_str();
+    app.add_option("--rt-grid", cmp.grid, "Real-time model: BRDF table grid (brdf-sh-bake --grid)")
+        ->capture_default_str();
+    app.add_option("--rt-bake-samples", cmp.bake_samples, "BRDF table: evaluations per normal")
+        ->check(CLI::Range(16, 1 << 22))->capture_default_str();
+    app.add_option("--rt-supersample", cmp.supersample,
+                   "Real-time fragments per pixel side (box filter like the path tracer)")
+        ->check(CLI::Range(1, 16))->capture_default_str();
     app::setup(app, common,
                "render configs/scenes/patch_city.toml -o patch.exr --spp 256 --seed 7 "
                "--threads 2 --report patch.json");
@@ -134,6 +154,14 @@ int main(int argc, char** argv) {
                                 {"points", pts},
                                 {"slope", std::isfinite(c.slope) ? nlohmann::json(c.slope) : nlohmann::json()}};
             log::info(str("render: error ~ spp^", c.slope, " (expected -0.5)"));
+        }
+        if (a.compare) {
+            ScopedStage stage(report, "compare");
+            std::vector<render::WrittenFile> files;
+            const std::filesystem::path p(a.output);
+            m["realtime"] = render::compare_realtime(*scene, r, cmp,
+                                                     (p.parent_path() / p.stem()).string(), files);
+            for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
         }
         if (a.max_rel_error > 0 && !(r.rel_error <= a.max_rel_error)) {
             throw app::QualityGateFailed(str("rel_error ", r.rel_error, " > --max-rel-error ",

@@ -79,6 +79,10 @@ class Scene {
     const SurfaceMaterial& material(int shape) const {
         return m_materials[static_cast<size_t>(m_material_of_shape[static_cast<size_t>(shape)])];
     }
+    /// Index into SceneDesc::materials of shape `shape`'s material.
+    int material_index(int shape) const {
+        return m_material_of_shape[static_cast<size_t>(shape)];
+    }
     /// Every file the scene read (for the run report's inputs).
     const std::vector<std::string>& files() const { return m_files; }
 

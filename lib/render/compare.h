@@ -1,0 +1,59 @@
+// render/compare.h: the real-time model against the path tracer: per-pixel error maps
+// (relative error; CIEDE2000 after a stated exposure), summary metrics, side-by-side PNGs
+// (ground truth | real-time | relative-error heat map), the error by SH band count with the
+// model's time per frame, and both shading modes (render/realtime.h).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "image/image.h"
+#include "image/metrics.h"
+#include "render/path_tracer.h"
+#include "render/realtime.h"
+#include "render/scene.h"
+
+namespace inlight::render {
+
+struct CompareOptions {
+    /// Linear scale applied before CIELAB (dE2000) and before the PNG panels; 0 = automatic:
+    /// 0.18 / (mean luminance of the ground truth), i.e. the image average maps to middle grey.
+    double exposure = 0;
+    double heat_max_rel = 0.5;  ///< relative error shown at the top of the heat map's scale
+    double rel_floor = 1e-3;    ///< relative errors divide by max(|truth|, rel_floor)
+    int max_bands = 5;          ///< band sweep 1..max_bands (lighting and BRDF table)
+    int bake_samples = 4096;    ///< brdf::bake integrand evaluations per normal
+    std::string grid = "octa:17";  ///< brdf::parse_grid spec of the BRDF table
+    int supersample = 4;        ///< real-time fragments per pixel side (see RealtimeOptions)
+};
+
+/// Error images and metrics of `test` against `truth` (same size, linear_srgb).
+struct Comparison {
+    image::Metrics metrics;
+    image::Image rel_error;     ///< 1 channel, data
+    image::Image de2000;        ///< 1 channel, data, after `exposure`
+    image::Image side_by_side;  ///< 3 panels, linear_srgb, already multiplied by exposure
+};
+Comparison compare_images(const image::Image& truth, const image::Image& test, double exposure,
+                          const CompareOptions& options);
+
+/// The exposure CompareOptions::exposure = 0 stands for: 0.18 / mean luminance (1 if black).
+double auto_exposure(const image::Image& truth);
+
+/// An output file written by compare_realtime.
+struct WrittenFile {
+    std::string path, kind, color_space;
+};
+
+/// Runs the real-time model on `scene` (lighting projected from its environment, a BRDF table
+/// baked per material for the view -camera direction) in both modes and for 1..max_bands, and
+/// compares each with `truth`. Writes <prefix>_rt_<mode>.exr, <prefix>_compare_<mode>.png,
+/// <prefix>_relerr_<mode>.exr and <prefix>_de2000_<mode>.exr; returns the metrics JSON and
+/// appends the files to `written`.
+nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
+                                const CompareOptions& options, const std::string& prefix,
+                                std::vector<WrittenFile>& written);
+
+}  // namespace inlight::render

@@ -1,0 +1,151 @@
+#include "render/realtime.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/conventions.h"
+#include "core/error.h"
+#include "core/parallel.h"
+#include "brdf/bake.h"
+#include "envmap/project.h"
+#include "sh/sh.h"
+
+namespace inlight::render {
+
+RealtimeMode realtime_mode_from_string(const std::string& name) {
+    if (name == "consistent") return RealtimeMode::kConsistent;
+    if (name == "seed") return RealtimeMode::kSeed;
+    throw UsageError(str("real-time mode '", name, "': expected 'consistent' or 'seed'"));
+}
+
+std::string to_string(RealtimeMode mode) {
+    return mode == RealtimeMode::kConsistent ? "consistent" : "seed";
+}
+
+Eigen::MatrixXd project_environment(const EnvironmentLight& env, int sh_bands) {
+    image::Image img(env.width(), env.height(), 3);
+    for (int row = 0; row < env.height(); ++row) {
+        for (int col = 0; col < env.width(); ++col) {
+            const Eigen::Vector3d p = env.pixel(col, row);
+            for (int c = 0; c < 3; ++c) img.at(col, row, c) = static_cast<float>(p[c]);
+        }
+    }
+    envmap::Environment e;
+    e.layout = envmap::Layout::kLatLong;
+    e.radiance = std::move(img);
+    e.world_from_input = env.world_from_env();
+    envmap::ProjectOptions po;
+    po.sh_bands = sh_bands;
+    return envmap::project(e, po).coeffs;
+}
+
+namespace {
+
+/// The report's shader, section 2.6, for one channel: M is the channel's irradiance matrix
+/// (built from L exactly as sh::irradiance_matrix), brdf[0..9) the BRDF coefficients at n.
+double seed_specular(const Eigen::Matrix4d& m_in, const float* brdf, const Eigen::Vector4d& n4) {
+    // GLSL indexes mat4 as [column][row]; M and the products are symmetric, so [i][j] = (i, j).
+    const double c5l20 = (m_in(2, 2) / 0.743125) * 0.247708;
+    const double c4l00 = m_in(3, 3) + c5l20;
+    static constexpr int kIndex[4][4] = {{8, 4, 7, 3}, {4, 8, 5, 1}, {7, 5, 6, 2}, {3, 1, 2, -1}};
+    Eigen::Matrix4d m;
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            m(i, j) = kIndex[i][j] >= 0 ? m_in(i, j) * brdf[kIndex[i][j]] : 0.0;
+        }
+    }
+    m(3, 3) = c4l00 * brdf[0] - c5l20 * brdf[6];
+    return n4.dot(m * n4);
+}
+
+}  // namespace
+
+Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
+                               bool has_specular, const Eigen::MatrixXd& coeffs,
+                               const brdf::Table* table, const RealtimeOptions& options) {
+    const int bands = options.sh_bands;
+    const Eigen::Vector4d n4(n.x(), n.y(), n.z(), 1.0);
+    float b[3][sh::count(brdf::kMaxBakeBands)] = {};
+    const bool specular = has_specular && table != nullptr;
+    int k_spec = 0;
+    if (specular) {
+        k_spec = sh::count(std::min(bands, table->sh_bands));
+        for (int c = 0; c < table->channels; ++c) lookup(*table, n.cast<float>(), c, b[c]);
+    }
+    auto table_channel = [&](int c) { return table && table->channels == 3 ? c : 0; };
+
+    Eigen::Vector3d out;
+    if (options.mode == RealtimeMode::kSeed) {
+        double mean_irradiance = 0;
+        Eigen::Vector3d spec = Eigen::Vector3d::Zero();
+        for (int c = 0; c < 3; ++c) {
+            const Eigen::Matrix4d m = sh::irradiance_matrix(coeffs.col(c).data());
+            mean_irradiance += n4.dot(m * n4) / 3.0;
+            if (specular) spec[c] = seed_specular(m, b[table_channel(c)], n4) * 0.05;
+        }
+        out = albedo * (mean_irradiance * 0.3) + spec;
+    } else {
+        for (int c = 0; c < 3; ++c) {
+            const double* l = coeffs.col(c).data();
+            double e;
+            if (bands == 3) {
+                const Eigen::Matrix4d m = sh::irradiance_matrix(l);
+                e = n4.dot(m * n4);
+            } else {
+                e = sh::irradiance(bands, l, n);
+            }
+            double s = 0;
+            const float* bc = b[table_channel(c)];
+            for (int k = 0; k < k_spec; ++k) s += l[k] * bc[k];
+            out[c] = albedo[c] * kInvPi * e + s;
+        }
+    }
+    return out;
+}
+
+image::Image render_realtime(const Scene& scene, const RealtimeLighting& lighting,
+                             const RealtimeOptions& options) {
+    if (options.sh_bands < 1 || sh::count(options.sh_bands) > lighting.coeffs.rows()) {
+        throw UsageError(str("real-time model: ", options.sh_bands, " bands asked, lighting has ",
+                             lighting.coeffs.rows(), " coefficients"));
+    }
+    if (options.mode == RealtimeMode::kSeed && options.sh_bands != 3) {
+        throw UsageError(str("real-time model: the seed (report) mode exists for 3 bands only, got ",
+                             options.sh_bands));
+    }
+    if (options.supersample < 1) throw UsageError("real-time model: supersample must be >= 1");
+    const Camera& cam = scene.camera();
+    const int w = cam.width_px, h = cam.height_px, ss = options.supersample;
+    image::Image img(w, h, 3, image::ColorSpace::kLinearSrgb);
+    parallel::for_chunks(h, 1, [&](int64_t y0, int64_t y1) {
+        for (int64_t y = y0; y < y1; ++y) {
+            for (int x = 0; x < w; ++x) {
+                Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+                for (int sy = 0; sy < ss; ++sy) {
+                    for (int sx = 0; sx < ss; ++sx) {
+                        const Ray ray = cam.generate_ray(x + (sx + 0.5) / ss,
+                                                         static_cast<double>(y) + (sy + 0.5) / ss);
+                        SurfaceHit hit;
+                        if (!scene.accel().intersect(ray, &hit)) {
+                            sum += scene.environment().eval(ray.dir);
+                            continue;
+                        }
+                        const SurfaceMaterial& m = scene.material(hit.shape);
+                        const ShadingPoint sp = shade(m, hit, -ray.dir);
+                        const auto mi = static_cast<size_t>(scene.material_index(hit.shape));
+                        const brdf::Table* table =
+                            mi < lighting.tables.size() ? &lighting.tables[mi] : nullptr;
+                        sum += shade_realtime(sp.world_from_local.col(2), sp.brdf.albedo,
+                                              sp.brdf.specular != brdf::Model::kLambert,
+                                              lighting.coeffs, table, options);
+                    }
+                }
+                sum /= static_cast<double>(ss * ss);
+                for (int c = 0; c < 3; ++c) img.at(x, static_cast<int>(y), c) = static_cast<float>(sum[c]);
+            }
+        }
+    });
+    return img;
+}
+
+}  // namespace inlight::render

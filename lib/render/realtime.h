@@ -1,0 +1,68 @@
+// render/realtime.h: the app's real-time shading computed on the CPU, term for term what the
+// exported fragment shader does, so that its error against the path tracer can be measured.
+//
+// Inputs per fragment: the normal (normal map in the tangent frame, render/material.h), the
+// albedo (material albedo x tiled texture, bilinear), lighting SH coefficients L_lm (3
+// channels, device/world frame, sh/sh.h convention) and the BRDF SH table B_lm(n) of the
+// material's specular lobe (brdf/table.h, bilinear lookup over its grid of normals).
+//
+// Modes:
+//  - kConsistent (physically consistent): radiance = albedo / pi * E(n) + S(n) per channel, with
+//    E(n) = n^T M n from the irradiance matrix M (Ramamoorthi and Hanrahan 2001, eq. 12) when
+//    sh_bands = 3, else E(n) = sum_lm A_l L_lm Y_lm(n) (eq. 7-8) for any band count, and
+//    S(n) = sum_lm L_lm B_lm(n) over min(sh_bands, table bands)^2 coefficients. Lambert
+//    materials have no specular lobe (S = 0).
+//  - kSeed: the inlight report's shader (section 2.6) as written: the matrix M_c of each
+//    channel multiplied entry by entry by the BRDF coefficients (m[i][j] = M[i][j] * B_k for
+//    the k of that entry, m[3][3] = c4L00 B_0 - c5L20 B_6 with the shader's 0.743125 and
+//    0.247708), specular_c = n^T m_c n * 0.05, and diffuse = mean_c(n^T M_c n) * 0.3 * albedo.
+//    Only 3 bands exist in this mode. The lookup is brdf::lookup (the report's own getBRDF
+//    returns NaN at the pole of a flat patch; brdf::lookup_report_original reproduces that).
+// Fragments are shaded at `supersample` x `supersample` stratified positions per pixel and
+// averaged (the box filter of the path tracer; 1 = the pixel centre, as a GPU does).
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "brdf/table.h"
+#include "image/image.h"
+#include "render/scene.h"
+
+namespace inlight::render {
+
+enum class RealtimeMode { kConsistent, kSeed };
+/// "consistent" | "seed"; throws UsageError otherwise.
+RealtimeMode realtime_mode_from_string(const std::string& name);
+std::string to_string(RealtimeMode mode);
+
+struct RealtimeOptions {
+    RealtimeMode mode = RealtimeMode::kConsistent;
+    int sh_bands = 3;     ///< lighting bands used (<= the coefficients given); kSeed needs 3
+    int supersample = 4;  ///< fragments per pixel side
+};
+
+/// The real-time model's inputs that do not depend on the pixel.
+struct RealtimeLighting {
+    Eigen::MatrixXd coeffs;              ///< count(bands) x 3 lighting coefficients, world frame
+    std::vector<brdf::Table> tables;     ///< one per scene material (same order), may be empty
+};
+
+/// Lighting coefficients of the scene's environment (as the path tracer sees it: the same
+/// pixels after intensity, the same rotation), by lib/envmap's exact box-filter projection.
+Eigen::MatrixXd project_environment(const EnvironmentLight& env, int sh_bands);
+
+/// Shades one fragment: normal n (unit, world = device frame), albedo (linear_srgb). The
+/// table may be null (no specular). Returns linear_srgb radiance.
+Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
+                               bool has_specular, const Eigen::MatrixXd& coeffs,
+                               const brdf::Table* table, const RealtimeOptions& options);
+
+/// Renders the scene's camera view with the real-time model. Rays that miss show the
+/// environment (nearest pixel, as the path tracer). Parallel and deterministic.
+/// Throws UsageError when options ask for more bands than `lighting` has, or kSeed without 3.
+image::Image render_realtime(const Scene& scene, const RealtimeLighting& lighting,
+                             const RealtimeOptions& options);
+
+}  // namespace inlight::render

@@ -1,0 +1,106 @@
+// Path tracer throughput: rays per second and camera samples per second at 1 and 2 threads, on
+// the app's case (textured GGX fabric patch, orthographic) and on the draped-cloth mesh with a
+// floor (interreflection). Environment: city.exr when blender-data is installed, else a
+// synthetic 1024x512 sky. Run with `make bench` or build/bench/render_bench.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "core/conventions.h"
+#include "core/parallel.h"
+#include "render/path_tracer.h"
+
+namespace {
+
+using namespace inlight;
+using namespace inlight::render;
+
+image::Image environment_map() {
+    const std::string city = "/usr/share/blender/datafiles/studiolights/world/city.exr";
+    if (std::filesystem::exists(city)) return load_latlong(city);
+    image::Image img(1024, 512, 3);
+    for (int y = 0; y < 512; ++y) {
+        for (int x = 0; x < 1024; ++x) {
+            const Eigen::Vector3d d = latlong_direction((x + 0.5) / 1024, (y + 0.5) / 512);
+            const double v = 0.3 + std::max(0.0, d.z()) + 500.0 * std::pow(std::max(0.0, d.x()), 400);
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = static_cast<float>(v);
+        }
+    }
+    return img;
+}
+
+SceneDesc patch_scene() {
+    SceneDesc d;
+    d.camera.width_px = d.camera.height_px = 64;
+    d.environment.image = environment_map();
+    SurfaceMaterial m;
+    m.name = "satin";
+    m.brdf.specular = brdf::Model::kGgx;
+    m.brdf.alpha = 0.2;
+    d.materials.push_back(m);
+    ObjectSpec o;
+    o.shape.kind = ShapeKind::kPatch;
+    o.material = "satin";
+    d.objects.push_back(o);
+    return d;
+}
+
+SceneDesc drape_scene() {
+    SceneDesc d = patch_scene();
+    d.camera.projection = Projection::kPerspective;
+    d.camera.position = {0, -1.4, 1.1};
+    d.camera.look_at = {0, 0, -0.05};
+    d.camera.up = {0, 0, 1};
+    SurfaceMaterial velvet;
+    velvet.name = "velvet";
+    velvet.brdf.specular = brdf::Model::kCharlie;
+    velvet.brdf.alpha = 0.5;
+    d.materials.push_back(velvet);
+    ObjectSpec cloth;
+    cloth.shape.kind = ShapeKind::kMesh;
+    cloth.mesh_path = std::string(INLIGHT_SOURCE_DIR) + "/tests/render/data/drape.obj";
+    cloth.material = "velvet";
+    ObjectSpec floor;
+    floor.shape.kind = ShapeKind::kPatch;
+    floor.shape.center = {0, 0, -0.3};
+    floor.shape.size = {4, 4};
+    floor.material = "satin";
+    d.objects = {cloth, floor};
+    return d;
+}
+
+const Scene& scene(int which) {
+    static const Scene patch(patch_scene());
+    static const Scene drape(drape_scene());
+    return which == 0 ? patch : drape;
+}
+
+// args: scene (0 patch, 1 drape), threads
+void BM_PathTrace(benchmark::State& state) {
+    const Scene& s = scene(static_cast<int>(state.range(0)));
+    parallel::set_thread_count(static_cast<int>(state.range(1)));
+    RenderOptions o;
+    o.spp = 4;
+    int64_t rays = 0, samples = 0;
+    for (auto _ : state) {
+        const RenderResult r = inlight::render::render(s, o);
+        rays += r.rays;
+        samples += r.samples;
+        benchmark::DoNotOptimize(r.radiance.pixels.data());
+    }
+    state.counters["Mrays_per_s"] = benchmark::Counter(rays * 1e-6, benchmark::Counter::kIsRate);
+    state.counters["Msamples_per_s"] =
+        benchmark::Counter(samples * 1e-6, benchmark::Counter::kIsRate);
+    state.counters["rays_per_sample"] = static_cast<double>(rays) / std::max<int64_t>(1, samples);
+    parallel::set_thread_count(0);
+}
+BENCHMARK(BM_PathTrace)
+    ->ArgNames({"scene", "threads"})
+    ->Args({0, 1})->Args({0, 2})->Args({1, 1})->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

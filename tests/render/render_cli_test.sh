@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# CLI behaviour of render: help, exit codes, scene-file errors, reports, stop rules, quality
+# gate, and bit-identical EXR pixels for --threads 1 and 2.
+# shellcheck source=tests/cli/lib.sh
+source "$(dirname "$0")/../cli/lib.sh"
+R="$BIN/render"
+SCENES="${INLIGHT_SOURCE_DIR:?}/configs/scenes"
+FURNACE="$SCENES/sphere_furnace.toml"
+SMALL=(--width-px 16 --height-px 16)
+
+expect_exit 0 "--help" -- "$R" --help
+expect_true "--help shows an example" -- grep -q "Example:" "$WORK/stdout"
+expect_true "--help gives units" -- grep -q -- "--time-budget-s" "$WORK/stdout"
+expect_exit 2 "unknown flag is a usage error" -- "$R" "$FURNACE" -o "$WORK/x.exr" --frobnicate
+expect_exit 2 "missing scene file is a usage error" -- "$R" "$WORK/none.toml" -o "$WORK/x.exr"
+expect_exit 2 "spp 0 is a usage error" -- "$R" "$FURNACE" -o "$WORK/x.exr" --spp 0
+
+# White furnace through the tool: every pixel is 1 within noise; the report carries the figures.
+expect_exit 0 "furnace" -- "$R" "$FURNACE" -o "$WORK/f.exr" "${SMALL[@]}" --spp 32 --report "$WORK/f.json"
+for key in spp rays samples rays_per_s samples_per_s render_time_s rel_error stop_reason; do
+    jq -e ".metrics | has(\"$key\")" "$WORK/f.json" >/dev/null || fail "report lacks metrics.$key"
+done
+pass "report has the render metrics"
+expect_true "two outputs: radiance and its standard error" -- \
+    jq -e '[.outputs[].kind] == ["radiance", "radiance_std_error"]' "$WORK/f.json"
+expect_true "stderr image written beside the output" -- test -s "$WORK/f_stderr.exr"
+expect_true "scene file recorded as input with sha256" -- jq -e '.inputs[0].sha256 | length == 64' "$WORK/f.json"
+expect_true "furnace image mean is 1 within 1%" -- \
+    bash -c "oiiotool '$WORK/f.exr' --printstats | grep -E 'Avg: 0\.99|Avg: 1\.00'"
+
+# Determinism: identical pixels for 1 and 2 threads (idiff with zero tolerance).
+SCENE="$SCENES/drape_velvet.toml"
+if [ -e /usr/share/blender/datafiles/studiolights/world/studio.exr ]; then
+    expect_exit 0 "drape, 1 thread" -- "$R" "$SCENE" -o "$WORK/t1.exr" "${SMALL[@]}" --spp 4 --threads 1 --seed 5
+    expect_exit 0 "drape, 2 threads" -- "$R" "$SCENE" -o "$WORK/t2.exr" "${SMALL[@]}" --spp 4 --threads 2 --seed 5
+    expect_true "bit-identical radiance for 1 and 2 threads" -- idiff -fail 0 -warn 0 "$WORK/t1.exr" "$WORK/t2.exr"
+    expect_true "bit-identical std error for 1 and 2 threads" -- \
+        idiff -fail 0 -warn 0 "$WORK/t1_stderr.exr" "$WORK/t2_stderr.exr"
+    expect_exit 0 "drape, another seed" -- "$R" "$SCENE" -o "$WORK/t3.exr" "${SMALL[@]}" --spp 4 --seed 6
+    expect_exit 2 "another seed gives other pixels (idiff FAILURE = 2)" -- idiff -fail 0 -warn 0 "$WORK/t1.exr" "$WORK/t3.exr"
+else
+    echo "skip: blender-data studio.exr not installed"
+fi
+
+# Real-time model against the path tracer: both modes, band sweep, maps and side-by-side PNGs.
+if [ -e /usr/share/blender/datafiles/studiolights/world/courtyard.exr ]; then
+    expect_exit 0 "compare" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/p.exr" "${SMALL[@]}" --spp 16 \
+        --compare --rt-max-bands 4 --rt-bake-samples 256 --rt-supersample 2 --report "$WORK/p.json"
+    for f in rt_consistent.exr rt_seed.exr compare_consistent.png compare_seed.png relerr_seed.exr de2000_consistent.exr; do
+        test -s "$WORK/p_$f" || fail "compare output p_$f missing"
+    done
+    pass "compare writes images, maps and PNGs"
+    expect_true "both modes and 4 band counts in the report" -- \
+        jq -e '.metrics.realtime | (.modes | has("consistent") and has("seed")) and (.consistent_by_sh_bands | length == 4)' "$WORK/p.json"
+    expect_true "stated exposure and frame time" -- \
+        jq -e '.metrics.realtime.exposure > 0 and .metrics.realtime.consistent_by_sh_bands[2].frame_time_ms > 0' "$WORK/p.json"
+    expect_true "side-by-side PNG is three panels wide" -- \
+        bash -c "oiiotool --info '$WORK/p_compare_seed.png' | grep -Eq '48 x +16,'"
+else
+    echo "skip: blender-data courtyard.exr not installed"
+fi
+
+# Stop rules and the quality gate.
+expect_exit 0 "target relative error" -- "$R" "$FURNACE" -o "$WORK/g.exr" "${SMALL[@]}" --spp 100000 \
+    --target-rel-error 0.02 --report "$WORK/g.json"
+expect_true "stopped by the target, below it" -- \
+    jq -e '.metrics.stop_reason == "target_rel_error" and .metrics.rel_error <= 0.02 and .metrics.spp < 100000' "$WORK/g.json"
+expect_exit 0 "time budget" -- "$R" "$FURNACE" -o "$WORK/b.exr" "${SMALL[@]}" --spp 1000000 \
+    --time-budget-s 0.3 --report "$WORK/b.json"
+expect_true "stopped by the time budget" -- jq -e '.metrics.stop_reason == "time_budget"' "$WORK/b.json"
+expect_exit 3 "quality gate on relative error" -- "$R" "$FURNACE" -o "$WORK/q.exr" "${SMALL[@]}" --spp 2 \
+    --max-rel-error 1e-6 --report "$WORK/q.json"
+expect_true "gate failure reported, outputs kept" -- \
+    bash -c "jq -e '.status == \"quality_gate_failed\" and .exit_code == 3' '$WORK/q.json' && test -s '$WORK/q.exr'"
+
+# Convergence: error falls as 1/sqrt(N).
+expect_exit 0 "convergence study" -- "$R" "$FURNACE" -o "$WORK/c.exr" "${SMALL[@]}" --spp 64 \
+    --convergence-ref-spp 1024 --report "$WORK/c.json"
+expect_true "slope within 0.15 of -1/2" -- jq -e '(.metrics.convergence.slope + 0.5 | fabs) < 0.15' "$WORK/c.json"
+
+# Scene-file errors name the file, the line, the table and the key; exit 1; no output.
+sed 's/width_px = 64/widht_px = 64/' "$FURNACE" > "$WORK/typo.toml"
+expect_exit 1 "unknown key in the scene" -- "$R" "$WORK/typo.toml" -o "$WORK/typo.exr"
+expect_stderr "typo.toml:10: \[camera\] unknown key 'widht_px'" "error names file, line, table and key"
+expect_true "no output after failure" -- test ! -e "$WORK/typo.exr"
+sed 's/radiance = \[1, 1, 1\]/path = "nowhere.exr"/' "$FURNACE" > "$WORK/noenv.toml"
+expect_exit 1 "missing environment map" -- "$R" "$WORK/noenv.toml" -o "$WORK/noenv.exr"
+expect_stderr "nowhere.exr" "error names the missing map"
+
+# Config files: keys are long options; CLI overrides the config.
+printf 'spp = 3\nwidth-px = 8\nheight-px = 8\n' > "$WORK/cfg.toml"
+expect_exit 0 "config file" -- "$R" "$FURNACE" -o "$WORK/k.exr" --config "$WORK/cfg.toml" --report "$WORK/k.json"
+expect_true "config applied" -- jq -e '.metrics.spp == 3 and .metrics.width_px == 8' "$WORK/k.json"
+expect_exit 0 "CLI overrides config" -- "$R" "$FURNACE" -o "$WORK/k.exr" --config "$WORK/cfg.toml" --spp 5 --report "$WORK/k.json"
+expect_true "override wins" -- jq -e '.metrics.spp == 5 and .config.spp == 5' "$WORK/k.json"
+
+finish
