@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/check.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "sh/quadrature.h"
@@ -144,7 +145,7 @@ struct Warp {
 // The deterministic rule: calls fn(wi_local, weight) so that sum weight g(wi) approximates
 // the integral of g over the upper hemisphere for integrands that contain the lobe.
 // Lambert: GL in cos(theta_i) on [0, 1] x 2n uniform phi (exact for polynomials).
-// Specular lobes: for each of 2n uniform phi_h, the half vectors whose reflection of wo lies
+// Specular lobes: for each of 2n phi_h nodes, the half vectors whose reflection of wo lies
 // above the horizon form the interval theta_h in [max(0, b/2 - pi/4), b/2 + pi/4], b =
 // atan2(wo.(cos phi, sin phi, 0), wo.z) (from a sin 2t + wo.z cos 2t > 0); n GL nodes span that
 // interval in the warped variable u, so the integrand has no jump inside the rule.
@@ -164,9 +165,15 @@ void for_each_gl_node(const Material& m, const Eigen::Vector3d& wo, int n, Fn&& 
         }
         return;
     }
+    // phi is measured from wo's azimuth and split where wo.(cos phi, sin phi, 0) changes sign:
+    // for grazing views the interval of theta_h switches there within ~wo.z, so each half gets
+    // its own Gauss-Legendre rule (n nodes) instead of one periodic trapezoid rule.
     const Warp warp{m};
+    const double phi_o = std::atan2(wo.y(), wo.x());
     for (int j = 0; j < n_phi; ++j) {
-        const double phi = 2.0 * kPi * (j + 0.5) / n_phi;
+        const int half_index = j / n;  // 0: facing wo's azimuth, 1: away from it
+        const double phi = phi_o + 0.5 * kPi * x[j % n] + kPi * half_index;
+        const double w_phi = 0.5 * kPi * w[j % n];  // GL weight on an interval of length pi
         const double cp = std::cos(phi), sp = std::sin(phi);
         const double b = std::atan2(wo.x() * cp + wo.y() * sp, wo.z());
         const double theta_lo = std::max(0.0, 0.5 * b - 0.25 * kPi);
@@ -186,9 +193,19 @@ void for_each_gl_node(const Material& m, const Eigen::Vector3d& wo, int n, Fn&& 
             if (wo_h <= 0) continue;
             const Eigen::Vector3d wi = 2.0 * wo_h * h - wo;
             if (wi.z() <= 0) continue;
-            fn(wi.normalized(), half * w[i] / n_phi / ph * 4.0 * wo_h);
+            fn(wi.normalized(), half * w[i] * w_phi / (2.0 * kPi) / ph * 4.0 * wo_h);
         }
     }
+}
+
+// The view in the facet's local frame. A normal exactly perpendicular to the view (|n.v| <
+// 1e-7, e.g. the horizon row of thetaphi or report5x5 for the default view) takes the limit
+// from the visible side (n.v = 1e-6), which is finite and non-zero for every model, instead of
+// the 0 of a back-facing facet: interpolation toward the horizon then stays continuous.
+Eigen::Vector3d facet_view(const Eigen::Matrix3d& frame, const Eigen::Vector3d& view) {
+    Eigen::Vector3d wo = frame.transpose() * view;
+    if (std::abs(wo.z()) < 1e-7) wo = Eigen::Vector3d(wo.x(), wo.y(), 1e-6).normalized();
+    return wo;
 }
 
 int gl_n_for_samples(int samples) {
@@ -253,7 +270,7 @@ Eigen::Vector3d view_from_deg(double theta_deg, double phi_deg) {
 Eigen::MatrixXd project_normal(const Material& m, const Eigen::Vector3d& n,
                                const BakeOptions& o) {
     const Eigen::Matrix3d frame = world_from_local(n);
-    const Eigen::Vector3d wo = frame.transpose() * o.view;
+    const Eigen::Vector3d wo = facet_view(frame, o.view);
     Accumulator acc(o.sh_bands, frame);
     if (wo.z() <= 0) return acc.result();  // the view sees the back of this facet
     switch (o.integrator) {
@@ -356,17 +373,13 @@ std::vector<Eigen::VectorXd> test_lighting_coeffs(int sh_bands) {
 
 namespace {
 
-struct Reference {
-    Eigen::MatrixXd coeffs;  // 3 x count(kMaxBakeBands)
-    Eigen::MatrixXd exact;   // 3 x lightings: integral of L f cos
-};
-
-Reference reference_at(const Material& m, const Eigen::Vector3d& n, const Eigen::Vector3d& view,
-                       int gl_n, const std::vector<TestLighting>& lights) {
+ReferenceNormal reference_at(const Material& m, const Eigen::Vector3d& n,
+                             const Eigen::Vector3d& view, int gl_n,
+                             const std::vector<TestLighting>& lights) {
     const Eigen::Matrix3d frame = world_from_local(n);
-    const Eigen::Vector3d wo = frame.transpose() * view;
+    const Eigen::Vector3d wo = facet_view(frame, view);
     Accumulator acc(kMaxBakeBands, frame);
-    Reference r;
+    ReferenceNormal r;
     r.exact = Eigen::MatrixXd::Zero(3, static_cast<int>(lights.size()));
     if (wo.z() > 0) {
         for_each_gl_node(m, wo, gl_n, [&](const Eigen::Vector3d& wi, double weight) {
@@ -388,6 +401,20 @@ double dot_prefix(const Eigen::VectorXd& l, const double* b, int count) {
     return s;
 }
 
+// Radiance scale per lighting: the largest exact radiance over everything checked.
+std::vector<double> radiance_scales(const ReferenceSet& ref, int n_lights) {
+    std::vector<double> scale(n_lights, 0.0);
+    for (int l = 0; l < n_lights; ++l) {
+        for (int node : ref.nodes) {
+            scale[l] = std::max(scale[l], ref.at_node.at(node).exact.col(l).cwiseAbs().maxCoeff());
+        }
+        for (const auto& r : ref.at_normal) {
+            scale[l] = std::max(scale[l], r.exact.col(l).cwiseAbs().maxCoeff());
+        }
+    }
+    return scale;
+}
+
 }  // namespace
 
 nlohmann::json Validation::to_json() const {
@@ -407,80 +434,123 @@ nlohmann::json Validation::to_json() const {
             {"validate_time_s", time_s}};
 }
 
-Validation validate(const Material& m, const Table& baked, const BakeOptions& o,
-                    const ValidateOptions& vopt) {
+ReferenceSet make_reference(const Material& m, const Grid& grid, const Eigen::Vector3d& view,
+                            const ValidateOptions& vopt) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto lights = test_lightings();
+    ReferenceSet ref;
+    ref.grid = grid;
+    // Grid nodes checked (evenly strided) and off-grid test normals inside the grid's domain.
+    const int count = grid.node_count();
+    const int want = (vopt.max_nodes <= 0 || vopt.max_nodes >= count) ? count : vopt.max_nodes;
+    for (int i = 0; i < want; ++i) ref.nodes.push_back(static_cast<int>(int64_t(i) * count / want));
+    const double cos_max = grid.kind == GridKind::kThetaPhi ? std::cos(grid.theta_max) : 0.0;
+    for (int i = 0; i < vopt.test_normals; ++i) {
+        const double z = 1.0 - (i + 0.5) / vopt.test_normals * (1.0 - cos_max);
+        const double phi = i * kPi * (3.0 - std::sqrt(5.0));
+        const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+        ref.normals.emplace_back(s * std::cos(phi), s * std::sin(phi), z);
+    }
+    // Reference at every node needed: the checked ones and the corners of each test normal.
+    std::vector<int> need;
+    auto add = [&](int node) {
+        if (!ref.at_node.count(node)) {
+            ref.at_node[node] = ReferenceNormal{};
+            need.push_back(node);
+        }
+    };
+    for (int node : ref.nodes) add(node);
+    for (const auto& n : ref.normals) {
+        const GridCoord g = grid_coord(grid, n.cast<float>());
+        for (int r : {g.r0, g.r1}) {
+            for (int c : {g.c0, g.c1}) add(r * grid.cols + c);
+        }
+    }
+    std::vector<ReferenceNormal> at_need(need.size());
+    ref.at_normal.resize(ref.normals.size());
+    const int64_t total = static_cast<int64_t>(need.size() + ref.normals.size());
+    parallel::for_chunks(total, 1, [&](int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end; ++i) {
+            if (i < static_cast<int64_t>(need.size())) {
+                const int node = need[i];
+                at_need[i] = reference_at(m, grid_node_normal(grid, node / grid.cols, node % grid.cols),
+                                          view, vopt.reference_gl_n, lights);
+            } else {
+                const size_t j = i - need.size();
+                ref.at_normal[j] = reference_at(m, ref.normals[j], view, vopt.reference_gl_n, lights);
+            }
+        }
+    });
+    for (size_t i = 0; i < need.size(); ++i) ref.at_node[need[i]] = std::move(at_need[i]);
+
+    // The reference against itself at twice the nodes, at up to 4 checked nodes.
+    const int self_count = std::min<int>(4, static_cast<int>(ref.nodes.size()));
+    std::vector<double> self_err(self_count, 0.0);
+    double max_ref = 0;
+    for (int node : ref.nodes) max_ref = std::max(max_ref, ref.at_node[node].coeffs.cwiseAbs().maxCoeff());
+    parallel::for_chunks(self_count, 1, [&](int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end; ++i) {
+            // First and last checked nodes (the pole and horizon rows of thetaphi) and between.
+            const size_t pick = self_count > 1 ? i * (ref.nodes.size() - 1) / (self_count - 1) : 0;
+            const int node = ref.nodes[pick];
+            const ReferenceNormal fine = reference_at(
+                m, grid_node_normal(grid, node / grid.cols, node % grid.cols), view,
+                2 * vopt.reference_gl_n, lights);
+            self_err[i] = (fine.coeffs - ref.at_node.at(node).coeffs).cwiseAbs().maxCoeff();
+        }
+    });
+    for (double e : self_err) {
+        ref.self_coeff_max_rel = std::max(ref.self_coeff_max_rel, max_ref > 0 ? e / max_ref : 0.0);
+    }
+    ref.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return ref;
+}
+
+std::vector<double> truncation_by_bands(const ReferenceSet& ref) {
+    const auto lcoef = test_lighting_coeffs(kMaxBakeBands);
+    const int n_lights = static_cast<int>(lcoef.size());
+    const std::vector<double> scale = radiance_scales(ref, n_lights);
+    std::vector<double> out(kMaxBakeBands, 0.0);
+    for (int node : ref.nodes) {
+        const ReferenceNormal& r = ref.at_node.at(node);
+        for (int ch = 0; ch < 3; ++ch) {
+            const Eigen::VectorXd rc = r.coeffs.row(ch).transpose();
+            for (int l = 0; l < n_lights; ++l) {
+                if (!(scale[l] > 0)) continue;
+                for (int b = 1; b <= kMaxBakeBands; ++b) {
+                    const double e = std::abs(dot_prefix(lcoef[l], rc.data(), b * b) - r.exact(ch, l));
+                    out[b - 1] = std::max(out[b - 1], e / scale[l]);
+                }
+            }
+        }
+    }
+    return out;
+}
+
+Validation validate(const ReferenceSet& ref, const Table& baked) {
     const auto start = std::chrono::steady_clock::now();
     const Grid& grid = baked.grid;
+    INLIGHT_CHECK(to_string(grid) == to_string(ref.grid)) << "reference for another grid";
     const auto lights = test_lightings();
     const int n_lights = static_cast<int>(lights.size());
     const auto lcoef = test_lighting_coeffs(kMaxBakeBands);
     const int kb = baked.coeff_count();
 
-    // Grid nodes checked (evenly strided) and off-grid test normals inside the grid's domain.
-    std::vector<int> nodes;
-    const int count = grid.node_count();
-    const int want = (vopt.max_nodes <= 0 || vopt.max_nodes >= count) ? count : vopt.max_nodes;
-    for (int i = 0; i < want; ++i) nodes.push_back(static_cast<int>(int64_t(i) * count / want));
-    const double cos_max = grid.kind == GridKind::kThetaPhi ? std::cos(grid.theta_max) : 0.0;
-    std::vector<Eigen::Vector3d> normals;
-    for (int i = 0; i < vopt.test_normals; ++i) {
-        const double z = 1.0 - (i + 0.5) / vopt.test_normals * (1.0 - cos_max);
-        const double phi = i * kPi * (3.0 - std::sqrt(5.0));
-        const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-        normals.emplace_back(s * std::cos(phi), s * std::sin(phi), z);
-    }
-
-    // Reference at every node needed: the checked ones and the corners of each test normal.
-    std::map<int, int> slot;  // node -> position in ref_nodes
-    std::vector<int> ref_nodes;
-    auto need = [&](int node) {
-        if (slot.emplace(node, static_cast<int>(ref_nodes.size())).second) ref_nodes.push_back(node);
-    };
-    for (int node : nodes) need(node);
-    std::vector<GridCoord> coords;
-    for (const auto& n : normals) {
-        const GridCoord g = grid_coord(grid, n.cast<float>());
-        coords.push_back(g);
-        for (int r : {g.r0, g.r1}) {
-            for (int c : {g.c0, g.c1}) need(r * grid.cols + c);
-        }
-    }
-    std::vector<Reference> ref_node(ref_nodes.size()), ref_normal(normals.size());
-    parallel::for_chunks(static_cast<int64_t>(ref_nodes.size() + normals.size()), 1,
-                         [&](int64_t begin, int64_t end) {
-        for (int64_t i = begin; i < end; ++i) {
-            if (i < static_cast<int64_t>(ref_nodes.size())) {
-                const int node = ref_nodes[i];
-                ref_node[i] = reference_at(m, grid_node_normal(grid, node / grid.cols, node % grid.cols),
-                                           o.view, vopt.reference_gl_n, lights);
-            } else {
-                const size_t j = i - ref_nodes.size();
-                ref_normal[j] = reference_at(m, normals[j], o.view, vopt.reference_gl_n, lights);
-            }
-        }
-    });
-
     Validation v;
-    v.nodes_checked = static_cast<int>(nodes.size());
-    v.test_normals = static_cast<int>(normals.size());
+    v.nodes_checked = static_cast<int>(ref.nodes.size());
+    v.test_normals = static_cast<int>(ref.normals.size());
+    v.reference_self_coeff_max_rel = ref.self_coeff_max_rel;
+    v.truncation_radiance_max_rel_by_bands = truncation_by_bands(ref);
     auto ch_of = [&](int ch) { return baked.channels == 3 ? ch : 0; };
-
-    // Radiance scale per lighting: the largest exact radiance over everything checked.
-    std::vector<double> scale(n_lights, 0.0);
-    for (int l = 0; l < n_lights; ++l) {
-        for (int node : nodes) scale[l] = std::max(scale[l], ref_node[slot[node]].exact.col(l).cwiseAbs().maxCoeff());
-        for (const auto& r : ref_normal) scale[l] = std::max(scale[l], r.exact.col(l).cwiseAbs().maxCoeff());
-    }
+    const std::vector<double> scale = radiance_scales(ref, n_lights);
     auto rel = [&](int l, double err) { return scale[l] > 0 ? err / scale[l] : 0.0; };
     std::vector<double> integ(n_lights, 0), interp(n_lights, 0), trunc(n_lights, 0), total(n_lights, 0);
-    v.truncation_radiance_max_rel_by_bands.assign(kMaxBakeBands, 0.0);
 
     // Integration and truncation at grid nodes.
     double max_ref = 0, sum_sq = 0;
     int64_t n_sq = 0;
-    std::vector<float> baked_k(kb);
-    for (int node : nodes) {
-        const Reference& r = ref_node[slot[node]];
+    for (int node : ref.nodes) {
+        const ReferenceNormal& r = ref.at_node.at(node);
         const int i1 = node / grid.cols, i2 = node % grid.cols;
         for (int ch = 0; ch < 3; ++ch) {
             Eigen::VectorXd b(kb);
@@ -494,36 +564,32 @@ Validation validate(const Material& m, const Table& baked, const BakeOptions& o,
             }
             const Eigen::VectorXd rc = r.coeffs.row(ch).transpose();
             for (int l = 0; l < n_lights; ++l) {
-                const double exact = r.exact(ch, l);
-                integ[l] = std::max(integ[l], rel(l, std::abs(dot_prefix(lcoef[l], b.data(), kb) -
-                                                              dot_prefix(lcoef[l], rc.data(), kb))));
-                trunc[l] = std::max(trunc[l], rel(l, std::abs(dot_prefix(lcoef[l], rc.data(), kb) - exact)));
-                for (int bands = 1; bands <= kMaxBakeBands; ++bands) {
-                    double& t = v.truncation_radiance_max_rel_by_bands[bands - 1];
-                    t = std::max(t, rel(l, std::abs(dot_prefix(lcoef[l], rc.data(), bands * bands) - exact)));
-                }
+                const double sh_ref = dot_prefix(lcoef[l], rc.data(), kb);
+                integ[l] = std::max(integ[l], rel(l, std::abs(dot_prefix(lcoef[l], b.data(), kb) - sh_ref)));
+                trunc[l] = std::max(trunc[l], rel(l, std::abs(sh_ref - r.exact(ch, l))));
             }
         }
     }
     v.integration_coeff_rms = n_sq ? std::sqrt(sum_sq / n_sq) : 0;
     v.integration_coeff_max_rel = max_ref > 0 ? v.integration_coeff_max_abs / max_ref : 0;
 
-    // Interpolation (reference table) and total (baked table) at off-grid normals.
+    // Interpolation (a table of reference coefficients) and total (the baked table) at the
+    // off-grid normals.
     Table ref_table = baked;
     ref_table.channels = 3;
     ref_table.resize();
-    for (size_t i = 0; i < ref_nodes.size(); ++i) {
-        const int node = ref_nodes[i];
+    for (const auto& [node, r] : ref.at_node) {
         for (int ch = 0; ch < 3; ++ch) {
             for (int k = 0; k < kb; ++k) {
                 ref_table.coeffs[ref_table.index(ch, node / grid.cols, node % grid.cols, k)] =
-                    static_cast<float>(ref_node[i].coeffs(ch, k));
+                    static_cast<float>(r.coeffs(ch, k));
             }
         }
     }
-    std::vector<float> interp_k(kb);
-    for (size_t j = 0; j < normals.size(); ++j) {
-        const Eigen::Vector3f nf = normals[j].cast<float>();
+    std::vector<float> interp_k(kb), baked_k(kb);
+    for (size_t j = 0; j < ref.normals.size(); ++j) {
+        const Eigen::Vector3f nf = ref.normals[j].cast<float>();
+        const ReferenceNormal& r = ref.at_normal[j];
         for (int ch = 0; ch < 3; ++ch) {
             lookup(ref_table, nf, ch, interp_k.data());
             lookup(baked, nf, ch_of(ch), baked_k.data());
@@ -532,14 +598,14 @@ Validation validate(const Material& m, const Table& baked, const BakeOptions& o,
                 bi[k] = interp_k[k];
                 bb[k] = baked_k[k];
                 v.interpolation_coeff_max_abs =
-                    std::max(v.interpolation_coeff_max_abs, std::abs(bi[k] - ref_normal[j].coeffs(ch, k)));
+                    std::max(v.interpolation_coeff_max_abs, std::abs(bi[k] - r.coeffs(ch, k)));
             }
-            const Eigen::VectorXd rc = ref_normal[j].coeffs.row(ch).transpose();
+            const Eigen::VectorXd rc = r.coeffs.row(ch).transpose();
             for (int l = 0; l < n_lights; ++l) {
                 interp[l] = std::max(interp[l], rel(l, std::abs(dot_prefix(lcoef[l], bi.data(), kb) -
                                                                 dot_prefix(lcoef[l], rc.data(), kb))));
                 total[l] = std::max(total[l], rel(l, std::abs(dot_prefix(lcoef[l], bb.data(), kb) -
-                                                              ref_normal[j].exact(ch, l))));
+                                                              r.exact(ch, l))));
             }
         }
     }
@@ -554,38 +620,31 @@ Validation validate(const Material& m, const Table& baked, const BakeOptions& o,
                                           {"total_radiance_max_rel", total[l]},
                                           {"max_exact_radiance", scale[l]}};
     }
-
-    // The reference against itself at twice the nodes, at up to 4 checked nodes.
-    const int self_count = std::min<int>(4, static_cast<int>(nodes.size()));
-    std::vector<double> self_err(self_count, 0.0);
-    parallel::for_chunks(self_count, 1, [&](int64_t begin, int64_t end) {
-        for (int64_t i = begin; i < end; ++i) {
-            const int node = nodes[i * nodes.size() / self_count];
-            const Reference fine = reference_at(
-                m, grid_node_normal(grid, node / grid.cols, node % grid.cols), o.view,
-                2 * vopt.reference_gl_n, lights);
-            self_err[i] = (fine.coeffs - ref_node[slot[node]].coeffs).cwiseAbs().maxCoeff();
-        }
-    });
-    for (double e : self_err) {
-        v.reference_self_coeff_max_rel =
-            std::max(v.reference_self_coeff_max_rel, max_ref > 0 ? e / max_ref : 0.0);
-    }
-    v.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    v.time_s = ref.time_s +
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return v;
 }
 
-int choose_bands(const Validation& v, double max_error) {
-    for (size_t b = 0; b < v.truncation_radiance_max_rel_by_bands.size(); ++b) {
-        if (v.truncation_radiance_max_rel_by_bands[b] <= max_error) return static_cast<int>(b) + 1;
+Validation validate(const Material& m, const Table& baked, const BakeOptions& o,
+                    const ValidateOptions& vopt) {
+    return validate(make_reference(m, baked.grid, o.view, vopt), baked);
+}
+
+int choose_bands(const std::vector<double>& by_bands, double max_error) {
+    for (size_t b = 0; b < by_bands.size(); ++b) {
+        if (by_bands[b] <= max_error) return static_cast<int>(b) + 1;
     }
     return 0;
+}
+
+int choose_bands(const Validation& v, double max_error) {
+    return choose_bands(v.truncation_radiance_max_rel_by_bands, max_error);
 }
 
 std::vector<double> lobe_energy_captured(const Material& m, const Eigen::Vector3d& n,
                                          const Eigen::Vector3d& view, int max_bands, int gl_n) {
     const Eigen::Matrix3d frame = world_from_local(n);
-    const Eigen::Vector3d wo = frame.transpose() * view;
+    const Eigen::Vector3d wo = facet_view(frame, view);
     Accumulator acc(max_bands, frame);
     double energy = 0;
     if (wo.z() > 0) {

@@ -7,7 +7,9 @@
 // with f_r = eval_baked_lobe() (the specular/sheen lobe; the Lambert lobe only for the kLambert
 // model) evaluated in n's local frame (world_from_local(n), Duff et al. 2017), and Y_lm real SH
 // in the DEVICE frame (sh/sh.h), so that sum_lm L_lm B_lm(n) is the reflected radiance toward
-// v for lighting coefficients L_lm projected in the device frame. B = 0 where n.v <= 0.
+// v for lighting coefficients L_lm projected in the device frame. B = 0 where n.v < 0 (the
+// viewer sees the back of the facet); at |n.v| < 1e-7 (normals exactly edge-on, such as the
+// horizon row of thetaphi under the default view) B is the limit from the visible side.
 //
 // Integrators (per normal; all sums in double, in a fixed order):
 //  - stratified-mc: the report's Snippet 1: sqrt(N) x sqrt(N) jittered strata uniform over the
@@ -25,6 +27,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -84,8 +87,8 @@ std::vector<Eigen::VectorXd> test_lighting_coeffs(int sh_bands);
 
 /// Options of validate().
 struct ValidateOptions {
-    int reference_gl_n = 128;  ///< reference: gauss-legendre with n x 2n nodes, 8 bands
-    int max_nodes = 128;       ///< grid nodes checked (evenly strided); 0 = all
+    int reference_gl_n = 96;   ///< reference: gauss-legendre with n x 2n nodes, 8 bands
+    int max_nodes = 64;        ///< grid nodes checked (evenly strided); 0 = all
     int test_normals = 64;     ///< off-grid normals (spherical Fibonacci inside the grid)
 };
 
@@ -116,12 +119,41 @@ struct Validation {
     nlohmann::json to_json() const;
 };
 
-/// Compares `baked` (from bake(material, grid, options)) with a converged reference.
+/// The reference at one normal: kMaxBakeBands coefficients and the exact radiance.
+struct ReferenceNormal {
+    Eigen::MatrixXd coeffs;  ///< 3 x count(kMaxBakeBands)
+    Eigen::MatrixXd exact;   ///< 3 x test lightings: integral of L f cos over the sphere
+};
+
+/// The converged reference at the grid nodes and off-grid normals validate() checks (the
+/// expensive part, independent of the bake being checked, so one set serves every band count).
+struct ReferenceSet {
+    Grid grid;
+    std::vector<int> nodes;                 ///< flat indices of the checked nodes
+    std::vector<Eigen::Vector3d> normals;   ///< off-grid test normals
+    std::map<int, ReferenceNormal> at_node; ///< checked nodes and the corners of each normal
+    std::vector<ReferenceNormal> at_normal; ///< per test normal
+    double self_coeff_max_rel = 0;          ///< reference at gl_n vs 2 gl_n, up to 4 nodes
+    double time_s = 0;
+};
+
+/// Computes the reference (parallel, deterministic) for view `view`.
+ReferenceSet make_reference(const Material& material, const Grid& grid,
+                            const Eigen::Vector3d& view, const ValidateOptions& vopt = {});
+
+/// Truncation error of the reference for b = 1 .. kMaxBakeBands bands (index b - 1).
+std::vector<double> truncation_by_bands(const ReferenceSet& reference);
+
+/// Compares `baked` (same grid and view as the reference) with the reference.
+Validation validate(const ReferenceSet& reference, const Table& baked);
+
+/// make_reference + validate.
 Validation validate(const Material& material, const Table& baked, const BakeOptions& options,
                     const ValidateOptions& vopt = {});
 
 /// The smallest band count b in [1, kMaxBakeBands] whose truncation error meets max_error, or
 /// 0 if none does.
+int choose_bands(const std::vector<double>& truncation_by_bands, double max_error);
 int choose_bands(const Validation& validation, double max_error);
 
 /// The SH spectrum of the lobe at one normal: fraction of the lobe's energy

@@ -14,7 +14,7 @@
 //    (acos, atan(y/x)) reaches only rows 2..4 and, for x < 0, returns the coefficients of the
 //    mirrored normal (-x, -y, z); at the pole atan(0/0) is NaN. lookup() here folds phi with
 //    atan2 instead: phi outside [-pi/2, pi/2] becomes phi -+ pi with theta_s = -theta.
-//  - thetaphi:RxC: theta_i1 = theta_max i1 / (R - 1) (row 0 is the pole: its C nodes are one
+//  - thetaphi:RxC[@DEG]: theta_max = DEG degrees (default 90), theta_i1 = theta_max i1 / (R - 1) (row 0 is the pole: its C nodes are one
 //    normal, baked once), phi_i2 = 2 pi i2 / C, periodic: interpolation wraps from column C-1
 //    to column 0.
 //  - octa:N: hemi-octahedral map (no pole, no seam): p = (x, y) / (|x| + |y| + z), rotated 45
@@ -48,7 +48,8 @@ struct Grid {
     int node_count() const { return rows * cols; }
 };
 
-/// Parses "report5x5", "thetaphi:RxC" (R >= 2, C >= 3), "octa:N" or "disk:N" (N >= 2).
+/// Parses "report5x5", "thetaphi:RxC[@DEG]" (R >= 2, C >= 3, 0 < DEG <= 180), "octa:N" or
+/// "disk:N" (N >= 2).
 /// Throws UsageError.
 Grid parse_grid(const std::string& spec);
 /// The spec string parse_grid() reads back.

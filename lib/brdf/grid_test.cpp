@@ -43,7 +43,7 @@ std::vector<float> at_normal(const Table& t, const Eigen::Vector3d& n) {
     return out;
 }
 
-const char* const kGrids[] = {"report5x5", "thetaphi:9x16", "octa:9", "octa:2", "thetaphi:2x3",
+const char* const kGrids[] = {"report5x5", "thetaphi:9x16", "octa:9", "octa:2", "thetaphi:2x3", "thetaphi:5x8@60",
                               "disk:9", "disk:2"};
 
 // Float lookup of an exact node: the weights reproduce the node value to a few float ulps of
@@ -53,7 +53,7 @@ constexpr float kNodeTol = 1e-5f;
 TEST(Grid, ParseRoundTripsAndRejects) {
     for (const char* spec : kGrids) EXPECT_EQ(to_string(parse_grid(spec)), spec);
     for (const char* bad : {"report", "thetaphi:1x8", "thetaphi:8x2", "octa:1", "octa:x", "latlong:4",
-                            "disk:1"}) {
+                            "disk:1", "thetaphi:4x4@0", "thetaphi:4x4@200"}) {
         EXPECT_THROW(parse_grid(bad), UsageError) << bad;
     }
 }
