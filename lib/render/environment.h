@@ -18,16 +18,30 @@
 
 #include <Eigen/Core>
 
+#include "envmap/environment.h"
 #include "image/image.h"
 #include "render/sampling.h"
 
 namespace inlight::render {
 
-/// Reads a lat-long environment (any 2:1 float image, first three channels = linear_srgb
-/// radiance). The one place that knows the file layout, so lib/envmap's loader can replace it.
-/// Throws Error naming the file if it is not 2:1 or has fewer than 3 channels, or holds
-/// NaN/Inf.
+/// Reads a lat-long environment (any 2:1 float image, 3 channels of linear_srgb radiance)
+/// through lib/envmap's loader. Throws Error naming the file if it is not 2:1 or holds NaN/Inf.
 image::Image load_latlong(const std::string& path);
+
+/// Reads any full-sphere environment envmap-project reads ("latlong", "cube": a 6:1 strip
+/// +X -X +Y -Y +Z -Z in the OpenGL orientation, "angular": Debevec's light probe) and returns
+/// it as a lat-long map in the file's own frame. Cube and angular maps are resampled: each
+/// lat-long pixel averages 4x4 directions spread uniformly in solid angle over the pixel, each
+/// looked up at its nearest source texel. `latlong_height` 0 = automatic: 2N rows for N x N
+/// cube faces, S/2 rows for an S x S angular map (the source's angular density at its centre).
+/// Fisheye frames cover part of the sphere only and are rejected (UsageError).
+image::Image load_environment_latlong(const std::string& path, const std::string& layout,
+                                      int latlong_height = 0);
+
+/// The source texel (x, y) that direction `dir` (in the file's frame) falls in, for a map of
+/// the given layout and size (exposed for tests of the resampling).
+Eigen::Vector2i environment_texel(envmap::Layout layout, const Eigen::Vector3d& dir, int width,
+                                  int height);
 
 /// A distant environment. Immutable after construction; safe to share between threads.
 class EnvironmentLight {

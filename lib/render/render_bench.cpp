@@ -10,7 +10,9 @@
 
 #include "core/conventions.h"
 #include "core/parallel.h"
+#include "brdf/bake.h"
 #include "render/path_tracer.h"
+#include "render/realtime.h"
 
 namespace {
 
@@ -99,6 +101,40 @@ void BM_PathTrace(benchmark::State& state) {
 BENCHMARK(BM_PathTrace)
     ->ArgNames({"scene", "threads"})
     ->Args({0, 1})->Args({0, 2})->Args({1, 1})->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Time per frame of the real-time model (CPU, one fragment per pixel) on the app's case at
+// 256x256, consistent mode. args: sh_bands, threads.
+void BM_RealtimeFrame(benchmark::State& state) {
+    static const Scene s = [] {
+        SceneDesc d = patch_scene();
+        d.camera.width_px = d.camera.height_px = 256;
+        return Scene(d);
+    }();
+    static const RealtimeLighting lighting = [] {
+        RealtimeLighting l;
+        l.coeffs = project_environment(s.environment(), 8);
+        brdf::BakeOptions bo;
+        bo.sh_bands = 8;
+        bo.samples = 1024;
+        l.tables.push_back(brdf::bake(s.desc().materials[0].brdf, brdf::parse_grid("octa:17"), bo));
+        return l;
+    }();
+    RealtimeOptions ro;
+    ro.sh_bands = static_cast<int>(state.range(0));
+    ro.supersample = 1;
+    parallel::set_thread_count(static_cast<int>(state.range(1)));
+    for (auto _ : state) {
+        const image::Image img = render_realtime(s, lighting, ro);
+        benchmark::DoNotOptimize(img.pixels.data());
+    }
+    state.counters["Mfragments_per_s"] =
+        benchmark::Counter(256.0 * 256.0 * state.iterations() * 1e-6, benchmark::Counter::kIsRate);
+    parallel::set_thread_count(0);
+}
+BENCHMARK(BM_RealtimeFrame)
+    ->ArgNames({"bands", "threads"})
+    ->Args({3, 1})->Args({3, 2})->Args({5, 1})->Args({8, 1})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

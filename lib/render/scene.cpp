@@ -45,6 +45,13 @@ void parse_environment(const toml::Document& doc, SceneDesc& scene, const std::s
         throw Error(str(r.where("radiance"), "give either path or radiance, not both"));
     }
     env.radiance = vec3(r, "radiance", env.radiance, true);
+    env.layout = r.get_string("layout", env.layout);
+    if (env.layout != "latlong" && env.layout != "cube" && env.layout != "angular") {
+        throw Error(str(r.where("layout"), "expected \"latlong\", \"cube\" or \"angular\", got \"",
+                        env.layout, "\""));
+    }
+    env.latlong_height_px = r.get_int("latlong_height_px", env.latlong_height_px);
+    r.check_range("latlong_height_px", env.latlong_height_px, 0, 16384);
     env.rotation = r.get_string("rotation", env.rotation);
     rotation_of(r, "rotation", env.rotation);
     env.intensity = r.get_double("intensity", env.intensity);
@@ -210,8 +217,9 @@ Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
         m_environment = std::make_unique<EnvironmentLight>(env.image, world_from_env,
                                                            env.intensity, ctx + ": environment");
     } else if (!env.path.empty()) {
-        m_environment = std::make_unique<EnvironmentLight>(load_latlong(env.path), world_from_env,
-                                                           env.intensity, env.path);
+        m_environment = std::make_unique<EnvironmentLight>(
+            load_environment_latlong(env.path, env.layout, env.latlong_height_px), world_from_env,
+            env.intensity, env.path);
         m_files.push_back(env.path);
     } else {
         m_environment = std::make_unique<EnvironmentLight>(

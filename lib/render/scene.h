@@ -1,8 +1,10 @@
 // render/scene.h: scene files (TOML) and the loaded scene the integrators query.
 //
 // A scene file (see configs/scenes/*.toml and docs/render.md) has:
-//   [environment]  path = "sky.exr" (lat-long, any 2:1 float image) | radiance = [r, g, b]
-//                  rotation = "none" (core/conventions.h parse_rotation), intensity = 1.0
+//   [environment]  path = "sky.exr" | radiance = [r, g, b]; layout = "latlong" | "cube" |
+//                  "angular" (cube and angular are resampled to lat-long, latlong_height_px
+//                  rows, 0 = automatic; render/environment.h); rotation = "none"
+//                  (core/conventions.h parse_rotation), intensity = 1.0
 //   [camera]       projection = "orthographic" | "perspective", position, look_at, up,
 //                  fov_deg (vertical, perspective), ortho_height (world units), width_px, height_px
 //   [material.<name>]  file = "denim.toml" (a brdf-sh-bake material, brdf::load_material), then
@@ -31,7 +33,9 @@
 namespace inlight::render {
 
 struct EnvironmentSpec {
-    std::string path;                  ///< lat-long file; empty = constant `radiance`
+    std::string path;                  ///< environment file; empty = constant `radiance`
+    std::string layout = "latlong";    ///< "latlong" | "cube" | "angular" (envmap-project's)
+    int latlong_height_px = 0;         ///< resampling height for cube/angular; 0 = automatic
     std::string rotation = "none";     ///< parse_rotation syntax: world_from_env
     double intensity = 1.0;            ///< linear scale, >= 0
     Eigen::Vector3d radiance{1, 1, 1};  ///< constant environment (when path and image are empty)

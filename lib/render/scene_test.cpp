@@ -102,6 +102,8 @@ TEST(SceneFile, ErrorsNameFileLineTableAndKey) {
                  "bad.toml:25: [object] shape: shape 'cube'");
     expect_error(replace(kScene, "rotation = \"z=90\"", "rotation = \"q=90\""),
                  "bad.toml:4: [environment] rotation: rotation 'q=90'");
+    expect_error(replace(kScene, "rotation = \"z=90\"", "rotation = \"z=90\"\nlayout = \"fisheye\""),
+                 "bad.toml:5: [environment] layout: expected \"latlong\", \"cube\" or \"angular\"");
     expect_error(replace(kScene, "[environment]", "[environmnet]"),
                  "bad.toml: missing [environment] table");
     expect_error(replace(kScene, "radius = 0.25", "radius = 0.25 0.5"),
