@@ -60,10 +60,33 @@ double seed_specular(const Eigen::Matrix4d& m_in, const float* brdf, const Eigen
 
 }  // namespace
 
-Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
-                               bool has_specular, const Eigen::MatrixXd& coeffs,
-                               const brdf::Table* table, const RealtimeOptions& options) {
+namespace {
+
+/// What the shader receives as uniforms: per-frame, not per-fragment.
+struct Uniforms {
+    Eigen::Matrix4d matrices[3];  ///< R&H irradiance matrix per channel (3 bands)
+    Eigen::MatrixXd a_l;          ///< A_l L_lm per channel, for the series at other band counts
+    const Eigen::MatrixXd* coeffs = nullptr;
+};
+
+Uniforms make_uniforms(const Eigen::MatrixXd& coeffs, int bands) {
+    Uniforms u;
+    u.coeffs = &coeffs;
+    if (coeffs.rows() >= 9) {
+        for (int c = 0; c < 3; ++c) u.matrices[c] = sh::irradiance_matrix(coeffs.col(c).data());
+    }
+    u.a_l = coeffs.topRows(sh::count(bands));
+    for (int l = 0; l < bands; ++l) {
+        u.a_l.middleRows(l * l, 2 * l + 1) *= sh::cosine_zonal(l);
+    }
+    return u;
+}
+
+Eigen::Vector3d shade_fragment(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
+                               bool has_specular, const Uniforms& u, const brdf::Table* table,
+                               const RealtimeOptions& options) {
     const int bands = options.sh_bands;
+    const Eigen::MatrixXd& coeffs = *u.coeffs;
     const Eigen::Vector4d n4(n.x(), n.y(), n.z(), 1.0);
     float b[3][sh::count(brdf::kMaxBakeBands)] = {};
     const bool specular = has_specular && table != nullptr;
@@ -79,28 +102,36 @@ Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& 
         double mean_irradiance = 0;
         Eigen::Vector3d spec = Eigen::Vector3d::Zero();
         for (int c = 0; c < 3; ++c) {
-            const Eigen::Matrix4d m = sh::irradiance_matrix(coeffs.col(c).data());
-            mean_irradiance += n4.dot(m * n4) / 3.0;
-            if (specular) spec[c] = seed_specular(m, b[table_channel(c)], n4) * 0.05;
+            mean_irradiance += n4.dot(u.matrices[c] * n4) / 3.0;
+            if (specular) spec[c] = seed_specular(u.matrices[c], b[table_channel(c)], n4) * 0.05;
         }
-        out = albedo * (mean_irradiance * 0.3) + spec;
-    } else {
-        for (int c = 0; c < 3; ++c) {
-            const double* l = coeffs.col(c).data();
-            double e;
-            if (bands == 3) {
-                const Eigen::Matrix4d m = sh::irradiance_matrix(l);
-                e = n4.dot(m * n4);
-            } else {
-                e = sh::irradiance(bands, l, n);
-            }
-            double s = 0;
-            const float* bc = b[table_channel(c)];
-            for (int k = 0; k < k_spec; ++k) s += l[k] * bc[k];
-            out[c] = albedo[c] * kInvPi * e + s;
+        return albedo * (mean_irradiance * 0.3) + spec;
+    }
+    double y[sh::count(sh::kMaxBands)];
+    if (bands != 3) sh::eval(bands, n, y);
+    for (int c = 0; c < 3; ++c) {
+        double e = 0;
+        if (bands == 3) {
+            e = n4.dot(u.matrices[c] * n4);
+        } else {
+            for (int k = 0; k < sh::count(bands); ++k) e += u.a_l(k, c) * y[k];
         }
+        double s = 0;
+        const double* l = coeffs.col(c).data();
+        const float* bc = b[table_channel(c)];
+        for (int k = 0; k < k_spec; ++k) s += l[k] * bc[k];
+        out[c] = albedo[c] * kInvPi * e + s;
     }
     return out;
+}
+
+}  // namespace
+
+Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
+                               bool has_specular, const Eigen::MatrixXd& coeffs,
+                               const brdf::Table* table, const RealtimeOptions& options) {
+    return shade_fragment(n, albedo, has_specular, make_uniforms(coeffs, options.sh_bands), table,
+                          options);
 }
 
 image::Image render_realtime(const Scene& scene, const RealtimeLighting& lighting,
@@ -117,6 +148,7 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
     const Camera& cam = scene.camera();
     const int w = cam.width_px, h = cam.height_px, ss = options.supersample;
     image::Image img(w, h, 3, image::ColorSpace::kLinearSrgb);
+    const Uniforms uniforms = make_uniforms(lighting.coeffs, options.sh_bands);
     parallel::for_chunks(h, 1, [&](int64_t y0, int64_t y1) {
         for (int64_t y = y0; y < y1; ++y) {
             for (int x = 0; x < w; ++x) {
@@ -135,9 +167,9 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                         const auto mi = static_cast<size_t>(scene.material_index(hit.shape));
                         const brdf::Table* table =
                             mi < lighting.tables.size() ? &lighting.tables[mi] : nullptr;
-                        sum += shade_realtime(sp.world_from_local.col(2), sp.brdf.albedo,
+                        sum += shade_fragment(sp.world_from_local.col(2), sp.brdf.albedo,
                                               sp.brdf.specular != brdf::Model::kLambert,
-                                              lighting.coeffs, table, options);
+                                              uniforms, table, options);
                     }
                 }
                 sum /= static_cast<double>(ss * ss);
