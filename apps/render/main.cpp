@@ -25,19 +25,6 @@ std::string default_stderr_path(const std::string& output) {
     return (p.parent_path() / (p.stem().string() + "_stderr.exr")).string();
 }
 
-nlohmann::json render_metrics(const render::RenderResult& r) {
-    return {{"spp", r.spp},
-            {"passes", r.passes},
-            {"samples", r.samples},
-            {"rays", r.rays},
-            {"render_time_s", r.render_time_s},
-            {"samples_per_s", r.samples / std::max(r.render_time_s, 1e-9)},
-            {"rays_per_s", r.rays / std::max(r.render_time_s, 1e-9)},
-            {"rel_error", std::isfinite(r.rel_error) ? nlohmann::json(r.rel_error) : nlohmann::json()},
-            {"stop_reason", r.stop_reason},
-            {"nonfinite_samples", r.nonfinite_samples}};
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -47,57 +34,76 @@ int main(int argc, char** argv) {
     render::CompareOptions cmp;
     Args a;
     app.add_option("scene", a.scene, "Scene file (.toml, see docs/render.md)")
-        ->required()->check(CLI::ExistingFile);
-    app.add_option("-o,--output", a.output, "Radiance image (.exr, float, linear_srgb)")->required();
+        ->required()
+        ->check(CLI::ExistingFile);
+    app.add_option("-o,--output", a.output, "Radiance image (.exr, float, linear_srgb)")
+        ->required();
     app.add_option("--stderr-output", a.stderr_output,
                    "Per-pixel standard error of the mean (.exr; default <output>_stderr.exr)");
     app.add_option("--spp", opt.spp, "Samples per pixel (the maximum with a stop rule)")
-        ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+        ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str();
     app.add_option("--time-budget-s", opt.time_budget_s,
                    "Stop after the pass that reaches this render time, seconds (0 = none)")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--target-rel-error", opt.target_rel_error,
                    "Stop when the image's relative noise (RMS standard error of luminance / mean "
                    "luminance) is at most this (0 = none)")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--max-depth", opt.max_depth, "Surface interactions per path (cap)")
-        ->check(CLI::Range(1, 1024))->capture_default_str();
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     app.add_option("--rr-depth", opt.rr_depth, "Russian roulette from this interaction on")
-        ->check(CLI::Range(1, 1024))->capture_default_str();
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     app.add_option("--strategy", a.strategy, "Light transport estimator: mis | bsdf | light")
-        ->check(CLI::IsMember({"mis", "bsdf", "light"}))->capture_default_str();
+        ->check(CLI::IsMember({"mis", "bsdf", "light"}))
+        ->capture_default_str();
     app.add_option("--tile-px", opt.tile_px, "Tile size in pixels (unit of parallel work)")
-        ->check(CLI::Range(1, 4096))->capture_default_str();
+        ->check(CLI::Range(1, 4096))
+        ->capture_default_str();
     app.add_flag("--no-jitter", a.no_jitter, "Sample pixel centres only (no box filter)");
     app.add_option("--width-px", a.width_px, "Override the camera's width in pixels (0 = scene)")
-        ->check(CLI::Range(0, 16384))->capture_default_str();
+        ->check(CLI::Range(0, 16384))
+        ->capture_default_str();
     app.add_option("--height-px", a.height_px, "Override the camera's height in pixels (0 = scene)")
-        ->check(CLI::Range(0, 16384))->capture_default_str();
+        ->check(CLI::Range(0, 16384))
+        ->capture_default_str();
     app.add_option("--convergence-ref-spp", a.convergence_ref_spp,
                    "Also measure error against samples: reference with this many spp, snapshots "
                    "at 1, 4, 16, ... up to --spp; slope into the report (0 = off)")
-        ->check(CLI::Range(0, 1 << 20))->capture_default_str();
+        ->check(CLI::Range(0, 1 << 20))
+        ->capture_default_str();
     app.add_option("--max-rel-error", a.max_rel_error,
                    "Quality gate: exit 3 if the final relative noise exceeds this (0 = off)")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
-    app.add_flag("--compare", a.compare,
-                 "Also run the real-time model (consistent and seed modes, bands 1..--rt-max-bands) "
-                 "and compare it with the path tracer: <output>_rt_*, _compare_*.png, _relerr_*, "
-                 "_de2000_*, metrics.realtime in the report");
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_flag(
+        "--compare", a.compare,
+        "Also run the real-time model (consistent and seed modes, bands 1..--rt-max-bands) "
+        "and compare it with the path tracer: <output>_rt_*, _compare_*.png, _relerr_*, "
+        "_de2000_*, metrics.realtime in the report");
     app.add_option("--exposure", cmp.exposure,
                    "Linear scale before dE2000 and the PNG panels (0 = 0.18 / mean luminance)")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--heat-max-rel", cmp.heat_max_rel, "Relative error at the top of the heat map")
-        ->check(CLI::PositiveNumber)->capture_default_str();
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--rt-max-bands", cmp.max_bands, "Real-time model: largest SH band count swept")
-        ->check(CLI::Range(3, 8))->capture_default_str();
+        ->check(CLI::Range(3, 8))
+        ->capture_default_str();
     app.add_option("--rt-grid", cmp.grid, "Real-time model: BRDF table grid (brdf-sh-bake --grid)")
         ->capture_default_str();
     app.add_option("--rt-bake-samples", cmp.bake_samples, "BRDF table: evaluations per normal")
-        ->check(CLI::Range(16, 1 << 22))->capture_default_str();
+        ->check(CLI::Range(16, 1 << 22))
+        ->capture_default_str();
     app.add_option("--rt-supersample", cmp.supersample,
                    "Real-time fragments per pixel side (box filter like the path tracer)")
-        ->check(CLI::Range(1, 16))->capture_default_str();
+        ->check(CLI::Range(1, 16))
+        ->capture_default_str();
     app::setup(app, common,
                "render configs/scenes/patch_city.toml -o patch.exr --spp 256 --seed 7 "
                "--threads 2 --report patch.json");
@@ -121,7 +127,8 @@ int main(int argc, char** argv) {
         render::RenderResult r;
         {
             ScopedStage stage(report, "render");
-            r = render::render(*scene, opt, [](int spp) { log::verbose(str("render: ", spp, " spp")); });
+            r = render::render(*scene, opt,
+                               [](int spp) { log::verbose(str("render: ", spp, " spp")); });
         }
         {
             ScopedStage stage(report, "write");
@@ -132,7 +139,7 @@ int main(int argc, char** argv) {
             report.add_output(a.stderr_output, "radiance_std_error", "data");
         }
         auto& m = report.metrics();
-        m = render_metrics(r);
+        m = render::to_json(r);
         m["width_px"] = scene->camera().width_px;
         m["height_px"] = scene->camera().height_px;
         log::info(str("render: ", r.spp, " spp in ", r.render_time_s, " s, ",
@@ -144,15 +151,7 @@ int main(int argc, char** argv) {
             for (int s = 1; s <= opt.spp; s *= 4) spps.push_back(s);
             if (spps.back() != opt.spp) spps.push_back(opt.spp);
             const auto c = render::convergence_study(*scene, opt, a.convergence_ref_spp, spps);
-            nlohmann::json pts = nlohmann::json::array();
-            for (const auto& p : c.points) {
-                pts.push_back({{"spp", p.spp}, {"time_s", p.time_s}, {"rel_rmse", p.rel_rmse},
-                               {"rel_rmse_corrected", p.rel_rmse_corrected}});
-            }
-            m["convergence"] = {{"reference_spp", c.reference_spp},
-                                {"reference_rel_error", c.reference_rel_error},
-                                {"points", pts},
-                                {"slope", std::isfinite(c.slope) ? nlohmann::json(c.slope) : nlohmann::json()}};
+            m["convergence"] = render::to_json(c);
             log::info(str("render: error ~ spp^", c.slope, " (expected -0.5)"));
         }
         if (a.compare) {
@@ -164,8 +163,8 @@ int main(int argc, char** argv) {
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
         }
         if (a.max_rel_error > 0 && !(r.rel_error <= a.max_rel_error)) {
-            throw app::QualityGateFailed(str("rel_error ", r.rel_error, " > --max-rel-error ",
-                                             a.max_rel_error));
+            throw app::QualityGateFailed(
+                str("rel_error ", r.rel_error, " > --max-rel-error ", a.max_rel_error));
         }
     });
 }

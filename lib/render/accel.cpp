@@ -166,12 +166,12 @@ Accel::Accel(std::vector<Shape> shapes) : m(std::make_unique<Impl>()) {
             }
             const TriangleMesh& mesh = *s.mesh;
             geom = rtcNewGeometry(m->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-                geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                mesh.positions.size()));
-            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-                geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                mesh.triangles.size()));
+            auto* v = static_cast<float*>(
+                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                        3 * sizeof(float), mesh.positions.size()));
+            auto* idx = static_cast<unsigned*>(
+                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                        3 * sizeof(unsigned), mesh.triangles.size()));
             m->throw_if_error("allocating mesh buffers");
             for (size_t k = 0; k < mesh.positions.size(); ++k) {
                 for (int c = 0; c < 3; ++c) v[3 * k + c] = static_cast<float>(mesh.positions[k][c]);
@@ -179,7 +179,8 @@ Accel::Accel(std::vector<Shape> shapes) : m(std::make_unique<Impl>()) {
                 hi = hi.cwiseMax(mesh.positions[k]);
             }
             for (size_t k = 0; k < mesh.triangles.size(); ++k) {
-                for (int c = 0; c < 3; ++c) idx[3 * k + c] = static_cast<unsigned>(mesh.triangles[k][c]);
+                for (int c = 0; c < 3; ++c)
+                    idx[3 * k + c] = static_cast<unsigned>(mesh.triangles[k][c]);
             }
         } else {
             if (s.kind == ShapeKind::kSphere && !(s.radius > 0)) {
@@ -195,9 +196,10 @@ Accel::Accel(std::vector<Shape> shapes) : m(std::make_unique<Impl>()) {
             rtcSetGeometryBoundsFunction(geom, bounds_fn, nullptr);
             rtcSetGeometryIntersectFunction(geom, intersect_fn);
             rtcSetGeometryOccludedFunction(geom, occluded_fn);
-            const Eigen::Vector3d ext = s.kind == ShapeKind::kSphere
-                                            ? Eigen::Vector3d::Constant(s.radius)
-                                            : Eigen::Vector3d(0.5 * s.size.x(), 0.5 * s.size.y(), 0);
+            const Eigen::Vector3d ext =
+                s.kind == ShapeKind::kSphere
+                    ? Eigen::Vector3d::Constant(s.radius)
+                    : Eigen::Vector3d(0.5 * s.size.x(), 0.5 * s.size.y(), 0);
             lo = lo.cwiseMin(s.center - ext);
             hi = hi.cwiseMax(s.center + ext);
         }

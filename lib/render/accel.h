@@ -3,11 +3,10 @@
 // intersected analytically in double precision; meshes are Embree triangle meshes.
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "render/camera.h"
 #include "render/mesh.h"
@@ -34,13 +33,13 @@ struct Shape {
 /// A ray's closest intersection.
 struct SurfaceHit {
     double t = 0;
-    int shape = -1;  ///< index into the shape list
-    int prim = 0;    ///< triangle index for meshes
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();   ///< world position (on the surface)
-    Eigen::Vector3d ng = Eigen::Vector3d::UnitZ(); ///< unit geometric normal (outward / CCW side)
-    Eigen::Vector3d ns = Eigen::Vector3d::UnitZ(); ///< unit shading normal (same side as ng)
+    int shape = -1;                                 ///< index into the shape list
+    int prim = 0;                                   ///< triangle index for meshes
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();    ///< world position (on the surface)
+    Eigen::Vector3d ng = Eigen::Vector3d::UnitZ();  ///< unit geometric normal (outward / CCW side)
+    Eigen::Vector3d ns = Eigen::Vector3d::UnitZ();  ///< unit shading normal (same side as ng)
     Eigen::Vector3d dpdu = Eigen::Vector3d::UnitX();  ///< unit tangent along increasing u
-    Eigen::Vector2d uv = Eigen::Vector2d::Zero();  ///< texture coordinates, v down
+    Eigen::Vector2d uv = Eigen::Vector2d::Zero();     ///< texture coordinates, v down
 };
 
 /// Embree device + scene over a list of shapes. Queries are thread-safe and deterministic.

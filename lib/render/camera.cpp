@@ -1,8 +1,7 @@
 #include "render/camera.h"
 
-#include <cmath>
-
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "core/conventions.h"
 #include "core/error.h"
@@ -26,8 +25,8 @@ void Camera::validate(const std::string& context) const {
         throw Error(str(context, "up is parallel to the view direction"));
     }
     if (width_px < 1 || height_px < 1 || width_px > 16384 || height_px > 16384) {
-        throw Error(str(context, "image size ", width_px, "x", height_px,
-                        " is outside 1..16384 pixels"));
+        throw Error(
+            str(context, "image size ", width_px, "x", height_px, " is outside 1..16384 pixels"));
     }
     if (projection == Projection::kPerspective && !(fov_deg > 0 && fov_deg < 180)) {
         throw Error(str(context, "fov_deg ", fov_deg, " is outside (0, 180)"));

@@ -3,10 +3,9 @@
 // viewer sits on +z and looks along -z at the fabric patch in the z = 0 plane, +y up.
 #pragma once
 
+#include <Eigen/Core>
 #include <limits>
 #include <string>
-
-#include <Eigen/Core>
 
 namespace inlight::render {
 
@@ -26,9 +25,9 @@ struct Camera {
     Projection projection = Projection::kOrthographic;
     Eigen::Vector3d position{0, 0, 1};  ///< world units
     Eigen::Vector3d look_at{0, 0, 0};
-    Eigen::Vector3d up{0, 1, 0};        ///< need not be orthogonal to the view direction
-    double fov_deg = 40;                ///< perspective: full vertical field of view, (0, 180)
-    double ortho_height = 1;            ///< orthographic: world-space height of the image, > 0
+    Eigen::Vector3d up{0, 1, 0};  ///< need not be orthogonal to the view direction
+    double fov_deg = 40;          ///< perspective: full vertical field of view, (0, 180)
+    double ortho_height = 1;      ///< orthographic: world-space height of the image, > 0
     int width_px = 256;
     int height_px = 256;
 

@@ -49,10 +49,13 @@ Comparison compare_images(const image::Image& truth, const image::Image& test, d
 namespace {
 
 nlohmann::json metrics_json(const image::Metrics& m) {
-    return {{"mae", m.mae},           {"rmse", m.rmse},
+    return {{"mae", m.mae},
+            {"rmse", m.rmse},
             {"psnr_db", std::isfinite(m.psnr_db) ? nlohmann::json(m.psnr_db) : nlohmann::json()},
-            {"mean_rel", m.mean_rel}, {"max_rel", m.max_rel},
-            {"mean_de76", m.mean_de76}, {"mean_de2000", m.mean_de2000},
+            {"mean_rel", m.mean_rel},
+            {"max_rel", m.max_rel},
+            {"mean_de76", m.mean_de76},
+            {"mean_de2000", m.mean_de2000},
             {"max_de2000", m.max_de2000}};
 }
 
@@ -70,14 +73,15 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
                              options.max_bands));
     }
     const double exposure = options.exposure > 0 ? options.exposure : auto_exposure(truth.radiance);
-    nlohmann::json out = {{"exposure", exposure},
-                          {"exposure_rule", options.exposure > 0 ? "given" : "0.18 / mean luminance"},
-                          {"heat_max_rel", options.heat_max_rel},
-                          {"rel_floor", options.rel_floor},
-                          {"supersample", options.supersample},
-                          {"ground_truth_spp", truth.spp},
-                          {"ground_truth_rel_error",
-                           std::isfinite(truth.rel_error) ? nlohmann::json(truth.rel_error) : nlohmann::json()}};
+    nlohmann::json out = {
+        {"exposure", exposure},
+        {"exposure_rule", options.exposure > 0 ? "given" : "0.18 / mean luminance"},
+        {"heat_max_rel", options.heat_max_rel},
+        {"rel_floor", options.rel_floor},
+        {"supersample", options.supersample},
+        {"ground_truth_spp", truth.spp},
+        {"ground_truth_rel_error",
+         std::isfinite(truth.rel_error) ? nlohmann::json(truth.rel_error) : nlohmann::json()}};
 
     // Inputs of the model: lighting (exact projection of the same environment pixels) and one
     // BRDF table per material, baked for the camera's view direction.
@@ -92,7 +96,8 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
     bo.view = (cam.position - cam.look_at).normalized();
     const brdf::Grid grid = brdf::parse_grid(options.grid);
     t0 = std::chrono::steady_clock::now();
-    for (const SurfaceMaterial& m : scene.desc().materials) lighting.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    for (const SurfaceMaterial& m : scene.desc().materials)
+        lighting.tables.push_back(brdf::bake(m.brdf, grid, bo));
     out["inputs"] = {{"lighting_sh_bands", options.max_bands},
                      {"project_time_s", project_s},
                      {"brdf_grid", brdf::to_string(grid)},
@@ -100,8 +105,9 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
                      {"brdf_bake_time_s", seconds_since(t0)},
                      {"view", {bo.view.x(), bo.view.y(), bo.view.z()}}};
     if (cam.projection == Projection::kPerspective) {
-        log::warn("compare: perspective camera: the BRDF table assumes one view direction "
-                  "(toward the camera's position), as the app does");
+        log::warn(
+            "compare: perspective camera: the BRDF table assumes one view direction "
+            "(toward the camera's position), as the app does");
     }
 
     // Both modes at 3 bands: images, maps, side-by-side PNGs.
@@ -137,7 +143,8 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
         const image::Image once = render_realtime(scene, lighting, ro);
         const double frame_s = seconds_since(t0);
         ro.supersample = options.supersample;
-        const image::Image rt = options.supersample == 1 ? once : render_realtime(scene, lighting, ro);
+        const image::Image rt =
+            options.supersample == 1 ? once : render_realtime(scene, lighting, ro);
         const Comparison c = compare_images(truth.radiance, rt, exposure, options);
         nlohmann::json j = metrics_json(c.metrics);
         j["sh_bands"] = bands;

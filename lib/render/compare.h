@@ -4,10 +4,9 @@
 // model's time per frame, and both shading modes (render/realtime.h).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "image/image.h"
 #include "image/metrics.h"
@@ -21,12 +20,12 @@ struct CompareOptions {
     /// Linear scale applied before CIELAB (dE2000) and before the PNG panels; 0 = automatic:
     /// 0.18 / (mean luminance of the ground truth), i.e. the image average maps to middle grey.
     double exposure = 0;
-    double heat_max_rel = 0.5;  ///< relative error shown at the top of the heat map's scale
-    double rel_floor = 1e-3;    ///< relative errors divide by max(|truth|, rel_floor)
-    int max_bands = 5;          ///< band sweep 1..max_bands (lighting and BRDF table)
-    int bake_samples = 4096;    ///< brdf::bake integrand evaluations per normal
+    double heat_max_rel = 0.5;     ///< relative error shown at the top of the heat map's scale
+    double rel_floor = 1e-3;       ///< relative errors divide by max(|truth|, rel_floor)
+    int max_bands = 5;             ///< band sweep 1..max_bands (lighting and BRDF table)
+    int bake_samples = 4096;       ///< brdf::bake integrand evaluations per normal
     std::string grid = "octa:17";  ///< brdf::parse_grid spec of the BRDF table
-    int supersample = 4;        ///< real-time fragments per pixel side (see RealtimeOptions)
+    int supersample = 4;           ///< real-time fragments per pixel side (see RealtimeOptions)
 };
 
 /// Error images and metrics of `test` against `truth` (same size, linear_srgb).

@@ -58,11 +58,13 @@ Eigen::Vector2i angular_texel(const Eigen::Vector3d& d, int size) {
 
 }  // namespace
 
-Eigen::Vector2i environment_texel(envmap::Layout layout, const Eigen::Vector3d& dir,
-                                  int width, int height) {
+Eigen::Vector2i environment_texel(envmap::Layout layout, const Eigen::Vector3d& dir, int width,
+                                  int height) {
     switch (layout) {
-        case envmap::Layout::kCube: return cube_texel(dir, height);
-        case envmap::Layout::kAngular: return angular_texel(dir, width);
+        case envmap::Layout::kCube:
+            return cube_texel(dir, height);
+        case envmap::Layout::kAngular:
+            return angular_texel(dir, width);
         default: {
             const Eigen::Vector2d uv = latlong_uv(dir);
             return {std::clamp(static_cast<int>(uv[0] * width), 0, width - 1),
@@ -76,14 +78,16 @@ image::Image load_environment_latlong(const std::string& path, const std::string
     envmap::LoadOptions lo;
     lo.layout = envmap::layout_from_string(layout_name);
     if (lo.layout == envmap::Layout::kFisheye) {
-        throw UsageError(str(path, ": a fisheye frame covers part of the sphere; the path tracer "
-                                   "needs a full environment (latlong, cube or angular)"));
+        throw UsageError(str(path,
+                             ": a fisheye frame covers part of the sphere; the path tracer "
+                             "needs a full environment (latlong, cube or angular)"));
     }
     envmap::Environment env = envmap::load_environment(path, lo);
-    if (lo.layout == envmap::Layout::kLatLong && latlong_height <= 0) return std::move(env.radiance);
+    if (lo.layout == envmap::Layout::kLatLong && latlong_height <= 0)
+        return std::move(env.radiance);
     const image::Image& src = env.radiance;
-    const int h = latlong_height > 0 ? latlong_height
-                  : lo.layout == envmap::Layout::kCube ? 2 * src.height
+    const int h = latlong_height > 0                      ? latlong_height
+                  : lo.layout == envmap::Layout::kCube    ? 2 * src.height
                   : lo.layout == envmap::Layout::kAngular ? std::max(1, src.width / 2)
                                                           : src.height;
     const int w = 2 * h;
@@ -100,12 +104,14 @@ image::Image load_environment_latlong(const std::string& path, const std::string
                     for (int b = 0; b < kSub; ++b) {
                         const double phi = kPi * (1.0 - 2.0 * (col + (b + 0.5) / kSub) / w);
                         const Eigen::Vector3d d(rr * std::cos(phi), rr * std::sin(phi), z);
-                        const Eigen::Vector2i t = environment_texel(lo.layout, d, src.width, src.height);
+                        const Eigen::Vector2i t =
+                            environment_texel(lo.layout, d, src.width, src.height);
                         for (int c = 0; c < 3; ++c) sum[c] += src.at(t[0], t[1], c);
                     }
                 }
                 for (int c = 0; c < 3; ++c) {
-                    out.at(col, static_cast<int>(row), c) = static_cast<float>(sum[c] / (kSub * kSub));
+                    out.at(col, static_cast<int>(row), c) =
+                        static_cast<float>(sum[c] / (kSub * kSub));
                 }
             }
         }
@@ -118,8 +124,8 @@ EnvironmentLight::EnvironmentLight(const image::Image& latlong,
                                    const std::string& source)
     : m_width(latlong.width), m_height(latlong.height), m_world_from_env(world_from_env) {
     if (latlong.width != 2 * latlong.height || latlong.height < 1) {
-        throw Error(str(source, ": expected a 2:1 lat-long map, got ", latlong.width, "x",
-                        latlong.height));
+        throw Error(
+            str(source, ": expected a 2:1 lat-long map, got ", latlong.width, "x", latlong.height));
     }
     if (latlong.channels < 3) {
         throw Error(str(source, ": expected at least 3 channels (RGB), got ", latlong.channels));

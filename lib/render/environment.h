@@ -14,9 +14,8 @@
 // columns wrap by construction and directions map back through latlong_uv.
 #pragma once
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "envmap/environment.h"
 #include "image/image.h"

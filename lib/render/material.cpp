@@ -1,9 +1,8 @@
 #include "render/material.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Geometry>
 
 #include "core/error.h"
 
@@ -18,8 +17,8 @@ void load_textures(SurfaceMaterial& m) {
     if (!m.normal_texture_path.empty()) {
         auto img = std::make_shared<image::Image>(image::read_image(m.normal_texture_path, data));
         if (img->channels < 3) {
-            throw Error(str(m.normal_texture_path, ": a normal map needs 3 channels, got ",
-                            img->channels));
+            throw Error(
+                str(m.normal_texture_path, ": a normal map needs 3 channels, got ", img->channels));
         }
         m.normal_texture = std::move(img);
     }
@@ -66,7 +65,8 @@ ShadingPoint shade(const SurfaceMaterial& m, const SurfaceHit& hit, const Eigen:
     Eigen::Vector3d n = hit.ns;
     Eigen::Vector3d t = hit.dpdu;
     if (m.normal_texture) {
-        const Eigen::Vector3d c = sample_texture(*m.normal_texture, uv) * 2.0 - Eigen::Vector3d::Ones();
+        const Eigen::Vector3d c =
+            sample_texture(*m.normal_texture, uv) * 2.0 - Eigen::Vector3d::Ones();
         const Eigen::Vector3d b = n.cross(t);
         const Eigen::Vector3d mapped = t * c.x() + b * c.y() + n * c.z();
         if (mapped.squaredNorm() > 1e-12) n = mapped.normalized();

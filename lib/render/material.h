@@ -11,10 +11,9 @@
 // Surfaces are two-sided: the frame is flipped to the side the ray arrives from.
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "brdf/brdf.h"
 #include "image/image.h"

@@ -17,8 +17,8 @@ void check_mesh(const TriangleMesh& mesh, const std::string& source) {
     for (const auto& t : mesh.triangles) {
         for (int k = 0; k < 3; ++k) {
             if (t[k] < 0 || t[k] >= n) {
-                throw Error(str(source, ": vertex index ", t[k], " out of range (", n,
-                                " vertices)"));
+                throw Error(
+                    str(source, ": vertex index ", t[k], " out of range (", n, " vertices)"));
             }
         }
     }
@@ -118,7 +118,8 @@ TriangleMesh load_ply(const std::string& path) {
                 auto read_value = [&](const std::string& type) -> double {
                     if (format == "ascii") {
                         double v;
-                        if (!(ascii >> v)) throw Error(str(path, ": truncated PLY data in '", e.name, "'"));
+                        if (!(ascii >> v))
+                            throw Error(str(path, ": truncated PLY data in '", e.name, "'"));
                         return v;
                     }
                     const int size = ply_type_size(type, path);
@@ -145,7 +146,8 @@ TriangleMesh load_ply(const std::string& path) {
                         Eigen::Vector3d(scalars["nx"], scalars["ny"], scalars["nz"]).normalized());
                 }
                 for (const auto& [u, v] : {std::pair<const char*, const char*>{"u", "v"},
-                                           {"s", "t"}, {"texture_u", "texture_v"}}) {
+                                           {"s", "t"},
+                                           {"texture_u", "texture_v"}}) {
                     if (scalars.count(u) && scalars.count(v)) {
                         mesh.uvs.emplace_back(scalars[u], 1.0 - scalars[v]);
                         break;
@@ -185,7 +187,8 @@ TriangleMesh parse_obj(const std::string& text, const std::string& source) {
         if (!(ls >> tag) || tag[0] == '#') continue;
         if (tag == "v" || tag == "vn") {
             Eigen::Vector3d p;
-            if (!(ls >> p[0] >> p[1] >> p[2])) throw fail(str("expected 3 numbers after '", tag, "'"));
+            if (!(ls >> p[0] >> p[1] >> p[2]))
+                throw fail(str("expected 3 numbers after '", tag, "'"));
             (tag == "v" ? v : vn).push_back(p);
         } else if (tag == "vt") {
             Eigen::Vector2d t;
@@ -219,8 +222,8 @@ TriangleMesh parse_obj(const std::string& text, const std::string& source) {
                 if (it == vertex_of.end()) {
                     it = vertex_of.emplace(key, static_cast<int>(mesh.positions.size())).first;
                     mesh.positions.push_back(v[static_cast<size_t>(idx[0] - 1)]);
-                    const Eigen::Vector2d t = idx[1] ? vt[static_cast<size_t>(idx[1] - 1)]
-                                                     : Eigen::Vector2d(0, 1);
+                    const Eigen::Vector2d t =
+                        idx[1] ? vt[static_cast<size_t>(idx[1] - 1)] : Eigen::Vector2d(0, 1);
                     mesh.uvs.emplace_back(t[0], 1.0 - t[1]);
                     mesh.normals.push_back(idx[2] ? vn[static_cast<size_t>(idx[2] - 1)].normalized()
                                                   : Eigen::Vector3d::Zero());

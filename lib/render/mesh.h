@@ -2,10 +2,9 @@
 // for draped cloth and test quads.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace inlight::render {
 

@@ -73,7 +73,8 @@ double rel_error_of(const std::vector<Welford>& acc) {
 image::Image mean_image(const std::vector<Welford>& acc, int w, int h) {
     image::Image img(w, h, 3, image::ColorSpace::kLinearSrgb);
     for (size_t i = 0; i < acc.size(); ++i) {
-        for (int c = 0; c < 3; ++c) img.pixels[i * 3 + static_cast<size_t>(c)] = static_cast<float>(acc[i].mean[c]);
+        for (int c = 0; c < 3; ++c)
+            img.pixels[i * 3 + static_cast<size_t>(c)] = static_cast<float>(acc[i].mean[c]);
     }
     return img;
 }
@@ -104,7 +105,8 @@ Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Rng& rng,
             if (depth == 0 || options.strategy == Strategy::kBsdf) {
                 radiance += beta.cwiseProduct(le);
             } else if (options.strategy == Strategy::kMis) {
-                radiance += beta.cwiseProduct(le) * power_heuristic(prev_bsdf_pdf, env.pdf(ray.dir));
+                radiance +=
+                    beta.cwiseProduct(le) * power_heuristic(prev_bsdf_pdf, env.pdf(ray.dir));
             }
             break;
         }
@@ -123,9 +125,10 @@ Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Rng& rng,
                 if (wi_l.z() > 0 && f.maxCoeff() > 0) {
                     ++*rays;
                     if (!accel.occluded(spawn_ray(hit.p, sp.ng, ls.dir, scale))) {
-                        const double w = options.strategy == Strategy::kMis
-                                             ? power_heuristic(ls.pdf, brdf::pdf(sp.brdf, wo_l, wi_l))
-                                             : 1.0;
+                        const double w =
+                            options.strategy == Strategy::kMis
+                                ? power_heuristic(ls.pdf, brdf::pdf(sp.brdf, wo_l, wi_l))
+                                : 1.0;
                         radiance += beta.cwiseProduct(f).cwiseProduct(ls.radiance) *
                                     (wi_l.z() * w / ls.pdf);
                     }
@@ -193,9 +196,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
         const int first = done;
         parallel::for_chunks(tiles, 1, [&](int64_t begin, int64_t end) {
             for (int64_t tile = begin; tile < end; ++tile) {
-                const int tx = static_cast<int>(tile % tiles_x), ty = static_cast<int>(tile / tiles_x);
+                const int tx = static_cast<int>(tile % tiles_x),
+                          ty = static_cast<int>(tile / tiles_x);
                 const int x0 = tx * options.tile_px, y0 = ty * options.tile_px;
-                const int x1 = std::min(w, x0 + options.tile_px), y1 = std::min(h, y0 + options.tile_px);
+                const int x1 = std::min(w, x0 + options.tile_px),
+                          y1 = std::min(h, y0 + options.tile_px);
                 int64_t rays = 0, bad = 0;
                 for (int y = y0; y < y1; ++y) {
                     for (int x = x0; x < x1; ++x) {
@@ -203,8 +208,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
                         Welford& a = acc[pixel];
                         for (int s = first; s < first + n; ++s) {
                             Rng rng(options.seed, pixel, static_cast<uint64_t>(s));
-                            const Eigen::Vector2d j = options.jitter ? rng.uniform2()
-                                                                     : Eigen::Vector2d(0.5, 0.5);
+                            const Eigen::Vector2d j =
+                                options.jitter ? rng.uniform2() : Eigen::Vector2d(0.5, 0.5);
                             const Ray ray = cam.generate_ray(x + j[0], y + j[1]);
                             Eigen::Vector3d l = trace_path(scene, ray, rng, options, &rays);
                             if (!l.allFinite()) {
@@ -247,7 +252,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
     result.std_error = image::Image(w, h, 3, image::ColorSpace::kData);
     for (size_t i = 0; i < acc.size(); ++i) {
         for (int c = 0; c < 3; ++c) {
-            result.std_error.pixels[i * 3 + static_cast<size_t>(c)] = static_cast<float>(acc[i].std_error(c));
+            result.std_error.pixels[i * 3 + static_cast<size_t>(c)] =
+                static_cast<float>(acc[i].std_error(c));
         }
     }
     result.rel_error = rel_error_of(acc);
@@ -317,6 +323,40 @@ ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& opt
         out.slope = std::numeric_limits<double>::quiet_NaN();
     }
     return out;
+}
+
+namespace {
+nlohmann::json finite_or_null(double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+}
+}  // namespace
+
+nlohmann::json to_json(const RenderResult& r) {
+    const double t = std::max(r.render_time_s, 1e-9);
+    return {{"spp", r.spp},
+            {"passes", r.passes},
+            {"samples", r.samples},
+            {"rays", r.rays},
+            {"render_time_s", r.render_time_s},
+            {"samples_per_s", static_cast<double>(r.samples) / t},
+            {"rays_per_s", static_cast<double>(r.rays) / t},
+            {"rel_error", finite_or_null(r.rel_error)},
+            {"stop_reason", r.stop_reason},
+            {"nonfinite_samples", r.nonfinite_samples}};
+}
+
+nlohmann::json to_json(const ConvergenceResult& c) {
+    nlohmann::json pts = nlohmann::json::array();
+    for (const auto& p : c.points) {
+        pts.push_back({{"spp", p.spp},
+                       {"time_s", p.time_s},
+                       {"rel_rmse", p.rel_rmse},
+                       {"rel_rmse_corrected", p.rel_rmse_corrected}});
+    }
+    return {{"reference_spp", c.reference_spp},
+            {"reference_rel_error", finite_or_null(c.reference_rel_error)},
+            {"points", pts},
+            {"slope", finite_or_null(c.slope)}};
 }
 
 }  // namespace inlight::render

@@ -18,12 +18,12 @@
 // (render/environment.h) and BSDF sampling covers the rest of the hemisphere.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "image/image.h"
 #include "render/sampling.h"
@@ -41,7 +41,7 @@ enum class Strategy {
 Strategy strategy_from_string(const std::string& name);
 
 struct RenderOptions {
-    int spp = 64;                 ///< samples per pixel (the maximum when a stop rule is given)
+    int spp = 64;  ///< samples per pixel (the maximum when a stop rule is given)
     uint64_t seed = 1;
     int max_depth = 32;           ///< surface interactions per path (a cap: RR ends most paths)
     int rr_depth = 3;             ///< Russian roulette after this many interactions
@@ -65,8 +65,8 @@ struct RenderResult {
     image::Image std_error;  ///< 3 channels, data: standard error of that mean (0 when spp < 2)
     int spp = 0;             ///< samples per pixel taken (the same for every pixel)
     int passes = 0;
-    int64_t samples = 0;     ///< camera paths
-    int64_t rays = 0;        ///< closest-hit plus shadow rays
+    int64_t samples = 0;            ///< camera paths
+    int64_t rays = 0;               ///< closest-hit plus shadow rays
     int64_t nonfinite_samples = 0;  ///< NaN/Inf path values, counted and replaced by 0
     double render_time_s = 0;
     /// Relative noise of the image: sqrt(mean over pixels of se_Y^2) / mean over pixels of Y,
@@ -106,5 +106,12 @@ struct ConvergenceResult {
 /// run), then the measured run with snapshots at `spp_list`, and fits the slope.
 ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
                                     int reference_spp, const std::vector<int>& spp_list);
+
+/// Report metrics of a render: spp, passes, samples, rays, render_time_s, samples_per_s,
+/// rays_per_s, rel_error (null when undefined), stop_reason, nonfinite_samples.
+nlohmann::json to_json(const RenderResult& result);
+/// Report metrics of a convergence study: reference_spp, reference_rel_error, points
+/// [{spp, time_s, rel_rmse, rel_rmse_corrected}], slope.
+nlohmann::json to_json(const ConvergenceResult& result);
 
 }  // namespace inlight::render

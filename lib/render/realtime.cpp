@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "brdf/bake.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "brdf/bake.h"
 #include "envmap/project.h"
 #include "sh/sh.h"
 
@@ -141,8 +141,9 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                              lighting.coeffs.rows(), " coefficients"));
     }
     if (options.mode == RealtimeMode::kSeed && options.sh_bands != 3) {
-        throw UsageError(str("real-time model: the seed (report) mode exists for 3 bands only, got ",
-                             options.sh_bands));
+        throw UsageError(
+            str("real-time model: the seed (report) mode exists for 3 bands only, got ",
+                options.sh_bands));
     }
     if (options.supersample < 1) throw UsageError("real-time model: supersample must be >= 1");
     const Camera& cam = scene.camera();
@@ -168,12 +169,13 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                         const brdf::Table* table =
                             mi < lighting.tables.size() ? &lighting.tables[mi] : nullptr;
                         sum += shade_fragment(sp.world_from_local.col(2), sp.brdf.albedo,
-                                              sp.brdf.specular != brdf::Model::kLambert,
-                                              uniforms, table, options);
+                                              sp.brdf.specular != brdf::Model::kLambert, uniforms,
+                                              table, options);
                     }
                 }
                 sum /= static_cast<double>(ss * ss);
-                for (int c = 0; c < 3; ++c) img.at(x, static_cast<int>(y), c) = static_cast<float>(sum[c]);
+                for (int c = 0; c < 3; ++c)
+                    img.at(x, static_cast<int>(y), c) = static_cast<float>(sum[c]);
             }
         }
     });

@@ -22,9 +22,8 @@
 // averaged (the box filter of the path tracer; 1 = the pixel centre, as a GPU does).
 #pragma once
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "brdf/table.h"
 #include "image/image.h"
@@ -45,8 +44,8 @@ struct RealtimeOptions {
 
 /// The real-time model's inputs that do not depend on the pixel.
 struct RealtimeLighting {
-    Eigen::MatrixXd coeffs;              ///< count(bands) x 3 lighting coefficients, world frame
-    std::vector<brdf::Table> tables;     ///< one per scene material (same order), may be empty
+    Eigen::MatrixXd coeffs;           ///< count(bands) x 3 lighting coefficients, world frame
+    std::vector<brdf::Table> tables;  ///< one per scene material (same order), may be empty
 };
 
 /// Lighting coefficients of the scene's environment (as the path tracer sees it: the same

@@ -99,7 +99,8 @@ TEST(Realtime, ReproducesEnvmapProjectIrradianceOnLambertPatch) {
         const double expect = m.brdf.albedo[c] / kPi * e;
         for (int y = 0; y < 8; ++y) {
             for (int x = 0; x < 8; ++x) {
-                ASSERT_NEAR(rt.at(x, y, c), expect, kFloatRel * expect) << x << "," << y << "," << c;
+                ASSERT_NEAR(rt.at(x, y, c), expect, kFloatRel * expect)
+                    << x << "," << y << "," << c;
             }
         }
     }
@@ -120,7 +121,8 @@ TEST(Realtime, AnyBandCountMatchesTheSeriesAndThreeBandsTheMatrix) {
             double e = 0;
             for (int l = 0; l < bands; ++l) {
                 for (int mm = -l; mm <= l; ++mm) {
-                    e += sh::cosine_zonal(l) * coeffs(sh::index(l, mm), c) * y[static_cast<size_t>(sh::index(l, mm))];
+                    e += sh::cosine_zonal(l) * coeffs(sh::index(l, mm), c) *
+                         y[static_cast<size_t>(sh::index(l, mm))];
                 }
             }
             EXPECT_NEAR(rt[c], albedo[c] / kPi * e, 1e-12) << "bands " << bands;
@@ -167,14 +169,16 @@ TEST(Realtime, ConsistentModeEqualsPathTracerForBandLimitedLighting) {
         EXPECT_NEAR(rt.pixels[i], truth, kSigmas * gt.std_error.pixels[i] + kModelRel * truth)
             << "pixel " << i / 3 << " channel " << i % 3;
         diff_sum[static_cast<int>(i % 3)] += rt.pixels[i] - truth;
-        var_sum[static_cast<int>(i % 3)] += static_cast<double>(gt.std_error.pixels[i]) * gt.std_error.pixels[i];
+        var_sum[static_cast<int>(i % 3)] +=
+            static_cast<double>(gt.std_error.pixels[i]) * gt.std_error.pixels[i];
         truth_sum[static_cast<int>(i % 3)] += truth;
     }
     // Every pixel sees the same normal and view: the average over the 16 pixels is a sharper
     // test (3 channels, 1e-3 family-wise: 3.6 sigmas; 4 used).
     constexpr double kAggregateSigmas = 4.0;
     for (int c = 0; c < 3; ++c) {
-        EXPECT_LE(std::abs(diff_sum[c]), kAggregateSigmas * std::sqrt(var_sum[c]) + kModelRel * truth_sum[c])
+        EXPECT_LE(std::abs(diff_sum[c]),
+                  kAggregateSigmas * std::sqrt(var_sum[c]) + kModelRel * truth_sum[c])
             << "channel " << c << ": mean difference " << diff_sum[c] / 16 << ", se "
             << std::sqrt(var_sum[c]) / 16;
     }

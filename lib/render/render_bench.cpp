@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <memory>
 
+#include "brdf/bake.h"
 #include "core/conventions.h"
 #include "core/parallel.h"
-#include "brdf/bake.h"
 #include "render/path_tracer.h"
 #include "render/realtime.h"
 
@@ -26,7 +26,8 @@ image::Image environment_map() {
     for (int y = 0; y < 512; ++y) {
         for (int x = 0; x < 1024; ++x) {
             const Eigen::Vector3d d = latlong_direction((x + 0.5) / 1024, (y + 0.5) / 512);
-            const double v = 0.3 + std::max(0.0, d.z()) + 500.0 * std::pow(std::max(0.0, d.x()), 400);
+            const double v =
+                0.3 + std::max(0.0, d.z()) + 500.0 * std::pow(std::max(0.0, d.x()), 400);
             for (int c = 0; c < 3; ++c) img.at(x, y, c) = static_cast<float>(v);
         }
     }
@@ -100,8 +101,12 @@ void BM_PathTrace(benchmark::State& state) {
 }
 BENCHMARK(BM_PathTrace)
     ->ArgNames({"scene", "threads"})
-    ->Args({0, 1})->Args({0, 2})->Args({1, 1})->Args({1, 2})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({0, 1})
+    ->Args({0, 2})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Time per frame of the real-time model (CPU, one fragment per pixel) on the app's case at
 // 256x256, consistent mode. args: sh_bands, threads.
@@ -134,8 +139,12 @@ void BM_RealtimeFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_RealtimeFrame)
     ->ArgNames({"bands", "threads"})
-    ->Args({3, 1})->Args({3, 2})->Args({5, 1})->Args({8, 1})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({3, 1})
+    ->Args({3, 2})
+    ->Args({5, 1})
+    ->Args({8, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

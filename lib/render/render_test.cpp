@@ -2,8 +2,6 @@
 // a real HDRI against brute-force irradiance / pi, agreement of the three light-transport
 // estimators, 1/sqrt(N) convergence, determinism over threads and pass schedules, and an OBJ
 // quad against the analytic patch.
-#include "render/path_tracer.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +9,7 @@
 
 #include "core/conventions.h"
 #include "core/parallel.h"
+#include "render/path_tracer.h"
 #include "testing/testing.h"
 
 namespace inlight::render {
@@ -153,7 +152,8 @@ Eigen::Vector3d brute_force_irradiance(const EnvironmentLight& env, const Eigen:
                 const double r = std::sqrt(std::max(0.0, 1 - z * z));
                 for (int b = 0; b < sub; ++b) {
                     const double phi = kPi * (1.0 - 2.0 * (col + (b + 0.5) / sub) / w);
-                    const double c = n_env.dot(Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
+                    const double c =
+                        n_env.dot(Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
                     if (c > 0) cos_sum += c;
                 }
             }
@@ -206,7 +206,9 @@ TEST(PathTracer, LambertSphereUnderHdriEqualsBruteForceIrradiance) {
             const size_t i = static_cast<size_t>(y) * 24 + x;
             if (scene.accel().intersect(ray, &hit)) {
                 on_sphere[i] = true;
-                exact[i] = albedo.cwiseProduct(brute_force_irradiance(scene.environment(), hit.ng, 8)) / kPi;
+                exact[i] =
+                    albedo.cwiseProduct(brute_force_irradiance(scene.environment(), hit.ng, 8)) /
+                    kPi;
             }
         }
     }

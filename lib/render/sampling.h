@@ -8,10 +8,9 @@
 // Recipes" 3rd ed., sec. 6.2 (incomplete gamma function for the chi-square tail).
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace inlight::render {
 
@@ -48,7 +47,9 @@ class Distribution1D {
     /// the position of u inside that bin's CDF interval, remapped to [0, 1).
     /// Precondition: total() > 0, u in [0, 1).
     int sample(double u, double* u_remapped = nullptr) const;
-    double pmf(int i) const { return m_total > 0 ? m_weights[static_cast<size_t>(i)] / m_total : 0; }
+    double pmf(int i) const {
+        return m_total > 0 ? m_weights[static_cast<size_t>(i)] / m_total : 0;
+    }
     double total() const { return m_total; }
     int size() const { return static_cast<int>(m_weights.size()); }
 

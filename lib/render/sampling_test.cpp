@@ -78,8 +78,8 @@ TEST(Distribution1D, SkipsZeroBinsAndRemaps) {
 /// Draws n samples from `light`, bins them by the pixel their direction falls in (computed
 /// independently of the light: R^T dir -> latlong_uv -> pixel, coarsened by `bin`), and tests
 /// against the light's pixel probabilities. Also checks that every sample's pdf equals pdf(dir).
-Chi2Result env_chi2(const EnvironmentLight& light, const Eigen::Matrix3d& world_from_env,
-                    int bin, int n, uint64_t seed) {
+Chi2Result env_chi2(const EnvironmentLight& light, const Eigen::Matrix3d& world_from_env, int bin,
+                    int n, uint64_t seed) {
     const int bw = light.width() / bin, bh = light.height() / bin;
     std::vector<double> obs(static_cast<size_t>(bw) * bh, 0.0), exp(obs.size(), 0.0);
     for (int row = 0; row < light.height(); ++row) {
@@ -134,9 +134,10 @@ TEST(EnvironmentSampling, SyntheticGradientChi2PerPixel) {
         for (int col = 0; col < 64; ++col) total += light.pixel_probability(col, row);
     }
     EXPECT_NEAR(total, 1.0, 1e-12);
-    const double w00 = (0.2126 + 0.7152 * 0.5 + 0.0722 * 0.1) * latlong_pixel_solid_angle(0, 64, 32);
-    const double w35 = (0.2126 + 0.7152 * 0.5 + 0.0722 * 0.1) * 4 * 6 *
-                       latlong_pixel_solid_angle(5, 64, 32);
+    const double w00 =
+        (0.2126 + 0.7152 * 0.5 + 0.0722 * 0.1) * latlong_pixel_solid_angle(0, 64, 32);
+    const double w35 =
+        (0.2126 + 0.7152 * 0.5 + 0.0722 * 0.1) * 4 * 6 * latlong_pixel_solid_angle(5, 64, 32);
     // The map stores float radiance (-0.1f * v is rounded): relative agreement to float epsilon.
     constexpr double kFloatRel = 1e-7;
     EXPECT_NEAR(light.pixel_probability(3, 5) / light.pixel_probability(0, 0), w35 / w00,
@@ -157,7 +158,8 @@ TEST(EnvironmentSampling, Chi2RejectsSamplingWithoutSolidAngle) {
     std::vector<double> obs(64 * 32, 0.0), exp(64 * 32, 0.0);
     double total = 0;
     for (int i = 0; i < 64 * 32; ++i) total += (i % 64) + (i / 64) + 1;
-    for (int i = 0; i < 64 * 32; ++i) exp[static_cast<size_t>(i)] = n * ((i % 64) + (i / 64) + 1) / total;
+    for (int i = 0; i < 64 * 32; ++i)
+        exp[static_cast<size_t>(i)] = n * ((i % 64) + (i / 64) + 1) / total;
     for (int i = 0; i < n; ++i) {
         Rng rng(13, 0, static_cast<uint64_t>(i));
         const Eigen::Vector2i p = light.pixel_of(light.sample(rng.uniform2()).dir);
@@ -205,8 +207,8 @@ void check_one_hot(int hot_col, int hot_row) {
         << "pixel (" << hot_col << ", " << hot_row << ") chi2 " << c.statistic;
     // Directions elsewhere have zero density; the hot pixel's radiance is returned.
     EXPECT_EQ(light.pdf(r * latlong_direction((hot_col + 10.5) / w, 0.5)), 0.0);
-    EXPECT_NEAR(light.eval(r * latlong_direction((hot_col + 0.5) / w, (hot_row + 0.5) / h))[0],
-                5.0, 0.0);
+    EXPECT_NEAR(light.eval(r * latlong_direction((hot_col + 0.5) / w, (hot_row + 0.5) / h))[0], 5.0,
+                0.0);
 }
 
 TEST(EnvironmentSampling, OneHotInside) { check_one_hot(11, 6); }
@@ -377,7 +379,8 @@ TEST(EnvironmentLayouts, ResampledCubeKeepsTheLighting) {
     const Eigen::Vector3d key = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
     for (int y = 0; y < n; ++y) {
         for (int x = 0; x < 6 * n; ++x) {
-            const Eigen::Vector3d d = envmap::cube_direction(x / n, (x % n + 0.5) / n, (y + 0.5) / n);
+            const Eigen::Vector3d d =
+                envmap::cube_direction(x / n, (x % n + 0.5) / n, (y + 0.5) / n);
             const double v = 1.0 + 4.0 * std::exp(4.0 * (d.dot(key) - 1.0));
             for (int c = 0; c < 3; ++c) cube.at(x, y, c) = static_cast<float>(v * (1 + 0.2 * c));
         }
@@ -389,14 +392,16 @@ TEST(EnvironmentLayouts, ResampledCubeKeepsTheLighting) {
     EXPECT_EQ(ll.width, 4 * n);
     envmap::LoadOptions lo;
     lo.layout = envmap::Layout::kCube;
-    const Eigen::MatrixXd from_cube = envmap::project(envmap::load_environment(path, lo), {}).coeffs;
+    const Eigen::MatrixXd from_cube =
+        envmap::project(envmap::load_environment(path, lo), {}).coeffs;
     const Eigen::MatrixXd from_ll = envmap::project_latlong(ll, 3);
     // Nearest-texel resampling of a lobe of width ~30 deg with 2.8-deg texels: the largest
     // difference measured when writing the test was 5e-4 of L00; 2e-3 allows 4x that.
     constexpr double kResampleRel = 2e-3;
     for (int c = 0; c < 3; ++c) {
         for (int k = 0; k < 9; ++k) {
-            EXPECT_NEAR(from_ll(k, c), from_cube(k, c), kResampleRel * from_cube(0, c)) << k << "," << c;
+            EXPECT_NEAR(from_ll(k, c), from_cube(k, c), kResampleRel * from_cube(0, c))
+                << k << "," << c;
         }
     }
 }

@@ -214,8 +214,8 @@ Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
     const EnvironmentSpec& env = m_desc.environment;
     Eigen::Matrix3d world_from_env = parse_rotation(env.rotation);
     if (env.image.width > 0) {
-        m_environment = std::make_unique<EnvironmentLight>(env.image, world_from_env,
-                                                           env.intensity, ctx + ": environment");
+        m_environment = std::make_unique<EnvironmentLight>(env.image, world_from_env, env.intensity,
+                                                           ctx + ": environment");
     } else if (!env.path.empty()) {
         m_environment = std::make_unique<EnvironmentLight>(
             load_environment_latlong(env.path, env.layout, env.latlong_height_px), world_from_env,
@@ -231,8 +231,8 @@ Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
     for (const SurfaceMaterial& m : m_desc.materials) {
         SurfaceMaterial loaded = m;
         load_textures(loaded);
-        for (const auto* p : {&m.albedo_texture_path, &m.normal_texture_path,
-                              &m.roughness_texture_path}) {
+        for (const auto* p :
+             {&m.albedo_texture_path, &m.normal_texture_path, &m.roughness_texture_path}) {
             if (!p->empty()) m_files.push_back(*p);
         }
         material_index[m.name] = static_cast<int>(m_materials.size());

@@ -18,11 +18,10 @@
 // a wrong type or a value out of range throws Error "<file>:<line>: [<table>] <key>: <what>".
 #pragma once
 
+#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "image/image.h"
 #include "render/accel.h"
@@ -33,23 +32,23 @@
 namespace inlight::render {
 
 struct EnvironmentSpec {
-    std::string path;                  ///< environment file; empty = constant `radiance`
-    std::string layout = "latlong";    ///< "latlong" | "cube" | "angular" (envmap-project's)
-    int latlong_height_px = 0;         ///< resampling height for cube/angular; 0 = automatic
-    std::string rotation = "none";     ///< parse_rotation syntax: world_from_env
-    double intensity = 1.0;            ///< linear scale, >= 0
+    std::string path;                   ///< environment file; empty = constant `radiance`
+    std::string layout = "latlong";     ///< "latlong" | "cube" | "angular" (envmap-project's)
+    int latlong_height_px = 0;          ///< resampling height for cube/angular; 0 = automatic
+    std::string rotation = "none";      ///< parse_rotation syntax: world_from_env
+    double intensity = 1.0;             ///< linear scale, >= 0
     Eigen::Vector3d radiance{1, 1, 1};  ///< constant environment (when path and image are empty)
-    image::Image image;                ///< in-memory lat-long map (tests); used when non-empty
+    image::Image image;                 ///< in-memory lat-long map (tests); used when non-empty
 };
 
 struct ObjectSpec {
     std::string name;
-    Shape shape;                ///< kind, center, size, radius (meshes: filled by Scene)
-    std::string mesh_path;      ///< kMesh
-    double scale = 1.0;         ///< kMesh: world = translate + rotation * (scale * object)
+    Shape shape;            ///< kind, center, size, radius (meshes: filled by Scene)
+    std::string mesh_path;  ///< kMesh
+    double scale = 1.0;     ///< kMesh: world = translate + rotation * (scale * object)
     std::string rotation = "none";
     Eigen::Vector3d translate = Eigen::Vector3d::Zero();
-    std::string material;       ///< name of a material in SceneDesc::materials
+    std::string material;  ///< name of a material in SceneDesc::materials
 };
 
 struct SceneDesc {
@@ -84,9 +83,7 @@ class Scene {
         return m_materials[static_cast<size_t>(m_material_of_shape[static_cast<size_t>(shape)])];
     }
     /// Index into SceneDesc::materials of shape `shape`'s material.
-    int material_index(int shape) const {
-        return m_material_of_shape[static_cast<size_t>(shape)];
-    }
+    int material_index(int shape) const { return m_material_of_shape[static_cast<size_t>(shape)]; }
     /// Every file the scene read (for the run report's inputs).
     const std::vector<std::string>& files() const { return m_files; }
 

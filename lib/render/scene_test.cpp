@@ -102,13 +102,15 @@ TEST(SceneFile, ErrorsNameFileLineTableAndKey) {
                  "bad.toml:25: [object] shape: shape 'cube'");
     expect_error(replace(kScene, "rotation = \"z=90\"", "rotation = \"q=90\""),
                  "bad.toml:4: [environment] rotation: rotation 'q=90'");
-    expect_error(replace(kScene, "rotation = \"z=90\"", "rotation = \"z=90\"\nlayout = \"fisheye\""),
-                 "bad.toml:5: [environment] layout: expected \"latlong\", \"cube\" or \"angular\"");
+    expect_error(
+        replace(kScene, "rotation = \"z=90\"", "rotation = \"z=90\"\nlayout = \"fisheye\""),
+        "bad.toml:5: [environment] layout: expected \"latlong\", \"cube\" or \"angular\"");
     expect_error(replace(kScene, "[environment]", "[environmnet]"),
                  "bad.toml: missing [environment] table");
     expect_error(replace(kScene, "radius = 0.25", "radius = 0.25 0.5"),
                  "bad.toml:28: unexpected '0' after the value");
-    expect_error(replace(kScene, "[camera]", "[camera]\n[camera]"), "bad.toml:7: duplicate table [camera]");
+    expect_error(replace(kScene, "[camera]", "[camera]\n[camera]"),
+                 "bad.toml:7: duplicate table [camera]");
     expect_error(replace(kScene, "size = [2, 1]", "size = [2, 1"), "bad.toml:");
     expect_error(std::string("x = 1\n") + kScene, "bad.toml:1: key 'x' outside any table");
     expect_error(replace(kScene, "[environment]\nradiance = [0.5, 1, 2]",
@@ -177,7 +179,8 @@ TEST(Mesh, PlyAsciiAndBinaryAgree) {
         std::snprintf(header, sizeof(header), header_fmt, "ascii");
         std::ofstream f(dir + "/a.ply");
         f << header;
-        for (const auto& v : verts) f << v[0] << " " << v[1] << " " << v[2] << " " << v[3] << " " << v[4] << "\n";
+        for (const auto& v : verts)
+            f << v[0] << " " << v[1] << " " << v[2] << " " << v[3] << " " << v[4] << "\n";
         f << "4 0 1 2 3\n";
     }
     {

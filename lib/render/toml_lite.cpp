@@ -150,12 +150,23 @@ class Parser {
                 if (at_end()) fail("unterminated string");
                 const char e = get();
                 switch (e) {
-                    case '"': out += '"'; break;
-                    case '\\': out += '\\'; break;
-                    case 'n': out += '\n'; break;
-                    case 't': out += '\t'; break;
-                    case 'r': out += '\r'; break;
-                    default: fail(str("unsupported escape '\\", e, "' in a string"));
+                    case '"':
+                        out += '"';
+                        break;
+                    case '\\':
+                        out += '\\';
+                        break;
+                    case 'n':
+                        out += '\n';
+                        break;
+                    case 't':
+                        out += '\t';
+                        break;
+                    case 'r':
+                        out += '\r';
+                        break;
+                    default:
+                        fail(str("unsupported escape '\\", e, "' in a string"));
                 }
             } else {
                 out += c;
@@ -169,7 +180,8 @@ class Parser {
         v.line = m_line;
         const char c = peek();
         if (c == '"' || c == '\'') {
-            if (m_s.compare(m_pos, 3, std::string(3, c)) == 0) fail("multi-line strings are not supported");
+            if (m_s.compare(m_pos, 3, std::string(3, c)) == 0)
+                fail("multi-line strings are not supported");
             v.data = string_value();
         } else if (c == '[') {
             get();
@@ -193,8 +205,9 @@ class Parser {
             fail("inline tables are not supported; use a [table]");
         } else {
             std::string word;
-            while (!at_end() && (std::isalnum(static_cast<unsigned char>(peek())) ||
-                                 peek() == '.' || peek() == '+' || peek() == '-' || peek() == '_')) {
+            while (!at_end() &&
+                   (std::isalnum(static_cast<unsigned char>(peek())) || peek() == '.' ||
+                    peek() == '+' || peek() == '-' || peek() == '_')) {
                 word += get();
             }
             if (word.empty()) fail(str("expected a value, got '", c, "'"));
@@ -237,10 +250,14 @@ class Parser {
 
 std::string type_name(const Value& v) {
     switch (v.data.index()) {
-        case 0: return "a boolean";
-        case 1: return "a number";
-        case 2: return "a string";
-        default: return "an array";
+        case 0:
+            return "a boolean";
+        case 1:
+            return "a number";
+        case 2:
+            return "a string";
+        default:
+            return "an array";
     }
 }
 
@@ -260,9 +277,7 @@ const Value* Reader::find(const std::string& key) const {
     return it == m_table.values.end() ? nullptr : &it->second;
 }
 
-bool Reader::has(const std::string& key) const {
-    return m_table.values.count(key) > 0;
-}
+bool Reader::has(const std::string& key) const { return m_table.values.count(key) > 0; }
 
 std::string Reader::where(const std::string& key) const {
     const auto it = m_table.values.find(key);
@@ -298,8 +313,7 @@ int Reader::get_int(const std::string& key, int fallback) const {
     if (!v) return fallback;
     const auto* d = std::get_if<double>(&v->data);
     if (!d || !v->is_integer || std::abs(*d) > 2e9) {
-        throw Error(str(where(key), "expected an integer, got ",
-                        d ? str(*d) : type_name(*v)));
+        throw Error(str(where(key), "expected an integer, got ", d ? str(*d) : type_name(*v)));
     }
     return static_cast<int>(*d);
 }

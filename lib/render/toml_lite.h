@@ -8,12 +8,11 @@
 // multi-line strings, dates.
 #pragma once
 
+#include <Eigen/Core>
 #include <map>
 #include <string>
 #include <variant>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace inlight::render::toml {
 
