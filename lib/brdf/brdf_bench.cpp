@@ -1,8 +1,10 @@
 // brdf_bench: error against time of the bake integrators (docs/brdf.md, "Benchmarks").
-// Each case bakes GGX (alpha 0.25, f0 0.04, normal view) on octa:9 (81 normals) and reports the
-// max coefficient error relative to the largest reference coefficient (counter "err_rel") and
-// the max radiance error under the test lightings ("rad_err_rel"), against a gauss-legendre
-// reference with 256 x 512 nodes per normal.
+// Each case bakes GGX (alpha 0.25, f0 0.04, normal view) on thetaphi:5x16@80 (80 normals, none
+// edge-on) and reports the max coefficient error relative to the largest reference coefficient
+// (counter "err_rel") and the max radiance error under the test lightings relative to the
+// largest reference radiance ("rad_err_rel"), against a gauss-legendre reference with
+// 256 x 512 nodes per normal. Arguments: integrator (0 stratified-mc, 1 gauss-legendre,
+// 2 sobol-is) / sh_bands / samples per normal / threads.
 #include <map>
 #include <mutex>
 
@@ -32,7 +34,7 @@ const Table& reference(int bands) {
         o.sh_bands = bands;
         o.integrator = Integrator::kGaussLegendre;
         o.samples = 2 * 256 * 256;
-        it = cache.emplace(bands, bake(bench_material(), parse_grid("octa:9"), o)).first;
+        it = cache.emplace(bands, bake(bench_material(), parse_grid("thetaphi:5x16@80"), o)).first;
     }
     return it->second;
 }
