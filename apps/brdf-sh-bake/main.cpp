@@ -11,39 +11,55 @@
 using namespace inlight;
 
 int main(int argc, char** argv) {
-    CLI::App cli{"brdf-sh-bake: project a material's cosine-weighted specular/sheen lobe into SH "
-                 "at each normal of a grid (view fixed) and report the table's error"};
+    CLI::App cli{
+        "brdf-sh-bake: project a material's cosine-weighted specular/sheen lobe into SH "
+        "at each normal of a grid (view fixed) and report the table's error"};
     app::CommonArgs common;
     std::string material_path, output, grid_spec = "thetaphi:9x32", integrator = "gauss-legendre";
     std::string view_deg, view_xyz;
     brdf::BakeOptions o;
     double max_error = -1;
     bool full_validate = false;
-    cli.add_option("--material", material_path, "Material file (TOML: specular, albedo, f0, "
+    cli.add_option("--material", material_path,
+                   "Material file (TOML: specular, albedo, f0, "
                    "alpha, report_f, report_r, sheen_color, specular_scale)")
-        ->required()->check(CLI::ExistingFile);
-    cli.add_option("-o,--output", output, "Output stem: writes OUT.bin, OUT.json, OUT.glsl and "
-                   "OUT_texture.exr")->required();
+        ->required()
+        ->check(CLI::ExistingFile);
+    cli.add_option("-o,--output", output,
+                   "Output stem: writes OUT.bin, OUT.json, OUT.glsl and "
+                   "OUT_texture.exr")
+        ->required();
     cli.add_option("--grid", grid_spec, "Normal grid: report5x5 | thetaphi:RxC | octa:N | disk:N")
         ->capture_default_str();
     cli.add_option("--sh-bands", o.sh_bands, "SH bands (max l + 1; 3 = 9 coefficients)")
-        ->check(CLI::Range(1, brdf::kMaxBakeBands))->capture_default_str();
-    cli.add_option("--integrator", integrator, "stratified-mc (the report's) | gauss-legendre | "
-                   "sobol-is")->check(CLI::IsMember({"stratified-mc", "gauss-legendre", "sobol-is"}))
+        ->check(CLI::Range(1, brdf::kMaxBakeBands))
+        ->capture_default_str();
+    cli.add_option("--integrator", integrator,
+                   "stratified-mc (the report's) | gauss-legendre | "
+                   "sobol-is")
+        ->check(CLI::IsMember({"stratified-mc", "gauss-legendre", "sobol-is"}))
         ->capture_default_str();
     cli.add_option("--samples", o.samples, "Integrand evaluations per normal")
-        ->check(CLI::Range(1, 1 << 24))->capture_default_str();
-    auto* vdeg = cli.add_option("--view-deg", view_deg, "View direction as THETA[,PHI] degrees "
+        ->check(CLI::Range(1, 1 << 24))
+        ->capture_default_str();
+    auto* vdeg = cli.add_option("--view-deg", view_deg,
+                                "View direction as THETA[,PHI] degrees "
                                 "from the screen normal +z (default 0: the screen normal)");
-    cli.add_option("--view", view_xyz, "View direction x,y,z in the device frame (+z toward the "
-                   "viewer)")->excludes(vdeg);
-    cli.add_option("--max-error", max_error, "Choose --sh-bands automatically: the fewest bands "
+    cli.add_option("--view", view_xyz,
+                   "View direction x,y,z in the device frame (+z toward the "
+                   "viewer)")
+        ->excludes(vdeg);
+    cli.add_option("--max-error", max_error,
+                   "Choose --sh-bands automatically: the fewest bands "
                    "whose SH truncation error of radiance under the test lightings is <= this "
-                   "(relative); exit 3 if 8 bands do not meet it")->check(CLI::PositiveNumber);
-    cli.add_flag("--validate", full_validate, "Check every grid node and 256 off-grid normals "
+                   "(relative); exit 3 if 8 bands do not meet it")
+        ->check(CLI::PositiveNumber);
+    cli.add_flag("--validate", full_validate,
+                 "Check every grid node and 256 off-grid normals "
                  "(default: at most 64 nodes and 64 normals)");
-    app::setup(cli, common, "brdf-sh-bake --material configs/materials/satin-ggx.toml "
-                            "--grid thetaphi:9x32 --sh-bands 3 -o out/satin --report run.json");
+    app::setup(cli, common,
+               "brdf-sh-bake --material configs/materials/satin-ggx.toml "
+               "--grid thetaphi:9x32 --sh-bands 3 -o out/satin --report run.json");
     if (auto code = app::parse(cli, argc, argv)) return *code;
 
     return app::run("brdf-sh-bake", cli, common, argc, argv, [&](Report& report) {
@@ -53,15 +69,7 @@ int main(int argc, char** argv) {
         o.integrator = brdf::integrator_from_string(integrator);
         o.seed = common.seed;
         if (!view_xyz.empty()) o.view = brdf::parse_view(view_xyz);
-        if (!view_deg.empty()) {
-            const auto comma = view_deg.find(',');
-            try {
-                o.view = brdf::view_from_deg(std::stod(view_deg.substr(0, comma)),
-                                             comma == std::string::npos ? 0.0 : std::stod(view_deg.substr(comma + 1)));
-            } catch (const std::logic_error&) {
-                throw UsageError(str("--view-deg '", view_deg, "': expected THETA[,PHI] in degrees"));
-            }
-        }
+        if (!view_deg.empty()) o.view = brdf::parse_view_deg(view_deg);
         brdf::ValidateOptions vopt;
         if (full_validate) {
             vopt.max_nodes = 0;
@@ -91,13 +99,20 @@ int main(int argc, char** argv) {
             return brdf::validate(ref, table);
         }();
         nlohmann::json meta = {
-            {"tool", "brdf-sh-bake"}, {"version", version_string()},
+            {"tool", "brdf-sh-bake"},
+            {"version", version_string()},
             {"model", brdf::to_string(material.specular)},
             {"lobe", material.specular == brdf::Model::kLambert ? "diffuse (lambert)" : "specular"},
-            {"material_file", material_path}, {"material_toml", brdf::to_toml(material)},
-            {"view", {o.view.x(), o.view.y(), o.view.z()}}, {"grid", brdf::to_string(grid)},
-            {"sh_bands", o.sh_bands}, {"integrator", integrator}, {"samples_per_normal", o.samples},
-            {"seed", o.seed}, {"bake_time_s", bake_s}, {"error", v.to_json()}};
+            {"material_file", material_path},
+            {"material_toml", brdf::to_toml(material)},
+            {"view", {o.view.x(), o.view.y(), o.view.z()}},
+            {"grid", brdf::to_string(grid)},
+            {"sh_bands", o.sh_bands},
+            {"integrator", integrator},
+            {"samples_per_normal", o.samples},
+            {"seed", o.seed},
+            {"bake_time_s", bake_s},
+            {"error", v.to_json()}};
         brdf::write_binary(output + ".bin", table);
         brdf::write_json(output + ".json", table, meta);
         fs::write_text_atomic(output + ".glsl", brdf::glsl_lookup_source(table));
@@ -123,8 +138,9 @@ int main(int argc, char** argv) {
             m["chosen_sh_bands"] = chosen;
         }
         log::info(str("integration error ", v.integration_radiance_max_rel, ", interpolation ",
-                      v.interpolation_radiance_max_rel, ", truncation ", v.truncation_radiance_max_rel,
-                      ", total ", v.total_radiance_max_rel, " (radiance, relative); bake ", bake_s, " s"));
+                      v.interpolation_radiance_max_rel, ", truncation ",
+                      v.truncation_radiance_max_rel, ", total ", v.total_radiance_max_rel,
+                      " (radiance, relative); bake ", bake_s, " s"));
         if (max_error > 0 && chosen == 0) {
             throw app::QualityGateFailed(str("8 SH bands leave a truncation error of ",
                                              by_bands.back(), " > --max-error ", max_error));

@@ -68,12 +68,15 @@ double u32_to_unit(uint32_t x) { return (static_cast<double>(x) + 0.5) * 0x1.0p-
 class Accumulator {
   public:
     Accumulator(int sh_bands, const Eigen::Matrix3d& world_from_local)
-        : m_bands(sh_bands), m_frame(world_from_local), m_y(sh::count(sh_bands)),
+        : m_bands(sh_bands),
+          m_frame(world_from_local),
+          m_y(sh::count(sh_bands)),
           m_b(Eigen::MatrixXd::Zero(3, sh::count(sh_bands))) {}
     void add(const Eigen::Vector3d& wi_local, const Eigen::Vector3d& weighted_value) {
         const Eigen::Vector3d w = (m_frame * wi_local).normalized();
         sh::eval(m_bands, w, m_y.data());
-        for (int k = 0; k < static_cast<int>(m_y.size()); ++k) m_b.col(k) += weighted_value * m_y[k];
+        for (int k = 0; k < static_cast<int>(m_y.size()); ++k)
+            m_b.col(k) += weighted_value * m_y[k];
     }
     Eigen::MatrixXd& result() { return m_b; }
 
@@ -130,13 +133,16 @@ struct Warp {
     }
     double density(double c) const {
         switch (m.specular) {
-            case Model::kGgx: return ggx_d(std::max(m.alpha, kMinAlpha), c) * c;
+            case Model::kGgx:
+                return ggx_d(std::max(m.alpha, kMinAlpha), c) * c;
             case Model::kCookTorranceReport: {
                 const double r = std::max(m.report_r, kMinAlpha);
                 return report_d(r, c) * c * (1.0 + r * r) / (r * r);
             }
-            case Model::kCharlie: return charlie_d(std::clamp(m.alpha, kMinAlpha, 1.0), c) * c;
-            case Model::kLambert: break;
+            case Model::kCharlie:
+                return charlie_d(std::clamp(m.alpha, kMinAlpha, 1.0), c) * c;
+            case Model::kLambert:
+                break;
         }
         return 0;
     }
@@ -226,9 +232,12 @@ void check_options(const BakeOptions& o) {
 
 std::string to_string(Integrator integrator) {
     switch (integrator) {
-        case Integrator::kStratifiedMc: return "stratified-mc";
-        case Integrator::kGaussLegendre: return "gauss-legendre";
-        case Integrator::kSobolIs: return "sobol-is";
+        case Integrator::kStratifiedMc:
+            return "stratified-mc";
+        case Integrator::kGaussLegendre:
+            return "gauss-legendre";
+        case Integrator::kSobolIs:
+            return "sobol-is";
     }
     return "?";
 }
@@ -263,12 +272,30 @@ Eigen::Vector3d parse_view(const std::string& xyz) {
     return d.normalized();
 }
 
+Eigen::Vector3d parse_view_deg(const std::string& text) {
+    const size_t comma = text.find(',');
+    try {
+        size_t used = 0;
+        const std::string t = text.substr(0, comma);
+        const double theta = std::stod(t, &used);
+        if (used != t.size()) throw std::invalid_argument(t);
+        double phi = 0;
+        if (comma != std::string::npos) {
+            const std::string p = text.substr(comma + 1);
+            phi = std::stod(p, &used);
+            if (used != p.size()) throw std::invalid_argument(p);
+        }
+        return view_from_deg(theta, phi);
+    } catch (const std::logic_error&) {
+        throw UsageError(str("view '", text, "': expected THETA[,PHI] in degrees"));
+    }
+}
+
 Eigen::Vector3d view_from_deg(double theta_deg, double phi_deg) {
     return direction_from_spherical(theta_deg * kPi / 180.0, phi_deg * kPi / 180.0);
 }
 
-Eigen::MatrixXd project_normal(const Material& m, const Eigen::Vector3d& n,
-                               const BakeOptions& o) {
+Eigen::MatrixXd project_normal(const Material& m, const Eigen::Vector3d& n, const BakeOptions& o) {
     const Eigen::Matrix3d frame = world_from_local(n);
     const Eigen::Vector3d wo = facet_view(frame, o.view);
     Accumulator acc(o.sh_bands, frame);
@@ -282,8 +309,8 @@ Eigen::MatrixXd project_normal(const Material& m, const Eigen::Vector3d& n,
                 for (int b = 0; b < sq; ++b) {
                     const double p = (a + rng.next()) / sq;
                     const double q = (b + rng.next()) / sq;
-                    const Eigen::Vector3d w =
-                        direction_from_spherical(2.0 * std::acos(std::sqrt(1.0 - p)), 2.0 * kPi * q);
+                    const Eigen::Vector3d w = direction_from_spherical(
+                        2.0 * std::acos(std::sqrt(1.0 - p)), 2.0 * kPi * q);
                     const Eigen::Vector3d wi = frame.transpose() * w;
                     if (wi.z() <= 0) continue;
                     acc.add(wi, weight * wi.z() * eval_baked_lobe(m, wo, wi));
@@ -326,7 +353,8 @@ Table bake(const Material& m, const Grid& grid, const BakeOptions& o) {
     const int k_count = t.coeff_count();
     parallel::for_chunks(grid.node_count(), 1, [&](int64_t begin, int64_t end) {
         for (int64_t node = begin; node < end; ++node) {
-            const int i1 = static_cast<int>(node / grid.cols), i2 = static_cast<int>(node % grid.cols);
+            const int i1 = static_cast<int>(node / grid.cols),
+                      i2 = static_cast<int>(node % grid.cols);
             const Eigen::MatrixXd b = project_normal(m, grid_node_normal(grid, i1, i2), o);
             for (int ch = 0; ch < t.channels; ++ch) {
                 for (int k = 0; k < k_count; ++k) {
@@ -343,7 +371,8 @@ std::vector<TestLighting> test_lightings() {
     return {
         {"uniform", [](const Eigen::Vector3d&) { return 1.0; }},
         {"front_gradient", [](const Eigen::Vector3d& w) { return 1.0 + w.z(); }},
-        {"key_vmf10", [key](const Eigen::Vector3d& w) { return std::exp(10.0 * (key.dot(w) - 1.0)); }},
+        {"key_vmf10",
+         [key](const Eigen::Vector3d& w) { return std::exp(10.0 * (key.dot(w) - 1.0)); }},
         {"window_vmf50",
          [window](const Eigen::Vector3d& w) { return std::exp(50.0 * (window.dot(w) - 1.0)); }},
     };
@@ -473,11 +502,13 @@ ReferenceSet make_reference(const Material& m, const Grid& grid, const Eigen::Ve
         for (int64_t i = begin; i < end; ++i) {
             if (i < static_cast<int64_t>(need.size())) {
                 const int node = need[i];
-                at_need[i] = reference_at(m, grid_node_normal(grid, node / grid.cols, node % grid.cols),
-                                          view, vopt.reference_gl_n, lights);
+                at_need[i] =
+                    reference_at(m, grid_node_normal(grid, node / grid.cols, node % grid.cols),
+                                 view, vopt.reference_gl_n, lights);
             } else {
                 const size_t j = i - need.size();
-                ref.at_normal[j] = reference_at(m, ref.normals[j], view, vopt.reference_gl_n, lights);
+                ref.at_normal[j] =
+                    reference_at(m, ref.normals[j], view, vopt.reference_gl_n, lights);
             }
         }
     });
@@ -487,15 +518,16 @@ ReferenceSet make_reference(const Material& m, const Grid& grid, const Eigen::Ve
     const int self_count = std::min<int>(4, static_cast<int>(ref.nodes.size()));
     std::vector<double> self_err(self_count, 0.0);
     double max_ref = 0;
-    for (int node : ref.nodes) max_ref = std::max(max_ref, ref.at_node[node].coeffs.cwiseAbs().maxCoeff());
+    for (int node : ref.nodes)
+        max_ref = std::max(max_ref, ref.at_node[node].coeffs.cwiseAbs().maxCoeff());
     parallel::for_chunks(self_count, 1, [&](int64_t begin, int64_t end) {
         for (int64_t i = begin; i < end; ++i) {
             // First and last checked nodes (the pole and horizon rows of thetaphi) and between.
             const size_t pick = self_count > 1 ? i * (ref.nodes.size() - 1) / (self_count - 1) : 0;
             const int node = ref.nodes[pick];
-            const ReferenceNormal fine = reference_at(
-                m, grid_node_normal(grid, node / grid.cols, node % grid.cols), view,
-                2 * vopt.reference_gl_n, lights);
+            const ReferenceNormal fine =
+                reference_at(m, grid_node_normal(grid, node / grid.cols, node % grid.cols), view,
+                             2 * vopt.reference_gl_n, lights);
             self_err[i] = (fine.coeffs - ref.at_node.at(node).coeffs).cwiseAbs().maxCoeff();
         }
     });
@@ -518,7 +550,8 @@ std::vector<double> truncation_by_bands(const ReferenceSet& ref) {
             for (int l = 0; l < n_lights; ++l) {
                 if (!(scale[l] > 0)) continue;
                 for (int b = 1; b <= kMaxBakeBands; ++b) {
-                    const double e = std::abs(dot_prefix(lcoef[l], rc.data(), b * b) - r.exact(ch, l));
+                    const double e =
+                        std::abs(dot_prefix(lcoef[l], rc.data(), b * b) - r.exact(ch, l));
                     out[b - 1] = std::max(out[b - 1], e / scale[l]);
                 }
             }
@@ -544,7 +577,8 @@ Validation validate(const ReferenceSet& ref, const Table& baked) {
     auto ch_of = [&](int ch) { return baked.channels == 3 ? ch : 0; };
     const std::vector<double> scale = radiance_scales(ref, n_lights);
     auto rel = [&](int l, double err) { return scale[l] > 0 ? err / scale[l] : 0.0; };
-    std::vector<double> integ(n_lights, 0), interp(n_lights, 0), trunc(n_lights, 0), total(n_lights, 0);
+    std::vector<double> integ(n_lights, 0), interp(n_lights, 0), trunc(n_lights, 0),
+        total(n_lights, 0);
 
     // Integration and truncation at grid nodes.
     double max_ref = 0, sum_sq = 0;
@@ -565,7 +599,8 @@ Validation validate(const ReferenceSet& ref, const Table& baked) {
             const Eigen::VectorXd rc = r.coeffs.row(ch).transpose();
             for (int l = 0; l < n_lights; ++l) {
                 const double sh_ref = dot_prefix(lcoef[l], rc.data(), kb);
-                integ[l] = std::max(integ[l], rel(l, std::abs(dot_prefix(lcoef[l], b.data(), kb) - sh_ref)));
+                integ[l] = std::max(integ[l],
+                                    rel(l, std::abs(dot_prefix(lcoef[l], b.data(), kb) - sh_ref)));
                 trunc[l] = std::max(trunc[l], rel(l, std::abs(sh_ref - r.exact(ch, l))));
             }
         }
@@ -602,8 +637,9 @@ Validation validate(const ReferenceSet& ref, const Table& baked) {
             }
             const Eigen::VectorXd rc = r.coeffs.row(ch).transpose();
             for (int l = 0; l < n_lights; ++l) {
-                interp[l] = std::max(interp[l], rel(l, std::abs(dot_prefix(lcoef[l], bi.data(), kb) -
-                                                                dot_prefix(lcoef[l], rc.data(), kb))));
+                interp[l] =
+                    std::max(interp[l], rel(l, std::abs(dot_prefix(lcoef[l], bi.data(), kb) -
+                                                        dot_prefix(lcoef[l], rc.data(), kb))));
                 total[l] = std::max(total[l], rel(l, std::abs(dot_prefix(lcoef[l], bb.data(), kb) -
                                                               r.exact(ch, l))));
             }
@@ -665,7 +701,8 @@ std::vector<double> lobe_energy_captured(const Material& m, const Eigen::Vector3
 
 int bands_for_lobe_error(const std::vector<double>& captured, double rel_l2_error) {
     for (size_t b = 0; b < captured.size(); ++b) {
-        if (std::sqrt(std::max(0.0, 1.0 - captured[b])) <= rel_l2_error) return static_cast<int>(b) + 1;
+        if (std::sqrt(std::max(0.0, 1.0 - captured[b])) <= rel_l2_error)
+            return static_cast<int>(b) + 1;
     }
     return 0;
 }

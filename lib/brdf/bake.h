@@ -25,14 +25,13 @@
 // duplicates) get identical coefficients.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include "brdf/brdf.h"
 #include "brdf/grid.h"
@@ -53,13 +52,15 @@ Integrator integrator_from_string(const std::string& name);
 struct BakeOptions {
     int sh_bands = 3;  ///< 1 .. kMaxBakeBands (checked by bake())
     Integrator integrator = Integrator::kGaussLegendre;
-    int samples = 4096;                ///< integrand evaluations per normal (see the file comment)
-    Eigen::Vector3d view{0, 0, 1};     ///< toward the viewer, device frame, unit length
+    int samples = 4096;             ///< integrand evaluations per normal (see the file comment)
+    Eigen::Vector3d view{0, 0, 1};  ///< toward the viewer, device frame, unit length
     uint64_t seed = 1;
 };
 
 /// Parses a view: "x,y,z" (normalised; must be non-zero) -> unit vector. Throws UsageError.
 Eigen::Vector3d parse_view(const std::string& xyz);
+/// Parses "THETA[,PHI]" in degrees (PHI defaults to 0) -> view_from_deg. Throws UsageError.
+Eigen::Vector3d parse_view_deg(const std::string& theta_phi_deg);
 /// View at polar angle theta_deg from +z toward azimuth phi_deg (from +x toward +y).
 Eigen::Vector3d view_from_deg(double theta_deg, double phi_deg);
 
@@ -87,9 +88,9 @@ std::vector<Eigen::VectorXd> test_lighting_coeffs(int sh_bands);
 
 /// Options of validate().
 struct ValidateOptions {
-    int reference_gl_n = 96;   ///< reference: gauss-legendre with n x 2n nodes, 8 bands
-    int max_nodes = 64;        ///< grid nodes checked (evenly strided); 0 = all
-    int test_normals = 64;     ///< off-grid normals (spherical Fibonacci inside the grid)
+    int reference_gl_n = 96;  ///< reference: gauss-legendre with n x 2n nodes, 8 bands
+    int max_nodes = 64;       ///< grid nodes checked (evenly strided); 0 = all
+    int test_normals = 64;    ///< off-grid normals (spherical Fibonacci inside the grid)
 };
 
 /// Errors of a bake (see docs/brdf.md). "rel" errors of radiance are relative to the largest
@@ -129,17 +130,17 @@ struct ReferenceNormal {
 /// expensive part, independent of the bake being checked, so one set serves every band count).
 struct ReferenceSet {
     Grid grid;
-    std::vector<int> nodes;                 ///< flat indices of the checked nodes
-    std::vector<Eigen::Vector3d> normals;   ///< off-grid test normals
-    std::map<int, ReferenceNormal> at_node; ///< checked nodes and the corners of each normal
-    std::vector<ReferenceNormal> at_normal; ///< per test normal
-    double self_coeff_max_rel = 0;          ///< reference at gl_n vs 2 gl_n, up to 4 nodes
+    std::vector<int> nodes;                  ///< flat indices of the checked nodes
+    std::vector<Eigen::Vector3d> normals;    ///< off-grid test normals
+    std::map<int, ReferenceNormal> at_node;  ///< checked nodes and the corners of each normal
+    std::vector<ReferenceNormal> at_normal;  ///< per test normal
+    double self_coeff_max_rel = 0;           ///< reference at gl_n vs 2 gl_n, up to 4 nodes
     double time_s = 0;
 };
 
 /// Computes the reference (parallel, deterministic) for view `view`.
-ReferenceSet make_reference(const Material& material, const Grid& grid,
-                            const Eigen::Vector3d& view, const ValidateOptions& vopt = {});
+ReferenceSet make_reference(const Material& material, const Grid& grid, const Eigen::Vector3d& view,
+                            const ValidateOptions& vopt = {});
 
 /// Truncation error of the reference for b = 1 .. kMaxBakeBands bands (index b - 1).
 std::vector<double> truncation_by_bands(const ReferenceSet& reference);

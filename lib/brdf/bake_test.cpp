@@ -1,9 +1,10 @@
 // Tests of the SH bake (brdf/bake.h): closed forms, energy, hard cases, determinism, errors.
-#include <cmath>
+#include "brdf/bake.h"
 
 #include <gtest/gtest.h>
 
-#include "brdf/bake.h"
+#include <cmath>
+
 #include "core/error.h"
 #include "core/parallel.h"
 #include "sh/sh.h"
@@ -43,9 +44,8 @@ TEST(ProjectNormal, LambertMatchesClosedFormForOneToEightBands) {
     const Material m = lambert(0.8);
     for (int bands = 1; bands <= kMaxBakeBands; ++bands) {
         const BakeOptions o = options(Integrator::kGaussLegendre, bands, 2 * 16 * 16);
-        for (const Eigen::Vector3d& n :
-             {Eigen::Vector3d(0, 0, 1), view_from_deg(40, 130), view_from_deg(85, -60),
-              view_from_deg(20, 180)}) {
+        for (const Eigen::Vector3d& n : {Eigen::Vector3d(0, 0, 1), view_from_deg(40, 130),
+                                         view_from_deg(85, -60), view_from_deg(20, 180)}) {
             const Eigen::MatrixXd b = project_normal(m, n, o);
             const std::vector<double> y = sh::eval(bands, n);
             for (int l = 0; l < bands; ++l) {
@@ -65,8 +65,8 @@ TEST(ProjectNormal, LambertMatchesClosedFormForOneToEightBands) {
 // White furnace through the SH pipeline: uniform lighting L = 1 has L_00 = sqrt(4 pi), so
 // sum L B = sqrt(4 pi) B_00 = integral f cos = albedo, exactly by quadrature.
 TEST(ProjectNormal, LambertWhiteFurnaceIsOne) {
-    const Eigen::MatrixXd b =
-        project_normal(lambert(1.0), view_from_deg(30, 10), options(Integrator::kGaussLegendre, 3, 2 * 8 * 8));
+    const Eigen::MatrixXd b = project_normal(lambert(1.0), view_from_deg(30, 10),
+                                             options(Integrator::kGaussLegendre, 3, 2 * 8 * 8));
     EXPECT_NEAR(std::sqrt(4 * kPi) * b(1, 0), 1.0, kLambertClosedFormTol);
 }
 
@@ -98,7 +98,8 @@ TEST(ProjectNormal, MonteCarloIntegratorsAgreeWithClosedForm) {
 TEST(Bake, IdenticalForAnyThreadCount) {
     const Material m = ggx(0.3);
     const Grid grid = parse_grid("octa:5");
-    for (Integrator i : {Integrator::kStratifiedMc, Integrator::kGaussLegendre, Integrator::kSobolIs}) {
+    for (Integrator i :
+         {Integrator::kStratifiedMc, Integrator::kGaussLegendre, Integrator::kSobolIs}) {
         parallel::set_thread_count(1);
         const Table a = bake(m, grid, options(i, 3, 256));
         parallel::set_thread_count(2);
@@ -115,7 +116,8 @@ TEST(Bake, PoleRowAndFoldedNodesAreIdentical) {
         for (int k = 0; k < t.coeff_count(); ++k) EXPECT_EQ(t.at(0, 0, c, k), t.at(0, 0, 0, k));
     }
     // report5x5: node (i1, 0) is the normal of node (4 - i1, 4).
-    const Table r = bake(ggx(0.3), parse_grid("report5x5"), options(Integrator::kStratifiedMc, 3, 64));
+    const Table r =
+        bake(ggx(0.3), parse_grid("report5x5"), options(Integrator::kStratifiedMc, 3, 64));
     for (int i1 = 0; i1 < 5; ++i1) {
         for (int k = 0; k < 9; ++k) EXPECT_EQ(r.at(0, i1, 0, k), r.at(0, 4 - i1, 4, k));
     }
@@ -123,7 +125,8 @@ TEST(Bake, PoleRowAndFoldedNodesAreIdentical) {
 
 TEST(Bake, ChannelsFollowTheLobesColour) {
     Material m = ggx(0.3);
-    EXPECT_EQ(bake(m, parse_grid("octa:3"), options(Integrator::kGaussLegendre, 2, 32)).channels, 1);
+    EXPECT_EQ(bake(m, parse_grid("octa:3"), options(Integrator::kGaussLegendre, 2, 32)).channels,
+              1);
     m.f0 = Eigen::Vector3d(0.9, 0.6, 0.3);  // gold-like
     const Table t = bake(m, parse_grid("octa:3"), options(Integrator::kGaussLegendre, 2, 32));
     ASSERT_EQ(t.channels, 3);
@@ -134,7 +137,8 @@ TEST(Bake, ChannelsFollowTheLobesColour) {
 
 TEST(Bake, NearDeltaRoughnessIsFinite) {
     for (double alpha : {0.0, 1e-4, 1e-3}) {
-        for (Integrator i : {Integrator::kStratifiedMc, Integrator::kGaussLegendre, Integrator::kSobolIs}) {
+        for (Integrator i :
+             {Integrator::kStratifiedMc, Integrator::kGaussLegendre, Integrator::kSobolIs}) {
             const Table t = bake(ggx(alpha), parse_grid("octa:5"), options(i, 8, 512));
             for (float c : t.coeffs) ASSERT_TRUE(std::isfinite(c)) << alpha << " " << to_string(i);
         }
@@ -230,8 +234,8 @@ TEST(LobeSpectrum, BandsNeededGrowAsRoughnessFalls) {
         ASSERT_GT(b, previous) << "alpha " << alpha;
         previous = b;
     }
-    const auto delta = lobe_energy_captured(ggx(1e-3), Eigen::Vector3d::UnitZ(),
-                                            Eigen::Vector3d::UnitZ(), 8, 96);
+    const auto delta =
+        lobe_energy_captured(ggx(1e-3), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), 8, 96);
     EXPECT_EQ(bands_for_lobe_error(delta, 0.1), 0);
     for (double c : delta) EXPECT_TRUE(std::isfinite(c));
 }
@@ -241,6 +245,10 @@ TEST(Options, ParseAndReject) {
     EXPECT_THROW(parse_view("0,0"), UsageError);
     EXPECT_THROW(parse_view("0,0,0"), UsageError);
     EXPECT_THROW(parse_view("a,0,1"), UsageError);
+    EXPECT_TRUE(parse_view_deg("90,90").isApprox(Eigen::Vector3d::UnitY()));
+    EXPECT_TRUE(parse_view_deg("0").isApprox(Eigen::Vector3d::UnitZ()));
+    EXPECT_THROW(parse_view_deg("10deg"), UsageError);
+    EXPECT_THROW(parse_view_deg(""), UsageError);
     EXPECT_THROW(integrator_from_string("mc"), UsageError);
     EXPECT_THROW(bake(ggx(0.3), parse_grid("octa:2"), options(Integrator::kGaussLegendre, 9, 8)),
                  UsageError);

@@ -91,10 +91,14 @@ double pdf_specular(const Material& m, const Eigen::Vector3d& wo, const Eigen::V
 
 std::string to_string(Model model) {
     switch (model) {
-        case Model::kLambert: return "lambert";
-        case Model::kCookTorranceReport: return "cook-torrance-report";
-        case Model::kGgx: return "ggx";
-        case Model::kCharlie: return "charlie";
+        case Model::kLambert:
+            return "lambert";
+        case Model::kCookTorranceReport:
+            return "cook-torrance-report";
+        case Model::kGgx:
+            return "ggx";
+        case Model::kCharlie:
+            return "charlie";
     }
     return "?";
 }
@@ -344,10 +348,14 @@ Sample sample_baked_lobe(const Material& m, const Eigen::Vector3d& wo, const Eig
 bool baked_lobe_is_achromatic(const Material& m) {
     auto flat = [](const Eigen::Vector3d& c) { return c[0] == c[1] && c[1] == c[2]; };
     switch (m.specular) {
-        case Model::kLambert: return flat(m.albedo);
-        case Model::kCookTorranceReport: return true;
-        case Model::kGgx: return flat(m.f0);
-        case Model::kCharlie: return flat(m.sheen_color);
+        case Model::kLambert:
+            return flat(m.albedo);
+        case Model::kCookTorranceReport:
+            return true;
+        case Model::kGgx:
+            return flat(m.f0);
+        case Model::kCharlie:
+            return flat(m.sheen_color);
     }
     return false;
 }

@@ -28,9 +28,8 @@
 //   G_report is the Cook-Torrance V-cavity term (not a Smith G consistent with D).
 #pragma once
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 namespace inlight::brdf {
 

@@ -5,10 +5,10 @@
 // largest reference radiance ("rad_err_rel"), against a gauss-legendre reference with
 // 256 x 512 nodes per normal. Arguments: integrator (0 stratified-mc, 1 gauss-legendre,
 // 2 sobol-is) / sh_bands / samples per normal / threads.
+#include <benchmark/benchmark.h>
+
 #include <map>
 #include <mutex>
-
-#include <benchmark/benchmark.h>
 
 #include "brdf/bake.h"
 #include "core/parallel.h"

@@ -1,11 +1,12 @@
 // Tests of the BRDF models (brdf/brdf.h) against closed forms, quadrature and sampling statistics.
+#include "brdf/brdf.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <functional>
 #include <random>
 
-#include <gtest/gtest.h>
-
-#include "brdf/brdf.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "sh/quadrature.h"
@@ -16,7 +17,8 @@ namespace {
 
 // Gauss-Legendre in cos(theta) x uniform phi over the upper hemisphere (phi rule exact for
 // trigonometric polynomials of degree < n_phi).
-double hemisphere_integral(int n_cos, int n_phi, const std::function<double(const Eigen::Vector3d&)>& f) {
+double hemisphere_integral(int n_cos, int n_phi,
+                           const std::function<double(const Eigen::Vector3d&)>& f) {
     std::vector<double> x, w;
     sh::gauss_legendre(n_cos, x, w);
     double sum = 0;
@@ -61,9 +63,8 @@ TEST(Lambert, WhiteFurnaceIsOne) {
     m.specular = Model::kLambert;
     m.albedo = Eigen::Vector3d::Ones();
     for (const Eigen::Vector3d& wo : {dir(0, 0), dir(60, 30), dir(89, 200)}) {
-        const double e = hemisphere_integral(8, 8, [&](const Eigen::Vector3d& wi) {
-            return eval(m, wo, wi)[1] * wi.z();
-        });
+        const double e = hemisphere_integral(
+            8, 8, [&](const Eigen::Vector3d& wi) { return eval(m, wo, wi)[1] * wi.z(); });
         EXPECT_NEAR(e, 1.0, kExactQuadTol);
     }
 }
@@ -116,9 +117,8 @@ constexpr double kNdfNormTol = 1e-8;
 
 TEST(ReportD, IsNotNormalisedUnlikeGgxAndCharlie) {
     for (double r : {0.1, 0.3, 1.0, 3.0}) {
-        const double report = hemisphere_integral(512, 4, [&](const Eigen::Vector3d& h) {
-            return report_d(r, h.z()) * h.z();
-        });
+        const double report = hemisphere_integral(
+            512, 4, [&](const Eigen::Vector3d& h) { return report_d(r, h.z()) * h.z(); });
         EXPECT_NEAR(report, r * r / (1 + r * r), kNdfNormTol) << "r = " << r;
         const double ggx = hemisphere_integral(512, 4, [&](const Eigen::Vector3d& h) {
             return ggx_d(r < 1 ? r : 1.0, h.z()) * h.z();
@@ -239,9 +239,8 @@ TEST(Charlie, ConservesEnergy) {
 }
 
 TEST(Frame, OrthonormalEverywhere) {
-    for (const Eigen::Vector3d& n :
-         {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1), dir(179.9999, 10), dir(90, 33),
-          dir(37, 251)}) {
+    for (const Eigen::Vector3d& n : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1),
+                                     dir(179.9999, 10), dir(90, 33), dir(37, 251)}) {
         const Eigen::Matrix3d f = world_from_local(n);
         EXPECT_TRUE((f.transpose() * f).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
         EXPECT_NEAR(f.determinant(), 1.0, 1e-12);
@@ -352,9 +351,8 @@ TEST(Sample, HistogramMatchesPdf) {
 TEST(Sample, PdfIntegratesToAtMostOne) {
     for (Model model : kAllModels) {
         const Material m = with_model(model, 0.5);
-        const double total = hemisphere_integral(256, 256, [&](const Eigen::Vector3d& wi) {
-            return pdf(m, dir(30, 0), wi);
-        });
+        const double total = hemisphere_integral(
+            256, 256, [&](const Eigen::Vector3d& wi) { return pdf(m, dir(30, 0), wi); });
         EXPECT_LE(total, 1.0 + 1e-6) << to_string(model);
         EXPECT_GT(total, 0.5) << to_string(model);
     }
@@ -395,8 +393,9 @@ std::string error_of(const std::string& text) {
 TEST(Material, ErrorsNameFileLineAndKey) {
     EXPECT_EQ(error_of("alpha = 0.2\nroughness = 0.3\n"),
               error_of("alpha = 0.2\nroughness = 0.3\n"));
-    EXPECT_NE(error_of("alpha = 0.2\nroughness = 0.3\n").find("cloth.toml:2: roughness: unknown key"),
-              std::string::npos);
+    EXPECT_NE(
+        error_of("alpha = 0.2\nroughness = 0.3\n").find("cloth.toml:2: roughness: unknown key"),
+        std::string::npos);
     EXPECT_NE(error_of("alpha = 2\n").find("cloth.toml:1: alpha: 2 out of range"),
               std::string::npos);
     EXPECT_NE(error_of("specular = \"phong\"\n").find("cloth.toml:1: specular: unknown BRDF"),

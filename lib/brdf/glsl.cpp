@@ -32,7 +32,8 @@ std::string glsl_lookup_source(const Table& t) {
       << "const int BRDF_TEXELS_PER_NODE = " << (t.coeff_count() + 3) / 4 << ";\n\n"
       << "#ifdef BRDF_USE_TEXTURE\n"
       << "// RGBA32F, width BRDF_COLS * BRDF_TEXELS_PER_NODE, height BRDF_CHANNELS * BRDF_ROWS;\n"
-      << "// texel (i2 * BRDF_TEXELS_PER_NODE + k / 4, channel * BRDF_ROWS + i1), component k % 4.\n"
+      << "// texel (i2 * BRDF_TEXELS_PER_NODE + k / 4, channel * BRDF_ROWS + i1), component k % "
+         "4.\n"
       << "uniform highp sampler2D u_brdf_texture;\n"
       << "float brdf_fetch(int ch, int i1, int i2, int k) {\n"
       << "    vec4 t = texelFetch(u_brdf_texture, ivec2(i2 * BRDF_TEXELS_PER_NODE + k / 4,"
@@ -42,7 +43,8 @@ std::string glsl_lookup_source(const Table& t) {
       << "// index ((channel * BRDF_ROWS + i1) * BRDF_COLS + i2) * BRDF_NCOEFFS + k\n"
       << "uniform float u_brdf_coeffs[BRDF_CHANNELS * BRDF_ROWS * BRDF_COLS * BRDF_NCOEFFS];\n"
       << "float brdf_fetch(int ch, int i1, int i2, int k) {\n"
-      << "    return u_brdf_coeffs[((ch * BRDF_ROWS + i1) * BRDF_COLS + i2) * BRDF_NCOEFFS + k];\n}\n"
+      << "    return u_brdf_coeffs[((ch * BRDF_ROWS + i1) * BRDF_COLS + i2) * BRDF_NCOEFFS + "
+         "k];\n}\n"
       << "#endif\n\n";
 
     o << "// Cell (r0, r1, c0, c1) and fractions (toward r1, toward c1) of normal n.\n"
@@ -53,10 +55,12 @@ std::string glsl_lookup_source(const Table& t) {
     bool wrap = false;
     switch (g.kind) {
         case GridKind::kReport5x5:
-            o << "    // The report's signed-theta grid; atan(y, x) keeps the quadrant, and phi outside\n"
+            o << "    // The report's signed-theta grid; atan(y, x) keeps the quadrant, and phi "
+                 "outside\n"
               << "    // [-pi/2, pi/2] folds to phi -+ pi with theta negated (the same normal).\n"
               << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
-              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // atan(0,0) is undefined\n"
+              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
+                 "atan(0,0) is undefined\n"
               << "    if (phi > " << f32(1.57079633f) << ") { phi -= " << f32(3.14159265f)
               << "; theta = -theta; }\n"
               << "    else if (phi < -" << f32(1.57079633f) << ") { phi += " << f32(3.14159265f)
@@ -67,7 +71,8 @@ std::string glsl_lookup_source(const Table& t) {
         case GridKind::kThetaPhi:
             wrap = true;
             o << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
-              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // atan(0,0) is undefined\n"
+              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
+                 "atan(0,0) is undefined\n"
               << "    if (phi < 0.0) phi += " << f32(6.28318531f) << ";\n"
               << "    float r = clamp(theta * "
               << f32(static_cast<float>(g.rows - 1) / static_cast<float>(g.theta_max)) << ", 0.0, "
@@ -80,15 +85,18 @@ std::string glsl_lookup_source(const Table& t) {
               << "    float px = m.x / d;\n    float py = m.y / d;\n"
               << "    float u = px + py;\n    float v = px - py;\n"
               << "    float c = clamp((u * 0.5 + 0.5) * " << last_c << ", 0.0, " << last_c << ");\n"
-              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r << ");\n";
+              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r
+              << ");\n";
             break;
         case GridKind::kDisk:
             o << "    float u = m.x;\n    float v = m.y;\n"
-              << "    if (m.z < 0.0) {  // below the horizon: the horizon normal of the same azimuth\n"
+              << "    if (m.z < 0.0) {  // below the horizon: the horizon normal of the same "
+                 "azimuth\n"
               << "        float q = max(sqrt(m.x * m.x + m.y * m.y), 1e-20);\n"
               << "        u = m.x / q;\n        v = m.y / q;\n    }\n"
               << "    float c = clamp((u * 0.5 + 0.5) * " << last_c << ", 0.0, " << last_c << ");\n"
-              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r << ");\n";
+              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r
+              << ");\n";
             break;
     }
     o << "    float rf = floor(r);\n    float cf = floor(c);\n"
@@ -105,8 +113,10 @@ std::string glsl_lookup_source(const Table& t) {
       << "void brdf_sh_lookup(vec3 n, int ch, out float coeffs[BRDF_NCOEFFS]) {\n"
       << "    ivec4 cell;\n    vec2 f;\n    brdf_grid_coord(n, cell, f);\n"
       << "    for (int k = 0; k < BRDF_NCOEFFS; ++k) {\n"
-      << "        coeffs[k] = mix(mix(brdf_fetch(ch, cell.x, cell.z, k), brdf_fetch(ch, cell.x, cell.w, k), f.y),\n"
-      << "                        mix(brdf_fetch(ch, cell.y, cell.z, k), brdf_fetch(ch, cell.y, cell.w, k), f.y),\n"
+      << "        coeffs[k] = mix(mix(brdf_fetch(ch, cell.x, cell.z, k), brdf_fetch(ch, cell.x, "
+         "cell.w, k), f.y),\n"
+      << "                        mix(brdf_fetch(ch, cell.y, cell.z, k), brdf_fetch(ch, cell.y, "
+         "cell.w, k), f.y),\n"
       << "                        f.x);\n"
       << "    }\n}\n";
     return o.str();

@@ -26,7 +26,8 @@ Grid parse_grid(const std::string& spec) {
         g.rows = g.cols = 5;
         return g;
     }
-    if (std::regex_match(spec, m, std::regex(R"(thetaphi:(\d{1,4})x(\d{1,4})(@([0-9]+(\.[0-9]*)?))?)"))) {
+    if (std::regex_match(spec, m,
+                         std::regex(R"(thetaphi:(\d{1,4})x(\d{1,4})(@([0-9]+(\.[0-9]*)?))?)"))) {
         g.kind = GridKind::kThetaPhi;
         g.rows = std::stoi(m[1]);
         g.cols = std::stoi(m[2]);
@@ -54,14 +55,17 @@ Grid parse_grid(const std::string& spec) {
 
 std::string to_string(const Grid& g) {
     switch (g.kind) {
-        case GridKind::kReport5x5: return "report5x5";
+        case GridKind::kReport5x5:
+            return "report5x5";
         case GridKind::kThetaPhi: {
             const double deg = g.theta_max * 180.0 / kPi;
             if (std::abs(deg - 90.0) < 1e-9) return str("thetaphi:", g.rows, "x", g.cols);
             return str("thetaphi:", g.rows, "x", g.cols, "@", deg);
         }
-        case GridKind::kOcta: return str("octa:", g.rows);
-        case GridKind::kDisk: return str("disk:", g.rows);
+        case GridKind::kOcta:
+            return str("octa:", g.rows);
+        case GridKind::kDisk:
+            return str("disk:", g.rows);
     }
     return "?";
 }

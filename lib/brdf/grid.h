@@ -14,7 +14,8 @@
 //    (acos, atan(y/x)) reaches only rows 2..4 and, for x < 0, returns the coefficients of the
 //    mirrored normal (-x, -y, z); at the pole atan(0/0) is NaN. lookup() here folds phi with
 //    atan2 instead: phi outside [-pi/2, pi/2] becomes phi -+ pi with theta_s = -theta.
-//  - thetaphi:RxC[@DEG]: theta_max = DEG degrees (default 90), theta_i1 = theta_max i1 / (R - 1) (row 0 is the pole: its C nodes are one
+//  - thetaphi:RxC[@DEG]: theta_max = DEG degrees (default 90), theta_i1 = theta_max i1 / (R - 1)
+//  (row 0 is the pole: its C nodes are one
 //    normal, baked once), phi_i2 = 2 pi i2 / C, periodic: interpolation wraps from column C-1
 //    to column 0.
 //  - octa:N: hemi-octahedral map (no pole, no seam): p = (x, y) / (|x| + |y| + z), rotated 45
@@ -29,9 +30,8 @@
 //    angular step spans ever smaller (u, v) steps.
 #pragma once
 
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "core/conventions.h"
 
@@ -42,9 +42,9 @@ enum class GridKind { kReport5x5, kThetaPhi, kOcta, kDisk };
 /// A grid of normals; see the file comment for each kind.
 struct Grid {
     GridKind kind = GridKind::kOcta;
-    int rows = 9;                    ///< i1 count (theta for thetaphi, v for octa)
-    int cols = 9;                    ///< i2 count (phi for thetaphi, u for octa)
-    double theta_max = kPi / 2;      ///< thetaphi: polar angle of the last row (radians)
+    int rows = 9;                ///< i1 count (theta for thetaphi, v for octa)
+    int cols = 9;                ///< i2 count (phi for thetaphi, u for octa)
+    double theta_max = kPi / 2;  ///< thetaphi: polar angle of the last row (radians)
     int node_count() const { return rows * cols; }
 };
 

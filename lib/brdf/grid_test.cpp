@@ -1,14 +1,15 @@
 // Tests of the grids, the lookup the shader performs, the table files and the emitted GLSL.
+#include "brdf/grid.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 
-#include <gtest/gtest.h>
-
 #include "brdf/bake.h"
 #include "brdf/glsl.h"
-#include "brdf/grid.h"
 #include "brdf/table.h"
 #include "core/error.h"
 #include "core/fs.h"
@@ -43,8 +44,8 @@ std::vector<float> at_normal(const Table& t, const Eigen::Vector3d& n) {
     return out;
 }
 
-const char* const kGrids[] = {"report5x5", "thetaphi:9x16", "octa:9", "octa:2", "thetaphi:2x3", "thetaphi:5x8@60",
-                              "disk:9", "disk:2"};
+const char* const kGrids[] = {"report5x5",    "thetaphi:9x16",   "octa:9", "octa:2",
+                              "thetaphi:2x3", "thetaphi:5x8@60", "disk:9", "disk:2"};
 
 // Float lookup of an exact node: the weights reproduce the node value to a few float ulps of
 // coefficients of size <= 10.
@@ -52,8 +53,8 @@ constexpr float kNodeTol = 1e-5f;
 
 TEST(Grid, ParseRoundTripsAndRejects) {
     for (const char* spec : kGrids) EXPECT_EQ(to_string(parse_grid(spec)), spec);
-    for (const char* bad : {"report", "thetaphi:1x8", "thetaphi:8x2", "octa:1", "octa:x", "latlong:4",
-                            "disk:1", "thetaphi:4x4@0", "thetaphi:4x4@200"}) {
+    for (const char* bad : {"report", "thetaphi:1x8", "thetaphi:8x2", "octa:1", "octa:x",
+                            "latlong:4", "disk:1", "thetaphi:4x4@0", "thetaphi:4x4@200"}) {
         EXPECT_THROW(parse_grid(bad), UsageError) << bad;
     }
 }
@@ -101,8 +102,8 @@ TEST(Lookup, ContinuousAcrossSeamsAndAtPoles) {
         }
         // The pole itself (atan(0, 0) is undefined in GLSL: the lookup must not use it) and the
         // opposite pole, which clamps to the grid's edge.
-        for (const Eigen::Vector3d& n : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1),
-                                         Eigen::Vector3d(0, 0, 1e-6)}) {
+        for (const Eigen::Vector3d& n :
+             {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(0, 0, 1e-6)}) {
             const auto c = at_normal(t, n);
             for (float v : c) ASSERT_TRUE(std::isfinite(v)) << spec;
         }
@@ -141,10 +142,12 @@ TEST(Lookup, InterpolationOrderOfEachGrid) {
         const int m = 2 * n - 1;  // half the spacing
         EXPECT_GT(worst_interpolation_error(str("disk:", n), 60) /
                       worst_interpolation_error(str("disk:", m), 60),
-                  kSecondOrderRatio) << n;
+                  kSecondOrderRatio)
+            << n;
         EXPECT_GT(worst_interpolation_error(str("thetaphi:", n, "x", 4 * (n - 1)), 89.9) /
                       worst_interpolation_error(str("thetaphi:", m, "x", 4 * (m - 1)), 89.9),
-                  kSecondOrderRatio) << n;
+                  kSecondOrderRatio)
+            << n;
         const double octa = worst_interpolation_error(str("octa:", n), 89.9) /
                             worst_interpolation_error(str("octa:", m), 89.9);
         EXPECT_GT(octa, kFirstOrderRatio) << n;
@@ -176,16 +179,17 @@ TEST(ReportLookup, AtanLosesTheQuadrantAndTheFixMendsIt) {
     lookup(t, node.cast<float>(), 0, fixed.data());
     lookup_report_original(t, node.cast<float>(), original.data());
     const Eigen::MatrixXd direct = project_normal(m, node, o);
-    const Eigen::MatrixXd mirror = project_normal(m, Eigen::Vector3d(-node.x(), -node.y(), node.z()), o);
+    const Eigen::MatrixXd mirror =
+        project_normal(m, Eigen::Vector3d(-node.x(), -node.y(), node.z()), o);
     double fixed_err = 0, original_err = 0, original_vs_mirror = 0;
     for (int k = 0; k < 9; ++k) {
         fixed_err = std::max(fixed_err, std::abs(fixed[k] - direct(0, k)));
         original_err = std::max(original_err, std::abs(original[k] - direct(0, k)));
         original_vs_mirror = std::max(original_vs_mirror, std::abs(original[k] - mirror(0, k)));
     }
-    EXPECT_LT(fixed_err, 1e-5);            // float storage of the right node
-    EXPECT_LT(original_vs_mirror, 1e-5);   // the report reads the mirrored normal's node
-    EXPECT_GT(original_err, 0.05);         // which is far from the right answer
+    EXPECT_LT(fixed_err, 1e-5);           // float storage of the right node
+    EXPECT_LT(original_vs_mirror, 1e-5);  // the report reads the mirrored normal's node
+    EXPECT_GT(original_err, 0.05);        // which is far from the right answer
     lookup_report_original(t, Eigen::Vector3f(0, 0, 1), original.data());
     EXPECT_TRUE(std::isnan(original[0]));
 }
@@ -232,7 +236,8 @@ TEST(TableFiles, TextureLayoutPacksFourCoefficientsPerTexel) {
     for (int i1 = 0; i1 < 3; ++i1) {
         for (int i2 = 0; i2 < 3; ++i2) {
             for (int k = 0; k < 12; ++k) {
-                const float v = tex[(static_cast<size_t>(i1) * size.x() + i2 * 3 + k / 4) * 4 + k % 4];
+                const float v =
+                    tex[(static_cast<size_t>(i1) * size.x() + i2 * 3 + k / 4) * 4 + k % 4];
                 EXPECT_EQ(v, k < 9 ? t.at(0, i1, i2, k) : 0.0f);
             }
         }
@@ -261,16 +266,18 @@ TEST(Glsl, CompilesWithGlslang) {
         for (bool texture : {false, true}) {
             const std::string path = dir + "/lookup.frag";
             std::ofstream f(path);
-            f << "#version 300 es\n" << (texture ? "#define BRDF_USE_TEXTURE\n" : "")
-              << glsl_lookup_source(t)
+            f << "#version 300 es\n"
+              << (texture ? "#define BRDF_USE_TEXTURE\n" : "") << glsl_lookup_source(t)
               << "in vec3 v_normal;\nuniform float u_light[BRDF_NCOEFFS];\nout vec4 frag;\n"
                  "void main() {\n  float c[BRDF_NCOEFFS];\n  brdf_sh_lookup(v_normal, 0, c);\n"
-                 "  float s = 0.0;\n  for (int k = 0; k < BRDF_NCOEFFS; ++k) s += u_light[k] * c[k];\n"
+                 "  float s = 0.0;\n  for (int k = 0; k < BRDF_NCOEFFS; ++k) s += u_light[k] * "
+                 "c[k];\n"
                  "  frag = vec4(s);\n}\n";
             f.close();
             const std::string cmd = "glslangValidator " + path + " > " + dir + "/log.txt 2>&1";
             EXPECT_EQ(std::system(cmd.c_str()), 0)
-                << spec << (texture ? " texture" : " uniform") << "\n" << fs::read_file(dir + "/log.txt");
+                << spec << (texture ? " texture" : " uniform") << "\n"
+                << fs::read_file(dir + "/log.txt");
         }
     }
 }

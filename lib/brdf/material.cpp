@@ -19,7 +19,7 @@ namespace {
 struct Value {
     int line = 0;
     bool is_string = false;
-    std::string text;            // string value
+    std::string text;             // string value
     std::vector<double> numbers;  // one number, or an array
     bool is_array = false;
 };
@@ -111,15 +111,16 @@ std::map<std::string, Value> parse_flat_toml(const std::string& text, const std:
 Material parse_material(const std::string& text, const std::string& name) {
     const auto values = parse_flat_toml(text, name);
     static const std::set<std::string> kKeys = {
-        "specular", "albedo",   "f0",           "sheen_color", "alpha",
-        "report_f", "report_r", "specular_scale", "name",      "description"};
+        "specular", "albedo",         "f0",   "sheen_color", "alpha", "report_f",
+        "report_r", "specular_scale", "name", "description"};
     Material m;
     for (const auto& [key, v] : values) {
         const std::string where = str(name, ":", v.line, ": ", key, ": ");
         if (!kKeys.count(key)) {
-            throw Error(str(where, "unknown key (expected one of specular, albedo, f0, "
-                                   "sheen_color, alpha, report_f, report_r, specular_scale, "
-                                   "name, description)"));
+            throw Error(str(where,
+                            "unknown key (expected one of specular, albedo, f0, "
+                            "sheen_color, alpha, report_f, report_r, specular_scale, "
+                            "name, description)"));
         }
         auto want_string = [&]() -> const std::string& {
             if (!v.is_string) throw Error(str(where, "expected a string"));
@@ -129,8 +130,8 @@ Material parse_material(const std::string& text, const std::string& name) {
             if (v.is_string || v.is_array) throw Error(str(where, "expected a number"));
             const double d = v.numbers[0];
             if (d < lo || d > hi || (lo_open && d == lo)) {
-                throw Error(str(where, d, " out of range ", lo_open ? "(" : "[", lo, ", ", hi,
-                                "]"));
+                throw Error(
+                    str(where, d, " out of range ", lo_open ? "(" : "[", lo, ", ", hi, "]"));
             }
             return d;
         };
@@ -139,9 +140,9 @@ Material parse_material(const std::string& text, const std::string& name) {
             if (v.is_array && v.numbers.size() != 3) {
                 throw Error(str(where, "expected 3 numbers [r, g, b], got ", v.numbers.size()));
             }
-            Eigen::Vector3d c = v.is_array ? Eigen::Vector3d(v.numbers[0], v.numbers[1],
-                                                             v.numbers[2])
-                                           : Eigen::Vector3d::Constant(v.numbers[0]);
+            Eigen::Vector3d c = v.is_array
+                                    ? Eigen::Vector3d(v.numbers[0], v.numbers[1], v.numbers[2])
+                                    : Eigen::Vector3d::Constant(v.numbers[0]);
             if (c.minCoeff() < 0 || c.maxCoeff() > 1) {
                 throw Error(str(where, "each channel must lie in [0, 1]"));
             }

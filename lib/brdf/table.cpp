@@ -63,10 +63,15 @@ void lookup_report_original(const Table& t, const Eigen::Vector3f& n, float* out
         for (int k = 0; k < k_count; ++k) out[k] = nan;
         return;
     }
-    // ul = (floor x, ceil y), ll = (floor x, floor y), ur = (ceil x, ceil y), lr = (ceil x, floor y)
-    const int fx = static_cast<int>(std::floor(index.x())), cx = static_cast<int>(std::ceil(index.x()));
-    const int fy = static_cast<int>(std::floor(index.y())), cy = static_cast<int>(std::ceil(index.y()));
-    auto inside = [&](int a, int b) { return a >= 0 && a < t.grid.rows && b >= 0 && b < t.grid.cols; };
+    // ul = (floor x, ceil y), ll = (floor x, floor y), ur = (ceil x, ceil y), lr = (ceil x, floor
+    // y)
+    const int fx = static_cast<int>(std::floor(index.x())),
+              cx = static_cast<int>(std::ceil(index.x()));
+    const int fy = static_cast<int>(std::floor(index.y())),
+              cy = static_cast<int>(std::ceil(index.y()));
+    auto inside = [&](int a, int b) {
+        return a >= 0 && a < t.grid.rows && b >= 0 && b < t.grid.cols;
+    };
     if (!inside(fx, fy) || !inside(cx, cy)) {
         for (int k = 0; k < k_count; ++k) out[k] = nan;
         return;

@@ -21,12 +21,11 @@
 // this is the report's brdfIndex = 45 i1 + 9 i2 + k).
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include "brdf/grid.h"
 
@@ -45,8 +44,8 @@ struct Table {
 
     int coeff_count() const { return sh_bands * sh_bands; }
     size_t index(int channel, int i1, int i2, int k) const {
-        return ((static_cast<size_t>(channel) * grid.rows + i1) * grid.cols + i2) *
-                   coeff_count() + k;
+        return ((static_cast<size_t>(channel) * grid.rows + i1) * grid.cols + i2) * coeff_count() +
+               k;
     }
     float at(int channel, int i1, int i2, int k) const { return coeffs[index(channel, i1, i2, k)]; }
     /// Allocates zeroed coefficients for the current grid, bands and channels.
