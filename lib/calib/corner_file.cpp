@@ -1,0 +1,132 @@
+#include "calib/corner_file.h"
+
+#include <opencv2/core.hpp>
+
+#include "core/error.h"
+#include "core/fs.h"
+
+namespace inlight::calib {
+
+namespace {
+
+void flatten(const cv::FileNode& node, std::vector<double>& out) {
+    if (node.isSeq()) {
+        for (auto it = node.begin(); it != node.end(); ++it) flatten(*it, out);
+    } else if (node.isMap()) {
+        cv::Mat m;
+        node >> m;
+        cv::Mat d;
+        m.convertTo(d, CV_64F);
+        d = d.reshape(1, 1);
+        for (int i = 0; i < d.cols; ++i) out.push_back(d.at<double>(0, i));
+    } else if (node.isReal() || node.isInt()) {
+        out.push_back(static_cast<double>(node));
+    }
+}
+
+cv::FileStorage open_read(const std::string& path) {
+    cv::FileStorage fs;
+    try {
+        fs.open(path, cv::FileStorage::READ);
+    } catch (const cv::Exception& e) {
+        throw Error(str(path, ": not an OpenCV FileStorage file (", e.err, ")"));
+    }
+    if (!fs.isOpened()) throw Error(str(path, ": cannot open as an OpenCV FileStorage file"));
+    return fs;
+}
+
+std::vector<std::vector<double>> read_nodes(cv::FileStorage& fs, const std::string& path,
+                                            int per_point) {
+    std::vector<std::vector<double>> nodes;
+    for (int i = 0;; ++i) {
+        const cv::FileNode n = fs[str("image_", i)];
+        if (n.empty() || n.isNone()) break;
+        std::vector<double> values;
+        flatten(n, values);
+        if (values.empty() || values.size() % static_cast<size_t>(per_point) != 0) {
+            throw Error(str(path, ": node image_", i, " holds ", values.size(),
+                            " numbers, not a multiple of ", per_point));
+        }
+        nodes.push_back(std::move(values));
+    }
+    if (nodes.empty()) throw Error(str(path, ": no node image_0"));
+    return nodes;
+}
+
+}  // namespace
+
+CornerSet read_corner_files(const std::string& image_points_path,
+                            const std::string& object_points_path, const BoardSpec& board) {
+    CornerSet set;
+    cv::FileStorage fi = open_read(image_points_path);
+    const auto images = read_nodes(fi, image_points_path, 2);
+    if (!fi["image_width"].empty()) set.width = static_cast<int>(fi["image_width"]);
+    if (!fi["image_height"].empty()) set.height = static_cast<int>(fi["image_height"]);
+    std::vector<std::string> names;
+    if (!fi["files"].empty()) {
+        for (auto it = fi["files"].begin(); it != fi["files"].end(); ++it) {
+            names.push_back(static_cast<std::string>(*it));
+        }
+    }
+    std::vector<std::vector<double>> objects;
+    if (!object_points_path.empty()) {
+        cv::FileStorage fo = open_read(object_points_path);
+        objects = read_nodes(fo, object_points_path, 3);
+        if (objects.size() != images.size()) {
+            throw Error(str(object_points_path, ": ", objects.size(), " views, but ",
+                            image_points_path, " has ", images.size()));
+        }
+    }
+    for (size_t i = 0; i < images.size(); ++i) {
+        View v;
+        v.name = i < names.size() ? names[i] : str("image_", i);
+        for (size_t k = 0; k + 1 < images[i].size(); k += 2) {
+            v.image_points.emplace_back(images[i][k], images[i][k + 1]);
+        }
+        if (!objects.empty()) {
+            for (size_t k = 0; k + 2 < objects[i].size(); k += 3) {
+                v.object_points.emplace_back(objects[i][k], objects[i][k + 1], objects[i][k + 2]);
+            }
+        } else {
+            v.object_points = board_object_points(board);
+        }
+        if (v.object_points.size() != v.image_points.size()) {
+            throw Error(str(image_points_path, ": image_", i, " has ", v.image_points.size(),
+                            " points but its object points number ", v.object_points.size(),
+                            objects.empty() ? " (from --board)" : ""));
+        }
+        set.views.push_back(std::move(v));
+    }
+    return set;
+}
+
+void write_corner_files(const std::string& image_points_path,
+                        const std::string& object_points_path, const std::vector<View>& views,
+                        int width, int height) {
+    auto write = [&](const std::string& path, bool image) {
+        fs::write_atomic(path, [&](const std::string& tmp) {
+            cv::FileStorage out(tmp, cv::FileStorage::WRITE);
+            if (!out.isOpened()) throw Error(str(path, ": cannot write"));
+            if (image) {
+                out << "image_width" << width << "image_height" << height;
+                out << "files" << "[";
+                for (const View& v : views) out << v.name;
+                out << "]";
+            }
+            for (size_t i = 0; i < views.size(); ++i) {
+                out << str("image_", i) << "[:";
+                if (image) {
+                    for (const auto& p : views[i].image_points) out << p.x() << p.y();
+                } else {
+                    for (const auto& p : views[i].object_points) out << p.x() << p.y() << p.z();
+                }
+                out << "]";
+            }
+            out.release();
+        });
+    };
+    write(image_points_path, true);
+    write(object_points_path, false);
+}
+
+}  // namespace inlight::calib
