@@ -206,3 +206,38 @@ TEST(Mesh, PlyAsciiAndBinaryAgree) {
 
 }  // namespace
 }  // namespace inlight::render
+
+namespace inlight::render {
+namespace {
+
+TEST(Toml, MalformedInputsThrowWithLineNumbers) {
+    const char* const bad[] = {"[",
+                               "[[a]",
+                               "[a.]",
+                               "a = [",
+                               "a = \"x",
+                               "a =",
+                               "a = 'x",
+                               "a = [1,,2]",
+                               "a = {b=1}",
+                               "a = 1.2.3",
+                               "= 1",
+                               "a.b = 1",
+                               "a = 1\na = 2",
+                               "[a]\n[[a]]",
+                               "a = \"\"\"x\"\"\"",
+                               "a = \"\\q\"",
+                               "a = [1 2]",
+                               "a = 1 # ok\nb = tru"};
+    for (const char* text : bad) {
+        try {
+            toml::parse(text, "f.toml");
+            ADD_FAILURE() << "no error for: " << text;
+        } catch (const Error& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("f.toml:", 0), 0u) << e.what();
+        }
+    }
+}
+
+}  // namespace
+}  // namespace inlight::render
