@@ -284,6 +284,9 @@ void write_image(const std::string& path, const Image& img, const WriteOptions& 
     if (format == Format::kPng || format == Format::kTiff) {
         spec.attribute("oiio:UnassociatedAlpha", 1);
     }
+    // OpenImageIO stamps the current time into "DateTime" unless it is set; an empty value
+    // suppresses it, so identical inputs give byte-identical files (reproducible outputs).
+    spec.attribute("DateTime", "");
     const bool encode = integer && options.encode_srgb;
     const std::string cs_name = to_string(img.color_space);
     const std::string transfer = encode ? "srgb" : "linear";

@@ -1,5 +1,8 @@
 #include "image/image.h"
 
+#include <chrono>
+#include <thread>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -102,6 +105,20 @@ TEST(ImageIo, ExrFloatRoundTripIsExact) {
         EXPECT_TRUE(info.is_float);
         EXPECT_EQ(info.bits_per_channel, 32);
         EXPECT_EQ(info.channels, c);
+    }
+}
+
+TEST(ImageIo, SameImageGivesByteIdenticalFiles) {
+    // No time stamp in the file: reruns (and --threads 1 vs 2) must give identical bytes.
+    const std::string dir = testing::temp_dir("exr-bytes");
+    const Image img = random_image(16, 8, 3, 0.0f, 1.0f, 3);
+    const char* exts[] = {"exr", "tif", "png"};
+    for (const char* ext : exts) write_image(dir + "/a." + ext, img);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // cross a clock second
+    for (const char* ext : exts) write_image(dir + "/b." + ext, img);
+    for (const char* ext : exts) {
+        EXPECT_EQ(inlight::fs::read_file(dir + "/a." + ext), inlight::fs::read_file(dir + "/b." + ext))
+            << ext;
     }
 }
 
