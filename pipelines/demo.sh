@@ -41,5 +41,38 @@ for r in "$OUT"/envmap/sh9_report.json "$OUT"/envmap/probes_report.json; do
         printf '%-12s %9s %10s %17s %17s %17s\n' "$name" "$peak" "$ms" "$e3" "$e5" "$e9"
     done
 done
+
+# 2. The fabric's specular lobe into an SH table over normals (the app's lookup), with its
+#    integration, interpolation and truncation errors against a converged reference.
+"$BIN/brdf-sh-bake" --config "$ROOT/configs/brdf-sh-bake.toml" \
+    --material "$ROOT/configs/materials/satin-ggx.toml" -o "$OUT/brdf/satin" -q \
+    --report "$OUT/brdf/satin_report.json"
+"$BIN/brdf-sh-bake" --config "$ROOT/configs/brdf-sh-bake-report.toml" \
+    --material "$ROOT/configs/materials/report-cook-torrance.toml" -o "$OUT/brdf/report_ct" -q \
+    --report "$OUT/brdf/report_ct_report.json"
+echo
+echo "brdf-sh-bake: table errors (relative to the largest exact radiance of each test lighting)"
+printf '%-10s %-15s %-15s %9s %12s %14s %11s\n' table grid integrator bake_ms integration interpolation truncation
+for r in "$OUT"/brdf/*_report.json; do
+    jq -r '[(input_filename | split("/") | last | sub("_report.json"; "")), .metrics.grid,
+            .metrics.integrator, (.metrics.bake_time_s * 1000 | round),
+            (.metrics.integration_radiance_max_rel * 1e4 | round / 1e4),
+            (.metrics.interpolation_radiance_max_rel * 1e4 | round / 1e4),
+            (.metrics.truncation_radiance_max_rel * 1e4 | round / 1e4)] | @tsv' "$r" |
+        while IFS=$'\t' read -r name grid integ ms e_int e_interp e_trunc; do
+            printf '%-10s %-15s %-15s %9s %12s %14s %11s\n' "$name" "$grid" "$integ" "$ms" "$e_int" "$e_interp" "$e_trunc"
+        done
+done
+
+# 3. Ground truth against the app's real-time model: the satin patch under the city HDRI.
+"$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/render/patch_city.exr" --spp 256 \
+    --compare -q --report "$OUT/render/patch_city_report.json"
+echo
+echo "render: the app's real-time model against the path-traced ground truth (patch_city)"
+jq -r '"  ground truth: \(.metrics.spp) spp, relative noise \(.metrics.rel_error * 1e4 | round / 1e4), \(.metrics.rays_per_s / 1e6 * 100 | round / 100) Mrays/s",
+       "  consistent mode, 3 bands: mean rel error \(.metrics.realtime.modes.consistent.mean_rel * 1e4 | round / 1e4), mean dE2000 \(.metrics.realtime.modes.consistent.mean_de2000 * 100 | round / 100)",
+       "  seed mode (the report'"'"'s shader): mean rel error \(.metrics.realtime.modes.seed.mean_rel * 1e4 | round / 1e4), mean dE2000 \(.metrics.realtime.modes.seed.mean_de2000 * 100 | round / 100)",
+       "  side by side: '"$OUT"'/render/patch_city_compare_consistent.png"' "$OUT/render/patch_city_report.json"
+
 echo
 echo "demo: outputs and reports in $OUT/"
