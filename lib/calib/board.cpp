@@ -160,7 +160,11 @@ GrayImage BoardRenderer::render(const BoardSpec& board,
             for (int x = 0; x < img.width; ++x) {
                 const float* r = &m_rays[(static_cast<size_t>(y) * img.width + x) * 9];
                 double v = opt.background;
-                if (!std::isnan(r[0])) {
+                if (opt.circle_radius_px > 0 &&
+                    std::hypot(x - opt.circle_cx, static_cast<double>(y) - opt.circle_cy) >
+                        opt.circle_radius_px + 1) {
+                    v = 0.0;  // wholly outside the image circle
+                } else if (!std::isnan(r[0])) {
                     const Eigen::Vector3d c(r[0], r[1], r[2]), dx(r[3], r[4], r[5]),
                         dy(r[6], r[7], r[8]);
                     double sum = 0;

@@ -230,17 +230,23 @@ Eigen::VectorXd intrinsic_std_dev(const CameraModel& camera, const FreeParameter
     return std_dev;
 }
 
-std::optional<Pose> estimate_pose(const CameraModel& camera, const View& view) {
+namespace {
+
+/// Planar (or general) PnP on the rays of the corners that `camera` unprojects, in a virtual
+/// camera looking along their mean. std::nullopt with fewer than 6 such corners.
+std::optional<Pose> pose_from_rays(const CameraModel& camera, const View& view) {
     const Unprojector unproject(camera);
     std::vector<Eigen::Vector3d> rays;
+    std::vector<size_t> which;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const auto& p : view.image_points) {
-        const auto ray = unproject(p);
-        if (!ray) return std::nullopt;
+    for (size_t i = 0; i < view.image_points.size(); ++i) {
+        const auto ray = unproject(view.image_points[i]);
+        if (!ray) continue;
         rays.push_back(*ray);
+        which.push_back(i);
         mean += *ray;
     }
-    if (rays.size() < 4 || mean.norm() < 1e-9) return std::nullopt;
+    if (rays.size() < 6 || mean.norm() < 1e-9) return std::nullopt;
     // virtual_from_camera turns the mean ray onto +z.
     const Eigen::Matrix3d virtual_from_camera =
         Eigen::Quaterniond::FromTwoVectors(mean.normalized(), Eigen::Vector3d::UnitZ())
@@ -248,14 +254,15 @@ std::optional<Pose> estimate_pose(const CameraModel& camera, const View& view) {
     std::vector<cv::Point2d> img;
     std::vector<cv::Point3d> obj;
     bool planar = true;
-    for (size_t i = 0; i < rays.size(); ++i) {
-        const Eigen::Vector3d q = virtual_from_camera * rays[i];
-        if (q.z() < 0.05) return std::nullopt;  // beyond ~87 degrees from the mean ray
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const Eigen::Vector3d q = virtual_from_camera * rays[k];
+        if (q.z() < 0.05) continue;  // beyond ~87 degrees from the mean ray
         img.emplace_back(q.x() / q.z(), q.y() / q.z());
-        const auto& o = view.object_points[i];
+        const auto& o = view.object_points[which[k]];
         obj.emplace_back(o.x(), o.y(), o.z());
         planar = planar && std::abs(o.z()) < 1e-12;
     }
+    if (img.size() < 6) return std::nullopt;
     cv::Mat rvec, tvec;
     bool ok = false;
     try {
@@ -270,14 +277,29 @@ std::optional<Pose> estimate_pose(const CameraModel& camera, const View& view) {
     Pose pose;
     pose.rvec = rodrigues_from_rotation(virtual_from_camera.transpose() * rotation_from_rodrigues(rv));
     pose.tvec = virtual_from_camera.transpose() * tv;
+    return pose;
+}
+
+}  // namespace
+
+std::optional<Pose> estimate_pose(const CameraModel& camera, const View& view) {
+    // Under poor intrinsics some corners may lie outside the model's one-to-one domain; the
+    // same camera without distortion unprojects everything and is close enough to start from.
+    std::optional<Pose> pose = pose_from_rays(camera, view);
+    if (!pose) {
+        CameraModel plain = camera;
+        std::fill(plain.distortion.begin(), plain.distortion.end(), 0.0);
+        pose = pose_from_rays(plain, view);
+    }
+    if (!pose) return std::nullopt;
+    std::vector<double> tmp(2 * view.image_points.size());
+    if (!view_residuals(camera, view, *pose, tmp.data())) return std::nullopt;
     // Refine the pose alone on the pixel residuals.
     FreeParameters none;
     none.fixed.assign(camera.parameter_names().size(), true);
     CameraModel cam = camera;
     std::vector<View> one = {view};
-    std::vector<Pose> poses = {pose};
-    std::vector<double> tmp(2 * view.image_points.size());
-    if (!view_residuals(cam, view, pose, tmp.data())) return std::nullopt;
+    std::vector<Pose> poses = {*pose};
     bundle_adjust(cam, none, one, poses, 50);
     return poses[0];
 }

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/check.h"
+#include "core/parallel.h"
 
 namespace inlight::calib {
 
@@ -44,16 +45,18 @@ View refine_view(const GrayImage& image, const View& view, const BoardSpec& boar
     };
     cv::Mat map_x(ch, cw, CV_32F), map_y(ch, cw, CV_32F);
     cv::Mat inside(ch, cw, CV_8U);
-    for (int j = 0; j < ch; ++j) {
-        for (int i = 0; i < cw; ++i) {
-            const auto px = camera.project(rot * board_point(i, j) + tvec);
-            const bool ok = px && px->x() >= 1 && px->y() >= 1 && px->x() <= image.width - 2 &&
-                            px->y() <= image.height - 2;
-            map_x.at<float>(j, i) = ok ? static_cast<float>(px->x()) : -1.0f;
-            map_y.at<float>(j, i) = ok ? static_cast<float>(px->y()) : -1.0f;
-            inside.at<uint8_t>(j, i) = ok ? 1 : 0;
+    parallel::for_chunks(ch, 16, [&](int64_t j0, int64_t j1) {
+        for (int j = static_cast<int>(j0); j < static_cast<int>(j1); ++j) {
+            for (int i = 0; i < cw; ++i) {
+                const auto px = camera.project(rot * board_point(i, j) + tvec);
+                const bool ok = px && px->x() >= 1 && px->y() >= 1 &&
+                                px->x() <= image.width - 2 && px->y() <= image.height - 2;
+                map_x.at<float>(j, i) = ok ? static_cast<float>(px->x()) : -1.0f;
+                map_y.at<float>(j, i) = ok ? static_cast<float>(px->y()) : -1.0f;
+                inside.at<uint8_t>(j, i) = ok ? 1 : 0;
+            }
         }
-    }
+    });
     cv::Mat src(image.height, image.width, CV_8UC1, const_cast<uint8_t*>(image.pixels.data()));
     cv::Mat src_f, canvas;
     src.convertTo(src_f, CV_32F);
