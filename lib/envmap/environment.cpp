@@ -115,17 +115,24 @@ image::Image to_rgb(image::Image img, const std::string& source) {
 
 Environment load_environment(const std::string& path, const LoadOptions& options,
                              InputStats* stats_out) {
+    return environment_from_image(image::read_image(path), path, options, stats_out);
+}
+
+Environment environment_from_image(image::Image radiance, const std::string& path,
+                                   const LoadOptions& options, InputStats* stats_out) {
     Environment env;
     env.layout = options.layout;
     env.source = path;
     env.world_from_input = parse_rotation(options.rotate);
-    env.radiance = to_rgb(image::read_image(path), path);
-    if (env.radiance.color_space != image::ColorSpace::kLinearSrgb &&
-        env.radiance.color_space != image::ColorSpace::kData) {
-        throw Error(str(path, ": colour space ", image::to_string(env.radiance.color_space),
+    const image::ColorSpace cs = radiance.color_space;
+    if (cs != image::ColorSpace::kLinearSrgb && cs != image::ColorSpace::kRawCamera &&
+        cs != image::ColorSpace::kData) {
+        throw Error(str(path, ": colour space ", image::to_string(cs),
                         " is not supported; convert to linear_srgb first"));
     }
-    env.radiance.color_space = image::ColorSpace::kLinearSrgb;
+    env.radiance = to_rgb(std::move(radiance), path);
+    env.radiance.color_space =
+        cs == image::ColorSpace::kRawCamera ? cs : image::ColorSpace::kLinearSrgb;
     if (env.layout == Layout::kFisheye) {
         if (options.directions_path.empty() || options.solid_angle_path.empty())
             throw UsageError(str(path, ": a fisheye frame needs --directions and --solid-angle maps "

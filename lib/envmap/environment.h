@@ -72,6 +72,11 @@ struct InputStats {
 Environment load_environment(const std::string& path, const LoadOptions& options,
                              InputStats* stats = nullptr);
 
+/// As load_environment, for radiance already in memory (e.g. an 8-bit camera frame turned into
+/// radiance through a response curve). `radiance` may be tagged linear_srgb or raw_camera.
+Environment environment_from_image(image::Image radiance, const std::string& source,
+                                   const LoadOptions& options, InputStats* stats = nullptr);
+
 /// Checks an in-memory environment's shape for its layout (same messages as above).
 void check_layout(const Environment& env);
 

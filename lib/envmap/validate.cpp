@@ -1,6 +1,7 @@
 #include "envmap/validate.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "core/conventions.h"
@@ -121,6 +122,30 @@ IrradianceError irradiance_error(const Eigen::MatrixXd& approx, const Eigen::Mat
     err.rms_rel = std::sqrt(sum2 / static_cast<double>(n));
     if (ref_sum != 0) err.rms_over_mean = std::sqrt(abs2 / static_cast<double>(n)) * n / ref_sum;
     return err;
+}
+
+nlohmann::json validation_json(const Environment& env, const Eigen::MatrixXd& coeffs_unwindowed,
+                               const Eigen::MatrixXd& coeffs_final, int sh_bands,
+                               const std::vector<Eigen::Vector3d>& normals) {
+    auto to_json = [](const IrradianceError& e) {
+        return nlohmann::json{{"mean_rel", e.mean_rel}, {"rms_rel", e.rms_rel},
+                              {"max_rel", e.max_rel},   {"max_abs", e.max_abs},
+                              {"rms_over_mean", e.rms_over_mean}};
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    const Eigen::MatrixXd ref = brute_force_irradiance(env, normals);
+    const double brute_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    nlohmann::json by_bands = nlohmann::json::object();
+    for (int b = 1; b <= sh_bands; ++b)
+        by_bands[std::to_string(b)] = to_json(irradiance_error(sh_irradiance(coeffs_unwindowed, b, normals), ref));
+    nlohmann::json out = to_json(irradiance_error(sh_irradiance(coeffs_final, sh_bands, normals), ref));
+    out["normals"] = normals.size();
+    out["brute_force_time_s"] = brute_s;
+    out["reference_self_error"] = brute_force_self_error(env, normals);
+    out["rel_floor_of_max"] = kRelFloor;
+    out["error_by_sh_bands"] = by_bands;
+    return out;
 }
 
 }  // namespace inlight::envmap

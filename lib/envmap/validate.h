@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "envmap/environment.h"
 
@@ -41,6 +42,13 @@ struct IrradianceError {
 };
 inline constexpr double kRelFloor = 1e-3;
 IrradianceError irradiance_error(const Eigen::MatrixXd& approx, const Eigen::MatrixXd& reference);
+
+/// The --validate block of envmap-project's report: brute force over `normals`, then the error
+/// of every band count 1..sh_bands (unwindowed coefficients) and of the final coefficients,
+/// the reference's own error and the timings. Keys: see docs/formats.md.
+nlohmann::json validation_json(const Environment& env, const Eigen::MatrixXd& coeffs_unwindowed,
+                               const Eigen::MatrixXd& coeffs_final, int sh_bands,
+                               const std::vector<Eigen::Vector3d>& normals);
 
 /// Rec.709 luminance of a linear RGB triple.
 inline double luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }

@@ -74,6 +74,24 @@ expect_true "identical output for --threads 1 and 2" -- cmp -s "$WORK/t1.bin" "$
 expect_exit 0 "two inputs into a directory" -- "$EP" "$WORK/const.exr" "$WORK/sun.exr" -o "$WORK/many" -q
 expect_true "one file pair per input" -- test -s "$WORK/many/const_sh.json" -a -s "$WORK/many/sun_sh.bin"
 
+# An 8-bit camera frame through a response curve. A linear camera: g(z) = ln(z / 128), so code
+# 128 at 0.5 s is radiance 2; one pixel clipped at 255 is reported with the light it hides.
+"$MK" "$WORK/frame.png" 64 32 0.50196078431372548 10 5 1
+jq -n '{format: "inlight_response", version: 1, channels: ["r", "g", "b"],
+        g: [range(3) | [range(256) | if . == 0 then (0.5 / 128 | log) else (. / 128 | log) end]]}' \
+    > "$WORK/linear_response.json"
+expect_exit 2 "--response needs --exposure-s" -- "$EP" "$WORK/frame.png" -o "$WORK/f.json" \
+    --response "$WORK/linear_response.json"
+expect_exit 0 "8-bit frame with a response" -- "$EP" "$WORK/frame.png" -o "$WORK/f.json" \
+    --response "$WORK/linear_response.json" --exposure-s 0.5 --report "$WORK/f_report.json"
+expect_true "one saturated pixel counted" -- \
+    jq -e '.metrics.environments[0].camera.saturated_pixels == 1' "$WORK/f_report.json"
+expect_true "clipped light reported as a positive lower bound" -- \
+    jq -e '.metrics.environments[0].camera.clipped_light_fraction_lower_bound > 0' "$WORK/f_report.json"
+expect_true "radiance 2 in every unclipped pixel: L00 within the one clipped pixel of 4 sqrt(pi)" -- \
+    jq -e '(.coefficients[0][1] - 4*(3.141592653589793|sqrt) | fabs) < 0.01' "$WORK/f.json"
+expect_true "frames in camera RGB are tagged raw_camera" -- jq -e '.color_space == "raw_camera"' "$WORK/f.json"
+
 # --report - puts only JSON on stdout.
 "$EP" "$WORK/const.exr" -o "$WORK/s.json" --report - >"$WORK/stdout.json" 2>/dev/null
 expect_true "--report - writes JSON alone on stdout" -- jq -e '.tool == "envmap-project"' "$WORK/stdout.json"

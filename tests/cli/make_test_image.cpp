@@ -1,6 +1,7 @@
 // Writes small synthetic images for the CLI tests:
 //   inlight_make_test_image OUT.exr WIDTH HEIGHT VALUE [X Y SPECIAL]
 // fills 3 channels with VALUE; SPECIAL ("nan", "inf" or a number) goes into pixel (X, Y).
+// A .png is written linearly (8-bit code = round(255 * value)), as a camera frame's codes.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +21,8 @@ int main(int argc, char** argv) {
         const float v = s == "nan" ? NAN : s == "inf" ? INFINITY : std::strtof(argv[7], nullptr);
         for (int c = 0; c < 3; ++c) img.at(std::atoi(argv[5]), std::atoi(argv[6]), c) = v;
     }
-    inlight::image::write_image(argv[1], img);
+    inlight::image::WriteOptions wo;
+    wo.encode_srgb = false;
+    inlight::image::write_image(argv[1], img, wo);
     return 0;
 }
