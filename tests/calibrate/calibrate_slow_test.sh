@@ -33,8 +33,8 @@ expect_true "still accurate (f, c within 0.2 px)" -- jq -e --slurpfile t "$WORK/
 # --- Real data (skipped when ../shared is absent) ----------------------------------------------
 if [ -n "$SHARED" ] && [ -d "$SHARED/data/fisheye-ros-mono" ]; then
     ROS="$SHARED/data/fisheye-ros-mono"
-    expect_exit 0 "ROS fisheye set, default pipeline" -- "$CAL" geometry "$ROS" --board 8x6 --square-size-m 0.108 \
-        -o "$WORK/ros" --report "$WORK/ros.json" -q
+    expect_exit 0 "ROS fisheye set, default pipeline (configs/calibrate-ros.toml)" -- "$CAL" geometry "$ROS" \
+        --config "${INLIGHT_SOURCE_DIR:?}/configs/calibrate-ros.toml" -o "$WORK/ros" --report "$WORK/ros.json" -q
     # Default detection + refinement differs from ost.yaml's ROS procedure but must agree with it
     # within two of our own standard deviations on every parameter.
     expect_true "default pipeline agrees with ost.yaml within 2 sigma" -- jq -e '

@@ -82,6 +82,9 @@ printf 'board = "9x6"\nfov-deg = 150\nrefine-iterations = 0\ndownscale = "120x90
 expect_exit 0 "config file" -- "$CAL" geometry "$WORK/boards" --config "$WORK/c.toml" --fov-deg 160 \
     -o "$WORK/cfg" --report "$WORK/cfg.json" -q
 expect_true "config applied, CLI wins" -- jq -e '.config.board == "9x6" and .config.fov_deg == 160 and .config.refine_iterations == 0' "$WORK/cfg.json"
+SRC=${INLIGHT_SOURCE_DIR:?}
+expect_exit 0 "configs/calibrate.toml (the app's lens)" -- "$CAL" geometry "$WORK/boards" \
+    --config "$SRC/configs/calibrate.toml" --downscale 120x90 -o "$WORK/appcfg" -q
 printf 'bord = "9x6"\n' > "$WORK/bad.toml"
 expect_exit 2 "unknown config key" -- "$CAL" geometry "$WORK/boards" --config "$WORK/bad.toml" -o "$WORK/cfg"
 
@@ -116,6 +119,8 @@ expect_true "response file: 3 curves of 256, g(128) = 0" -- jq -e '.format == "i
 expect_true "recovers gamma 2.2 between codes 64 and 192 (within 0.05)" -- \
     jq -e '((.g[0][192] - .g[0][64]) / ((192/64) | log) - 2.2 | fabs) < 0.05' "$WORK/resp.json"
 expect_true "merged radiance written" -- test -s "$WORK/merged.exr"
+expect_exit 0 "configs/calibrate-response.toml" -- "$CAL" response --config "$SRC/configs/calibrate-response.toml" \
+    --images "$B/exposure_0.png" "$B/exposure_1.png" "$B/exposure_2.png" --exposure-s 0.004 0.016 0.064 -o "$WORK/cfgresp.json"
 expect_true "response report times its stages" -- jq -e '.stage_time_s | has("recover_response") and has("read_images")' "$WORK/rr.json"
 expect_exit 2 "images and exposures must pair up" -- "$CAL" response --images "$B/exposure_0.png" "$B/exposure_1.png" \
     --exposure-s 0.004 -o "$WORK/r2.json"
