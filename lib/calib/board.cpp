@@ -30,7 +30,8 @@ void gaussian_blur(std::vector<float>& img, int w, int h, double sigma) {
                 double acc = 0;
                 for (int i = -radius; i <= radius; ++i) {
                     const int xx = std::clamp(x + i, 0, w - 1);
-                    acc += k[static_cast<size_t>(i + radius)] * img[static_cast<size_t>(y) * w + xx];
+                    acc +=
+                        k[static_cast<size_t>(i + radius)] * img[static_cast<size_t>(y) * w + xx];
                 }
                 tmp[static_cast<size_t>(y) * w + x] = static_cast<float>(acc);
             }
@@ -42,7 +43,8 @@ void gaussian_blur(std::vector<float>& img, int w, int h, double sigma) {
                 double acc = 0;
                 for (int i = -radius; i <= radius; ++i) {
                     const int yy = std::clamp(static_cast<int>(y) + i, 0, h - 1);
-                    acc += k[static_cast<size_t>(i + radius)] * tmp[static_cast<size_t>(yy) * w + x];
+                    acc +=
+                        k[static_cast<size_t>(i + radius)] * tmp[static_cast<size_t>(yy) * w + x];
                 }
                 img[static_cast<size_t>(y) * w + x] = static_cast<float>(acc);
             }
@@ -173,8 +175,8 @@ GrayImage BoardRenderer::render(const BoardSpec& board,
                         for (int i = 0; i < n; ++i) {
                             // Pixel (x, y) covers [x - 0.5, x + 0.5] in OpenCV pixel coordinates.
                             const double ox = (i + 0.5) / n - 0.5;
-                            sum += sample(c + ox * dx + oy * dy, x + ox,
-                                          static_cast<double>(y) + oy);
+                            sum +=
+                                sample(c + ox * dx + oy * dy, x + ox, static_cast<double>(y) + oy);
                         }
                     }
                     v = sum / (n * n);

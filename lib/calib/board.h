@@ -2,12 +2,11 @@
 // renderer that photographs it through a known CameraModel, for tests and demonstrations.
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "calib/camera_model.h"
 
@@ -40,13 +39,13 @@ struct GrayImage {
 
 /// How render_board draws.
 struct RenderOptions {
-    int supersample = 4;         ///< n x n samples per pixel (box filter = pixel integration)
-    double margin_squares = 1.0; ///< white border around the squares, in squares
-    uint8_t black = 25;          ///< code of the dark squares
-    uint8_t white = 230;         ///< code of the light squares and the border
-    uint8_t background = 100;    ///< code where the ray misses the board (or the image circle)
-    double blur_sigma_px = 0;    ///< Gaussian blur (lens PSF) before noise and quantisation, px
-    double noise_sigma = 0;      ///< Gaussian noise, codes (0 = none); seeded, deterministic
+    int supersample = 4;          ///< n x n samples per pixel (box filter = pixel integration)
+    double margin_squares = 1.0;  ///< white border around the squares, in squares
+    uint8_t black = 25;           ///< code of the dark squares
+    uint8_t white = 230;          ///< code of the light squares and the border
+    uint8_t background = 100;     ///< code where the ray misses the board (or the image circle)
+    double blur_sigma_px = 0;     ///< Gaussian blur (lens PSF) before noise and quantisation, px
+    double noise_sigma = 0;       ///< Gaussian noise, codes (0 = none); seeded, deterministic
     uint64_t seed = 1;
     /// Pixels farther than this from (circle_cx, circle_cy) are black, imitating a lens'
     /// image circle (0 = no circle).

@@ -1,11 +1,10 @@
 #include "calib/bundle.h"
 
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/Cholesky>
-#include <Eigen/Geometry>
 #include <opencv2/calib3d.hpp>
 
 #include "core/check.h"
@@ -17,10 +16,10 @@ namespace {
 
 /// The parameter layout of one problem: free intrinsics first, then 6 per view.
 struct Layout {
-    std::vector<int> free;      ///< indices into camera.parameters()
+    std::vector<int> free;  ///< indices into camera.parameters()
     bool fx_follows_fy = false;
-    double aspect = 1;          ///< fx / fy at the start
-    std::vector<int> offset;    ///< residual offset per view (size views + 1)
+    double aspect = 1;        ///< fx / fy at the start
+    std::vector<int> offset;  ///< residual offset per view (size views + 1)
     int rows = 0;
     int nf = 0;
     int cols = 0;
@@ -207,8 +206,7 @@ BundleResult bundle_adjust(CameraModel& camera, const FreeParameters& free,
 }
 
 Eigen::VectorXd intrinsic_std_dev(const CameraModel& camera, const FreeParameters& free,
-                                  const std::vector<View>& views,
-                                  const std::vector<Pose>& poses) {
+                                  const std::vector<View>& views, const std::vector<Pose>& poses) {
     INLIGHT_CHECK_EQ(views.size(), poses.size());
     const Layout l = make_layout(camera, free, views);
     Eigen::VectorXd r;
@@ -275,7 +273,8 @@ std::optional<Pose> pose_from_rays(const CameraModel& camera, const View& view) 
     const Eigen::Vector3d rv(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
     const Eigen::Vector3d tv(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
     Pose pose;
-    pose.rvec = rodrigues_from_rotation(virtual_from_camera.transpose() * rotation_from_rodrigues(rv));
+    pose.rvec =
+        rodrigues_from_rotation(virtual_from_camera.transpose() * rotation_from_rodrigues(rv));
     pose.tvec = virtual_from_camera.transpose() * tv;
     return pose;
 }

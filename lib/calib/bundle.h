@@ -5,10 +5,9 @@
 // replace) the OpenCV calibration in solve.cpp.
 #pragma once
 
+#include <Eigen/Core>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "calib/camera_model.h"
 #include "calib/detect.h"

@@ -1,9 +1,8 @@
 #include "calib/camera_model.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
-
-#include <Eigen/Geometry>
 
 #include "core/check.h"
 #include "core/conventions.h"
@@ -25,9 +24,12 @@ constexpr double kUndistortTolerance = 1e-10;
 
 int expected_distortion_size(ModelType type) {
     switch (type) {
-        case ModelType::kFisheye: return 4;
-        case ModelType::kPinhole: return 5;
-        case ModelType::kOmnidir: return 4;
+        case ModelType::kFisheye:
+            return 4;
+        case ModelType::kPinhole:
+            return 5;
+        case ModelType::kOmnidir:
+            return 4;
     }
     return 0;
 }
@@ -62,7 +64,10 @@ std::optional<double> solve_increasing(F f, double target, double hi) {
         f(x, v, d);
         const double r = v - target;
         if (std::abs(r) < kRadialTolerance) return x;
-        if (r > 0) hi = x; else lo = x;
+        if (r > 0)
+            hi = x;
+        else
+            lo = x;
         double next = d > 0 ? x - r / d : 0.5 * (lo + hi);
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
         if (hi - lo < 1e-15) return x;
@@ -101,9 +106,12 @@ Eigen::Vector2d normalised(const CameraModel& m, const Eigen::Vector2d& pixel) {
 
 std::string to_string(ModelType type) {
     switch (type) {
-        case ModelType::kFisheye: return "fisheye";
-        case ModelType::kPinhole: return "pinhole";
-        case ModelType::kOmnidir: return "omnidir";
+        case ModelType::kFisheye:
+            return "fisheye";
+        case ModelType::kPinhole:
+            return "pinhole";
+        case ModelType::kOmnidir:
+            return "omnidir";
     }
     return "?";
 }
@@ -112,7 +120,8 @@ ModelType model_type_from_string(const std::string& name) {
     if (name == "fisheye") return ModelType::kFisheye;
     if (name == "pinhole") return ModelType::kPinhole;
     if (name == "omnidir") return ModelType::kOmnidir;
-    throw UsageError(str("unknown camera model '", name, "' (expected fisheye, pinhole or omnidir)"));
+    throw UsageError(
+        str("unknown camera model '", name, "' (expected fisheye, pinhole or omnidir)"));
 }
 
 CameraModel CameraModel::make(ModelType type, int width, int height, double fx, double fy,
@@ -173,7 +182,10 @@ double CameraModel::max_theta() const {
     double lo = t, hi = t + kScanStep;
     for (int it = 0; it < 50; ++it) {
         const double mid = 0.5 * (lo + hi);
-        if (increasing_at(mid)) lo = mid; else hi = mid;
+        if (increasing_at(mid))
+            lo = mid;
+        else
+            hi = mid;
     }
     return lo;
 }
@@ -218,8 +230,12 @@ std::optional<Eigen::Vector3d> CameraModel::unproject(const Eigen::Vector2d& pix
 std::vector<std::string> CameraModel::parameter_names() const {
     std::vector<std::string> names = {"fx", "fy", "cx", "cy", "skew"};
     switch (type) {
-        case ModelType::kFisheye: names.insert(names.end(), {"k1", "k2", "k3", "k4"}); break;
-        case ModelType::kPinhole: names.insert(names.end(), {"k1", "k2", "p1", "p2", "k3"}); break;
+        case ModelType::kFisheye:
+            names.insert(names.end(), {"k1", "k2", "k3", "k4"});
+            break;
+        case ModelType::kPinhole:
+            names.insert(names.end(), {"k1", "k2", "p1", "p2", "k3"});
+            break;
         case ModelType::kOmnidir:
             names.insert(names.end(), {"xi", "k1", "k2", "p1", "p2"});
             break;
@@ -289,9 +305,9 @@ std::optional<Eigen::Vector3d> Unprojector::operator()(const Eigen::Vector2d& pi
             // Tangential terms can push a valid point slightly beyond; let Newton decide.
             u = nd * (m_max_undist_r / rd);
         } else {
-            auto r = solve_increasing(
-                [&](double x, double& v, double& d) { radial_poly(m, x, v, d); }, rd,
-                m_max_undist_r);
+            auto r =
+                solve_increasing([&](double x, double& v, double& d) { radial_poly(m, x, v, d); },
+                                 rd, m_max_undist_r);
             if (!r) return std::nullopt;
             u = nd * (*r / rd);
         }

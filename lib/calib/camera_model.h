@@ -14,11 +14,10 @@
 //    own convention puts that centre at (0.5, 0.5); subtract 0.5 to convert.)
 #pragma once
 
+#include <Eigen/Core>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace inlight::calib {
 
@@ -52,8 +51,8 @@ struct CameraModel {
     std::vector<double> distortion;
 
     /// A model of `type` with zero distortion of the right length.
-    static CameraModel make(ModelType type, int width, int height, double fx, double fy,
-                            double cx, double cy);
+    static CameraModel make(ModelType type, int width, int height, double fx, double fy, double cx,
+                            double cy);
 
     /// Pixel of a camera-frame point (any non-zero length). std::nullopt when the model cannot
     /// image it: behind a pinhole (z <= 0) or where z / |p| + xi <= 0 (omnidir). The fisheye
@@ -95,9 +94,9 @@ class Unprojector {
 
   private:
     CameraModel m_model;
-    double m_max_theta = 0;    ///< polar angle limit of the one-to-one domain, radians
-    double m_max_radial = 0;   ///< radial(m_max_theta)
-    double m_max_undist_r = 0; ///< pinhole/omnidir: undistorted radius at m_max_theta
+    double m_max_theta = 0;     ///< polar angle limit of the one-to-one domain, radians
+    double m_max_radial = 0;    ///< radial(m_max_theta)
+    double m_max_undist_r = 0;  ///< pinhole/omnidir: undistorted radius at m_max_theta
 };
 
 /// Angle-axis (Rodrigues) vector to rotation matrix, as cv::Rodrigues.

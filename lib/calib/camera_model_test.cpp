@@ -1,11 +1,11 @@
 #include "calib/camera_model.h"
 
-#include <cmath>
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/ccalib/omnidir.hpp>
+#include <random>
 
 #include "core/conventions.h"
 #include "core/error.h"
@@ -58,10 +58,10 @@ TEST(CameraModel, FisheyeProjectMatchesOpenCv) {
     for (const auto& p : pts) cv_pts.emplace_back(p.x(), p.y(), p.z());
     std::vector<cv::Point2d> out;
     const cv::Matx33d k(m.fx, m.skew, m.cx, 0, m.fy, m.cy, 0, 0, 1);
-    cv::fisheye::projectPoints(cv_pts, out, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k,
-                               cv::Vec4d(m.distortion[0], m.distortion[1], m.distortion[2],
-                                         m.distortion[3]),
-                               m.skew / m.fx);
+    cv::fisheye::projectPoints(
+        cv_pts, out, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k,
+        cv::Vec4d(m.distortion[0], m.distortion[1], m.distortion[2], m.distortion[3]),
+        m.skew / m.fx);
     for (size_t i = 0; i < pts.size(); ++i) {
         const auto px = m.project(pts[i]);
         ASSERT_TRUE(px.has_value());
@@ -91,12 +91,13 @@ TEST(CameraModel, OmnidirProjectMatchesOpenCv) {
     const auto pts = random_points(1.7, 200, 3);  // beyond 90 degrees: xi > 1 images them
     cv::Mat cv_pts(1, static_cast<int>(pts.size()), CV_64FC3), out;
     for (size_t i = 0; i < pts.size(); ++i) {
-        cv_pts.at<cv::Vec3d>(0, static_cast<int>(i)) = cv::Vec3d(pts[i].x(), pts[i].y(), pts[i].z());
+        cv_pts.at<cv::Vec3d>(0, static_cast<int>(i)) =
+            cv::Vec3d(pts[i].x(), pts[i].y(), pts[i].z());
     }
     const cv::Matx33d k(m.fx, m.skew, m.cx, 0, m.fy, m.cy, 0, 0, 1);
-    cv::omnidir::projectPoints(cv_pts, out, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, m.xi,
-                               cv::Vec4d(m.distortion[0], m.distortion[1], m.distortion[2],
-                                         m.distortion[3]));
+    cv::omnidir::projectPoints(
+        cv_pts, out, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), k, m.xi,
+        cv::Vec4d(m.distortion[0], m.distortion[1], m.distortion[2], m.distortion[3]));
     for (size_t i = 0; i < pts.size(); ++i) {
         const auto px = m.project(pts[i]);
         ASSERT_TRUE(px.has_value());

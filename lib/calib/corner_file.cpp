@@ -100,16 +100,16 @@ CornerSet read_corner_files(const std::string& image_points_path,
     return set;
 }
 
-void write_corner_files(const std::string& image_points_path,
-                        const std::string& object_points_path, const std::vector<View>& views,
-                        int width, int height) {
+void write_corner_files(const std::string& image_points_path, const std::string& object_points_path,
+                        const std::vector<View>& views, int width, int height) {
     auto write = [&](const std::string& path, bool image) {
         fs::write_atomic(path, [&](const std::string& tmp) {
             cv::FileStorage out(tmp, cv::FileStorage::WRITE);
             if (!out.isOpened()) throw Error(str(path, ": cannot write"));
             if (image) {
                 out << "image_width" << width << "image_height" << height;
-                out << "files" << "[";
+                out << "files"
+                    << "[";
                 for (const View& v : views) out << v.name;
                 out << "]";
             }

@@ -30,8 +30,7 @@ CornerSet read_corner_files(const std::string& image_points_path,
 
 /// Writes views in the layout read_corner_files reads (with image_width, image_height and
 /// files), atomically.
-void write_corner_files(const std::string& image_points_path,
-                        const std::string& object_points_path, const std::vector<View>& views,
-                        int width, int height);
+void write_corner_files(const std::string& image_points_path, const std::string& object_points_path,
+                        const std::vector<View>& views, int width, int height);
 
 }  // namespace inlight::calib

@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -33,7 +32,8 @@ GrayImage from_mat(const cv::Mat& m) {
     g.height = m.rows;
     g.pixels.resize(static_cast<size_t>(m.cols) * m.rows);
     for (int y = 0; y < m.rows; ++y) {
-        std::copy(m.ptr<uint8_t>(y), m.ptr<uint8_t>(y) + m.cols, g.pixels.begin() + static_cast<ptrdiff_t>(y) * m.cols);
+        std::copy(m.ptr<uint8_t>(y), m.ptr<uint8_t>(y) + m.cols,
+                  g.pixels.begin() + static_cast<ptrdiff_t>(y) * m.cols);
     }
     return g;
 }
@@ -51,8 +51,10 @@ int half_min_spacing(const std::vector<cv::Point2f>& c, int cols, int rows) {
     for (int r = 0; r < rows; ++r) {
         for (int k = 0; k < cols; ++k) {
             const cv::Point2f& p = c[static_cast<size_t>(r * cols + k)];
-            if (k + 1 < cols) md = std::min(md, cv::norm(p - c[static_cast<size_t>(r * cols + k + 1)]));
-            if (r + 1 < rows) md = std::min(md, cv::norm(p - c[static_cast<size_t>((r + 1) * cols + k)]));
+            if (k + 1 < cols)
+                md = std::min(md, cv::norm(p - c[static_cast<size_t>(r * cols + k + 1)]));
+            if (r + 1 < rows)
+                md = std::min(md, cv::norm(p - c[static_cast<size_t>((r + 1) * cols + k)]));
         }
     }
     return std::max(2, static_cast<int>(std::ceil(kSubpixRadiusFraction * md)));
@@ -66,13 +68,17 @@ int ros_half_min_spacing(const std::vector<cv::Point2f>& c, int cols, int rows) 
     for (int r = 0; r < rows; ++r) {
         for (int k = 0; k + 1 < cols; ++k) {
             const int i = r * rows + k;
-            if (i + 1 < n) md = std::min(md, cv::norm(c[static_cast<size_t>(i)] - c[static_cast<size_t>(i + 1)]));
+            if (i + 1 < n)
+                md = std::min(md,
+                              cv::norm(c[static_cast<size_t>(i)] - c[static_cast<size_t>(i + 1)]));
         }
     }
     for (int r = 0; r + 1 < rows; ++r) {
         for (int k = 0; k < cols; ++k) {
             const int i = r * rows + k;
-            if (i + cols < n) md = std::min(md, cv::norm(c[static_cast<size_t>(i)] - c[static_cast<size_t>(i + cols)]));
+            if (i + cols < n)
+                md = std::min(
+                    md, cv::norm(c[static_cast<size_t>(i)] - c[static_cast<size_t>(i + cols)]));
         }
     }
     return std::max(1, static_cast<int>(std::ceil(0.5 * md)));
@@ -80,14 +86,14 @@ int ros_half_min_spacing(const std::vector<cv::Point2f>& c, int cols, int rows) 
 
 void subpix(const cv::Mat& img, std::vector<cv::Point2f>& corners, int radius, double eps,
             int iterations) {
-    cv::cornerSubPix(img, corners, cv::Size(radius, radius), cv::Size(-1, -1),
-                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, iterations,
-                                      eps));
+    cv::cornerSubPix(
+        img, corners, cv::Size(radius, radius), cv::Size(-1, -1),
+        cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, iterations, eps));
 }
 
 bool is_image_file(const std::filesystem::path& p) {
-    static const char* const kExt[] = {"png", "jpg",  "jpeg", "tif", "tiff", "bmp", "pgm",
-                                       "ppm", "pnm", "exr",  "hdr", "webp"};
+    static const char* const kExt[] = {"png", "jpg", "jpeg", "tif", "tiff", "bmp",
+                                       "pgm", "ppm", "pnm",  "exr", "hdr",  "webp"};
     const std::string ext = fs::extension(p.string());
     return std::any_of(std::begin(kExt), std::end(kExt), [&](const char* e) { return ext == e; });
 }
@@ -96,10 +102,14 @@ bool is_image_file(const std::filesystem::path& p) {
 
 std::string to_string(Detector detector) {
     switch (detector) {
-        case Detector::kAuto: return "auto";
-        case Detector::kClassic: return "classic";
-        case Detector::kSectorBased: return "sb";
-        case Detector::kRos: return "ros";
+        case Detector::kAuto:
+            return "auto";
+        case Detector::kClassic:
+            return "classic";
+        case Detector::kSectorBased:
+            return "sb";
+        case Detector::kRos:
+            return "ros";
     }
     return "?";
 }
@@ -116,8 +126,8 @@ GrayImage load_gray(const std::string& path) {
     // EXIF orientation is ignored: calibration refers to the sensor's own pixel grid.
     cv::Mat m;
     try {
-        m = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE |
-                                 cv::IMREAD_IGNORE_ORIENTATION);
+        m = cv::imread(path,
+                       cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE | cv::IMREAD_IGNORE_ORIENTATION);
     } catch (const cv::Exception&) {
         m = cv::Mat();
     }
@@ -147,8 +157,8 @@ GrayImage load_gray(const std::string& path) {
         hi = std::max(hi, luma[i]);
     }
     const float scale = (!info.is_float && info.bits_per_channel == 8) ? 255.0f
-                        : hi > 0                                         ? 255.0f / hi
-                                                                         : 0.0f;
+                        : hi > 0                                       ? 255.0f / hi
+                                                                       : 0.0f;
     if (scale == 0) throw Error(str(path, ": image is black"));
     for (size_t i = 0; i < luma.size(); ++i) {
         g.pixels[i] = static_cast<uint8_t>(std::clamp(std::lround(luma[i] * scale), 0L, 255L));
@@ -193,16 +203,18 @@ Detection detect_board(const GrayImage& image, const std::string& name,
     } else {
         const bool ros = options.detector == Detector::kRos;
         const double pixels = static_cast<double>(image.width) * image.height;
-        const double scale = options.detect_max_pixels > 0 && pixels > options.detect_max_pixels
-                                 ? std::sqrt(pixels / static_cast<double>(options.detect_max_pixels))
-                                 : 1.0;
+        const double scale =
+            options.detect_max_pixels > 0 && pixels > options.detect_max_pixels
+                ? std::sqrt(pixels / static_cast<double>(options.detect_max_pixels))
+                : 1.0;
         cv::Mat small = full;
         if (scale > 1) {
-            cv::resize(full, small, cv::Size(static_cast<int>(image.width / scale),
-                                             static_cast<int>(image.height / scale)));
+            cv::resize(full, small,
+                       cv::Size(static_cast<int>(image.width / scale),
+                                static_cast<int>(image.height / scale)));
         }
-        const int flags = cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE |
-                          cv::CALIB_CB_FAST_CHECK;
+        const int flags =
+            cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK;
         if (!cv::findChessboardCorners(small, pattern, corners, flags)) {
             det.reason = not_found;
             return det;
@@ -271,8 +283,9 @@ Detections detect_boards(const std::vector<std::string>& paths, const DetectOpti
             std::filesystem::path(paths[i]).filename().string());
     }
     if (by_size.size() > 1) {
-        std::string msg = "mixed image sizes (all views must come from one camera at one "
-                          "resolution):";
+        std::string msg =
+            "mixed image sizes (all views must come from one camera at one "
+            "resolution):";
         for (const auto& [size, names] : by_size) {
             msg += str(" ", size.first, "x", size.second, " (", names.size(), " file",
                        names.size() == 1 ? "" : "s", ": ");
@@ -289,8 +302,8 @@ Detections detect_boards(const std::vector<std::string>& paths, const DetectOpti
     parallel::for_chunks(static_cast<int64_t>(paths.size()), 1, [&](int64_t b, int64_t e) {
         for (int64_t i = b; i < e; ++i) {
             const GrayImage img = load_gray(paths[i]);
-            found[i] = detect_board(img, std::filesystem::path(paths[i]).filename().string(),
-                                    options);
+            found[i] =
+                detect_board(img, std::filesystem::path(paths[i]).filename().string(), options);
             if (brightest) {
                 std::lock_guard<std::mutex> lock(max_mutex);
                 if (brightest->pixels.empty()) {
@@ -312,8 +325,8 @@ Detections detect_boards(const std::vector<std::string>& paths, const DetectOpti
             out.views.push_back(std::move(found[i].view));
             out.view_paths.push_back(paths[i]);
         } else {
-            out.dropped.push_back({std::filesystem::path(paths[i]).filename().string(),
-                                   found[i].reason});
+            out.dropped.push_back(
+                {std::filesystem::path(paths[i]).filename().string(), found[i].reason});
         }
     }
     return out;

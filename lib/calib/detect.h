@@ -2,11 +2,10 @@
 // cornerSubPix, or findChessboardCornersSB), with the reasons a view is rejected.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "calib/board.h"
 
@@ -87,9 +86,9 @@ Detection detect_board(const GrayImage& image, const std::string& name,
 struct Detections {
     int width = 0;
     int height = 0;
-    std::vector<View> views;           ///< in input order
+    std::vector<View> views;              ///< in input order
     std::vector<std::string> view_paths;  ///< the file of each view
-    std::vector<DroppedView> dropped;  ///< in input order
+    std::vector<DroppedView> dropped;     ///< in input order
 };
 
 /// Checks that all images have the same size (throws Error naming the files of each size

@@ -36,9 +36,7 @@ double median_of(std::vector<float>& v) {
 
 }  // namespace
 
-Eigen::Matrix3d default_device_from_camera() {
-    return Eigen::Vector3d(-1, -1, 1).asDiagonal();
-}
+Eigen::Matrix3d default_device_from_camera() { return Eigen::Vector3d(-1, -1, 1).asDiagonal(); }
 
 DirectionMaps compute_maps(const CameraModel& camera, const MapOptions& opt) {
     INLIGHT_CHECK(camera.width > 0 && camera.height > 0) << "camera size not set";
@@ -81,8 +79,8 @@ DirectionMaps compute_maps(const CameraModel& camera, const MapOptions& opt) {
                 }
                 const auto ray = unproject(Eigen::Vector2d(x, y));
                 if (!ray || polar_angle(*ray) > max_theta) continue;
-                const size_t i00 = static_cast<size_t>(y) * cw + x, i10 = i00 + 1,
-                             i01 = i00 + cw, i11 = i01 + 1;
+                const size_t i00 = static_cast<size_t>(y) * cw + x, i10 = i00 + 1, i01 = i00 + cw,
+                             i11 = i01 + 1;
                 double omega;
                 if (corner_ok[i00] && corner_ok[i10] && corner_ok[i01] && corner_ok[i11]) {
                     omega = triangle_solid_angle(corner[i00], corner[i10], corner[i11]) +
@@ -135,8 +133,8 @@ DirectionMaps compute_maps(const CameraModel& camera, const MapOptions& opt) {
 DirectionMaps downscale_maps(const DirectionMaps& full, int width, int height) {
     const int fw = full.mask.width, fh = full.mask.height;
     if (width < 1 || height < 1 || width > fw || height > fh) {
-        throw UsageError(str("downscaled size ", width, "x", height, " must lie within 1x1 and ",
-                             fw, "x", fh));
+        throw UsageError(
+            str("downscaled size ", width, "x", height, " must lie within 1x1 and ", fw, "x", fh));
     }
     DirectionMaps out;
     out.max_theta = full.max_theta;
@@ -253,7 +251,8 @@ ImageCircle detect_image_circle(const GrayImage& brightest, double cx, double cy
     INLIGHT_CHECK(!brightest.pixels.empty()) << "no images";
     const int w = brightest.width, h = brightest.height;
     std::vector<uint8_t> sorted = brightest.pixels;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<ptrdiff_t>(sorted.size() * 99 / 100),
+    std::nth_element(sorted.begin(),
+                     sorted.begin() + static_cast<ptrdiff_t>(sorted.size() * 99 / 100),
                      sorted.end());
     const double p99 = sorted[sorted.size() * 99 / 100];
     const double threshold = std::max(12.0, 0.08 * p99);
@@ -272,7 +271,8 @@ ImageCircle detect_image_circle(const GrayImage& brightest, double cx, double cy
     }
     int last_lit = -1;
     for (int r = rings - 1; r >= 0; --r) {
-        if (all[static_cast<size_t>(r)] > 0 && 2 * lit[static_cast<size_t>(r)] >= all[static_cast<size_t>(r)]) {
+        if (all[static_cast<size_t>(r)] > 0 &&
+            2 * lit[static_cast<size_t>(r)] >= all[static_cast<size_t>(r)]) {
             last_lit = r;
             break;
         }

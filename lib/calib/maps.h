@@ -9,11 +9,10 @@
 // angle of their union.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "calib/board.h"
 #include "calib/camera_model.h"

@@ -1,8 +1,8 @@
 #include "calib/maps.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/conventions.h"
 #include "core/error.h"
@@ -66,8 +66,10 @@ TEST(Maps, QuadAreaMatchesJacobian) {
         for (int x = 100; x < 700; x += 41) {
             if (maps.mask.at(x, y, 0) == 0) continue;
             const double h = 1e-3;
-            const auto xp = unproject(Eigen::Vector2d(x + h, y)), xm = unproject(Eigen::Vector2d(x - h, y));
-            const auto yp = unproject(Eigen::Vector2d(x, y + h)), ym = unproject(Eigen::Vector2d(x, y - h));
+            const auto xp = unproject(Eigen::Vector2d(x + h, y)),
+                       xm = unproject(Eigen::Vector2d(x - h, y));
+            const auto yp = unproject(Eigen::Vector2d(x, y + h)),
+                       ym = unproject(Eigen::Vector2d(x, y - h));
             const double jac = ((*xp - *xm) / (2 * h)).cross((*yp - *ym) / (2 * h)).norm();
             EXPECT_NEAR(maps.solid_angle.at(x, y, 0) / jac, 1.0, 1e-4) << x << "," << y;
             ++checked;
@@ -191,7 +193,8 @@ TEST(Maps, DetectsImageCircle) {
     img.pixels.assign(400 * 300, 0);
     for (int y = 0; y < 300; ++y) {
         for (int x = 0; x < 400; ++x) {
-            if (std::hypot(x - 200.0, y - 150.0) < 120) img.pixels[y * 400 + x] = 50 + (x * 7 + y * 3) % 150;
+            if (std::hypot(x - 200.0, y - 150.0) < 120)
+                img.pixels[y * 400 + x] = 50 + (x * 7 + y * 3) % 150;
         }
     }
     const ImageCircle c = detect_image_circle(img, 200, 150);

@@ -40,7 +40,8 @@ ImageCircle parse_circle(const std::string& spec) {
     char comma1 = 0, comma2 = 0;
     if (!(ss >> c.cx >> comma1 >> c.cy >> comma2 >> c.radius_px) || comma1 != ',' ||
         comma2 != ',' || !ss.eof() || !(c.radius_px > 0)) {
-        throw UsageError(str("--image-circle '", spec, "': expected auto, none or CX,CY,R (pixels)"));
+        throw UsageError(
+            str("--image-circle '", spec, "': expected auto, none or CX,CY,R (pixels)"));
     }
     return c;
 }
@@ -97,8 +98,9 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     if (!o.board.empty()) {
         board = parse_board(o.board, o.square_size_m);
     } else if (from_images || o.object_points.empty()) {
-        throw UsageError("--board COLSxROWS (inner corners) is required for images, and for "
-                         "corner files without --object-points");
+        throw UsageError(
+            "--board COLSxROWS (inner corners) is required for images, and for "
+            "corner files without --object-points");
     }
     CalibrateOptions co;
     co.model = model_type_from_string(o.model);
@@ -152,20 +154,22 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
             width = given_size.x() > 0 ? given_size.x() : cs.width;
             height = given_size.y() > 0 ? given_size.y() : cs.height;
             if (width <= 0 || height <= 0) {
-                throw UsageError(str(o.image_points, " does not state the image size: give "
-                                                     "--image-size WxH"));
+                throw UsageError(str(o.image_points,
+                                     " does not state the image size: give "
+                                     "--image-size WxH"));
             }
             views = std::move(cs.views);
             inputs = views.size();
         }
     }
     if (views.empty()) {
-        throw Error(str("no chessboard of ", board.cols, "x", board.rows, " inner corners found in any of the ",
-                        inputs, " images", list_dropped(dropped)));
+        throw Error(str("no chessboard of ", board.cols, "x", board.rows,
+                        " inner corners found in any of the ", inputs, " images",
+                        list_dropped(dropped)));
     }
     if (static_cast<int>(views.size()) < co.min_views) {
-        throw Error(str("only ", views.size(), " usable view", views.size() == 1 ? "" : "s",
-                        " of ", inputs, ", need at least ", co.min_views, list_dropped(dropped)));
+        throw Error(str("only ", views.size(), " usable view", views.size() == 1 ? "" : "s", " of ",
+                        inputs, ", need at least ", co.min_views, list_dropped(dropped)));
     }
 
     // 2. Calibration, then fronto-parallel refinement passes.
@@ -181,15 +185,15 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
         std::vector<std::string> refined_paths(cal.views.size());
         {
             ScopedStage stage(report, "refine_corners");
-            parallel::for_chunks(static_cast<int64_t>(cal.views.size()), 1,
-                                 [&](int64_t b, int64_t e) {
-                for (int64_t k = b; k < e; ++k) {
-                    const size_t i = cal.view_index[static_cast<size_t>(k)];
-                    refined[k] = refine_view(load_gray(view_paths[i]), views[i], board, cal.camera,
-                                             cal.views[k].rvec, cal.views[k].tvec);
-                    refined_paths[k] = view_paths[i];
-                }
-            });
+            parallel::for_chunks(
+                static_cast<int64_t>(cal.views.size()), 1, [&](int64_t b, int64_t e) {
+                    for (int64_t k = b; k < e; ++k) {
+                        const size_t i = cal.view_index[static_cast<size_t>(k)];
+                        refined[k] = refine_view(load_gray(view_paths[i]), views[i], board,
+                                                 cal.camera, cal.views[k].rvec, cal.views[k].tvec);
+                        refined_paths[k] = view_paths[i];
+                    }
+                });
         }
         views = std::move(refined);
         view_paths = std::move(refined_paths);
@@ -218,11 +222,14 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
         ScopedStage stage(report, "direction_maps");
         full = compute_maps(cam, mo);
     }
-    if (full.valid_pixels == 0) throw Error("the validity mask is empty: check --fov-deg and --image-circle");
+    if (full.valid_pixels == 0)
+        throw Error("the validity mask is empty: check --fov-deg and --image-circle");
     const double fov_theta = largest_theta(full, device_from_camera * Eigen::Vector3d::UnitZ());
     if (fov_theta * kDeg > cal.max_observed_theta * kDeg + kExtrapolationWarnDeg) {
-        log::warn(str("the mask reaches ", fov_theta * kDeg, " deg off axis but corners were seen "
-                      "only up to ", cal.max_observed_theta * kDeg,
+        log::warn(str("the mask reaches ", fov_theta * kDeg,
+                      " deg off axis but corners were seen "
+                      "only up to ",
+                      cal.max_observed_theta * kDeg,
                       " deg: beyond that the model is extrapolated (limit it with --fov-deg)"));
     }
     if (sizes.empty()) {
@@ -244,8 +251,9 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     j["model"] = to_string(cam.type);
     j["image_width"] = width;
     j["image_height"] = height;
-    j["pixel_convention"] = "opencv: the centre of the top-left pixel is (0, 0); add 0.5 for "
-                            "inlight's convention";
+    j["pixel_convention"] =
+        "opencv: the centre of the top-left pixel is (0, 0); add 0.5 for "
+        "inlight's convention";
     nlohmann::json intr = nlohmann::json::object(), sd = nlohmann::json::object();
     nlohmann::json fixed = nlohmann::json::array();
     const Eigen::VectorXd params = cam.parameters();
@@ -269,7 +277,9 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     j["reproj_rms_px"] = cal.rms_px;
     nlohmann::json jv = nlohmann::json::array();
     for (const ViewError& e : cal.views) {
-        jv.push_back({{"file", e.name}, {"points", e.points}, {"reproj_rms_px", e.rms_px},
+        jv.push_back({{"file", e.name},
+                      {"points", e.points},
+                      {"reproj_rms_px", e.rms_px},
                       {"max_error_px", e.max_error_px},
                       {"rvec", {e.rvec.x(), e.rvec.y(), e.rvec.z()}},
                       {"tvec_m", {e.tvec.x(), e.tvec.y(), e.tvec.z()}}});
@@ -291,19 +301,25 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     j["model_limit_theta_deg"] = cam.max_theta() * kDeg;
     j["mask_max_theta_deg"] = full.max_theta * kDeg;
     j["fov_deg"] = 2 * fov_theta * kDeg;
-    j["image_circle"] = {{"cx_px", circle.cx}, {"cy_px", circle.cy},
-                         {"radius_px", circle.radius_px}, {"source", circle_source}};
+    j["image_circle"] = {{"cx_px", circle.cx},
+                         {"cy_px", circle.cy},
+                         {"radius_px", circle.radius_px},
+                         {"source", circle_source}};
     j["device_from_camera"] = matrix_json(device_from_camera);
     j["covered_solid_angle_sr"] = full.covered_solid_angle_sr;
-    j["files"] = {{"directions", "directions.exr"}, {"solid_angle", "solid_angle.exr"},
-                  {"mask", "mask.png"}};
+    j["files"] = {
+        {"directions", "directions.exr"}, {"solid_angle", "solid_angle.exr"}, {"mask", "mask.png"}};
     nlohmann::json maps = nlohmann::json::array();
-    maps.push_back({{"dir", "."}, {"width", width}, {"height", height},
+    maps.push_back({{"dir", "."},
+                    {"width", width},
+                    {"height", height},
                     {"valid_pixels", full.valid_pixels},
                     {"covered_solid_angle_sr", full.covered_solid_angle_sr}});
     for (size_t i = 0; i < sizes.size(); ++i) {
-        maps.push_back({{"dir", str(sizes[i].x(), "x", sizes[i].y())}, {"width", sizes[i].x()},
-                        {"height", sizes[i].y()}, {"valid_pixels", small[i].valid_pixels},
+        maps.push_back({{"dir", str(sizes[i].x(), "x", sizes[i].y())},
+                        {"width", sizes[i].x()},
+                        {"height", sizes[i].y()},
+                        {"valid_pixels", small[i].valid_pixels},
                         {"covered_solid_angle_sr", small[i].covered_solid_angle_sr}});
     }
     j["maps"] = maps;
@@ -352,8 +368,8 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     m["solver"] = cal.solver;
 
     if (o.max_reproj_rms_px > 0 && cal.rms_px > o.max_reproj_rms_px) {
-        throw app::QualityGateFailed(str("reprojection RMS ", cal.rms_px, " px > --max-reproj-rms-px ",
-                                         o.max_reproj_rms_px));
+        throw app::QualityGateFailed(str("reprojection RMS ", cal.rms_px,
+                                         " px > --max-reproj-rms-px ", o.max_reproj_rms_px));
     }
     return j;
 }
@@ -362,8 +378,8 @@ void run_response(const ResponseToolOptions& o, uint64_t seed, Report& report) {
     if (o.output.empty()) throw UsageError("--output is required");
     if (o.images.size() < 2) throw UsageError("--images needs at least two exposures");
     if (o.images.size() != o.exposure_s.size()) {
-        throw UsageError(str(o.images.size(), " images but ", o.exposure_s.size(),
-                             " --exposure-s values"));
+        throw UsageError(
+            str(o.images.size(), " images but ", o.exposure_s.size(), " --exposure-s values"));
     }
     std::vector<image::Image> codes;
     {

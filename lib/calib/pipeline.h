@@ -4,10 +4,9 @@
 // bracket -> response curve). The output file contract is in docs/calibrate.md.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "calib/maps.h"
 #include "calib/solve.h"
@@ -25,18 +24,18 @@ struct GeometryOptions {
     double square_size_m = 1.0;       ///< scales only the reported poses, never the intrinsics
     std::string model = "fisheye";
     std::string detector = "auto";
-    int refine_iterations = 2;        ///< fronto-parallel refinement passes (images only)
+    int refine_iterations = 2;  ///< fronto-parallel refinement passes (images only)
     bool estimate_skew = false;
-    bool fix_aspect_ratio = false;    ///< pinhole
-    bool fix_k3 = false;              ///< pinhole
+    bool fix_aspect_ratio = false;  ///< pinhole
+    bool fix_k3 = false;            ///< pinhole
     double outlier_factor = 3.0;
     double outlier_min_px = 1.0;
-    double fov_deg = 0;               ///< mask: full field of view; 0 = the model's limit
+    double fov_deg = 0;                       ///< mask: full field of view; 0 = the model's limit
     std::string image_circle = "auto";        ///< "auto", "none" or "CX,CY,R" (pixels)
     std::string device_from_camera = "none";  ///< rotation applied after the default
-    std::string downscale;            ///< "WxH,..."; "" = 1/4 and 1/8 of the full size
-    double max_reproj_rms_px = 0;     ///< quality gate (0 = none)
-    std::string output;               ///< output folder
+    std::string downscale;                    ///< "WxH,..."; "" = 1/4 and 1/8 of the full size
+    double max_reproj_rms_px = 0;             ///< quality gate (0 = none)
+    std::string output;                       ///< output folder
 };
 
 /// Runs geometric calibration and writes everything into options.output. Throws Error on bad
@@ -46,12 +45,12 @@ nlohmann::json run_geometry(const GeometryOptions& options, Report& report);
 
 /// Options of `calibrate response`.
 struct ResponseToolOptions {
-    std::vector<std::string> images;    ///< 8-bit bracket, one image per exposure
-    std::vector<double> exposure_s;     ///< their exposure times, seconds
+    std::vector<std::string> images;  ///< 8-bit bracket, one image per exposure
+    std::vector<double> exposure_s;   ///< their exposure times, seconds
     double lambda = 50;
     int samples = 0;
-    std::string output;                 ///< response JSON
-    std::string merged;                 ///< optional: merged radiance EXR
+    std::string output;  ///< response JSON
+    std::string merged;  ///< optional: merged radiance EXR
 };
 
 /// Recovers the response, writes it (and the merged radiance if asked). Same error contract.

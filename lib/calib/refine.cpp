@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "core/check.h"
@@ -49,8 +48,8 @@ View refine_view(const GrayImage& image, const View& view, const BoardSpec& boar
         for (int j = static_cast<int>(j0); j < static_cast<int>(j1); ++j) {
             for (int i = 0; i < cw; ++i) {
                 const auto px = camera.project(rot * board_point(i, j) + tvec);
-                const bool ok = px && px->x() >= 1 && px->y() >= 1 &&
-                                px->x() <= image.width - 2 && px->y() <= image.height - 2;
+                const bool ok = px && px->x() >= 1 && px->y() >= 1 && px->x() <= image.width - 2 &&
+                                px->y() <= image.height - 2;
                 map_x.at<float>(j, i) = ok ? static_cast<float>(px->x()) : -1.0f;
                 map_y.at<float>(j, i) = ok ? static_cast<float>(px->y()) : -1.0f;
                 inside.at<uint8_t>(j, i) = ok ? 1 : 0;

@@ -1,12 +1,11 @@
 #include "calib/response.h"
 
-#include <algorithm>
-#include <cmath>
-#include <random>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "core/check.h"
 #include "core/error.h"
@@ -17,8 +16,8 @@ namespace inlight::calib {
 namespace {
 
 int code_at(const image::Image& img, size_t pixel, int channel) {
-    return static_cast<int>(img.pixels[pixel * static_cast<size_t>(img.channels) +
-                                       static_cast<size_t>(channel)]);
+    return static_cast<int>(
+        img.pixels[pixel * static_cast<size_t>(img.channels) + static_cast<size_t>(channel)]);
 }
 
 void check_codes(const image::Image& img, const std::string& what) {
@@ -70,14 +69,13 @@ double ResponseCurve::radiance(int channel, int code, double exposure_s) const {
 }
 
 ResponseFit recover_response(const std::vector<image::Image>& codes,
-                             const std::vector<double>& exposures_s,
-                             const ResponseOptions& opt) {
+                             const std::vector<double>& exposures_s, const ResponseOptions& opt) {
     check_bracket(codes, exposures_s);
     const int p = static_cast<int>(codes.size());
     const int channels = codes[0].channels;
     const size_t pixels = codes[0].pixel_count();
-    const int n = opt.samples > 0 ? opt.samples
-                                  : std::clamp(4 * kCodes / std::max(1, p - 1), 64, 1024);
+    const int n =
+        opt.samples > 0 ? opt.samples : std::clamp(4 * kCodes / std::max(1, p - 1), 64, 1024);
     // The exposure in the middle of the bracket stratifies the samples.
     std::vector<size_t> order(static_cast<size_t>(p));
     for (size_t j = 0; j < order.size(); ++j) order[j] = j;
@@ -94,7 +92,8 @@ ResponseFit recover_response(const std::vector<image::Image>& codes,
         std::vector<std::vector<size_t>> bucket(kCodes);
         for (size_t i = 0; i < pixels; ++i) {
             int weighted = 0;
-            for (int j = 0; j < p; ++j) weighted += hat_weight(code_at(codes[static_cast<size_t>(j)], i, c)) > 0;
+            for (int j = 0; j < p; ++j)
+                weighted += hat_weight(code_at(codes[static_cast<size_t>(j)], i, c)) > 0;
             if (weighted >= 2) bucket[static_cast<size_t>(code_at(codes[mid], i, c))].push_back(i);
         }
         std::mt19937_64 rng(opt.seed * 7919ULL + static_cast<uint64_t>(c));
@@ -113,8 +112,9 @@ ResponseFit recover_response(const std::vector<image::Image>& codes,
         const int ns = static_cast<int>(samples.size());
         if (ns * (p - 1) < kCodes - 1) {
             throw Error(str("channel ", fit.curve.channel_names[static_cast<size_t>(c)], ": only ",
-                            ns, " usable pixels (seen unclipped in two exposures); the bracket "
-                                "must overlap more"));
+                            ns,
+                            " usable pixels (seen unclipped in two exposures); the bracket "
+                            "must overlap more"));
         }
 
         // Normal equations over g (256) and ln E (ns); ln E's block is diagonal, so it is
@@ -125,7 +125,8 @@ ResponseFit recover_response(const std::vector<image::Image>& codes,
         Eigen::VectorXd ee = Eigen::VectorXd::Zero(ns), be = Eigen::VectorXd::Zero(ns);
         for (int i = 0; i < ns; ++i) {
             for (int j = 0; j < p; ++j) {
-                const int z = code_at(codes[static_cast<size_t>(j)], samples[static_cast<size_t>(i)], c);
+                const int z =
+                    code_at(codes[static_cast<size_t>(j)], samples[static_cast<size_t>(i)], c);
                 const double w2 = hat_weight(z) * hat_weight(z);
                 const double lt = std::log(exposures_s[static_cast<size_t>(j)]);
                 gg(z, z) += w2;
@@ -159,7 +160,8 @@ ResponseFit recover_response(const std::vector<image::Image>& codes,
         for (int i = 0; i < ns; ++i) {
             const double ln_e = (be[i] - ge.col(i).dot(g)) / ee[i] - shift;
             for (int j = 0; j < p; ++j) {
-                const int z = code_at(codes[static_cast<size_t>(j)], samples[static_cast<size_t>(i)], c);
+                const int z =
+                    code_at(codes[static_cast<size_t>(j)], samples[static_cast<size_t>(i)], c);
                 const double w2 = hat_weight(z) * hat_weight(z);
                 const double r = out[static_cast<size_t>(z)] - ln_e -
                                  std::log(exposures_s[static_cast<size_t>(j)]);
@@ -184,7 +186,8 @@ MergeResult merge_radiance(const std::vector<image::Image>& codes,
     const size_t longest = static_cast<size_t>(
         std::max_element(exposures_s.begin(), exposures_s.end()) - exposures_s.begin());
     MergeResult m;
-    m.radiance = image::Image(codes[0].width, codes[0].height, channels, image::ColorSpace::kRawCamera);
+    m.radiance =
+        image::Image(codes[0].width, codes[0].height, channels, image::ColorSpace::kRawCamera);
     m.saturated = image::Image(codes[0].width, codes[0].height, 1, image::ColorSpace::kData);
     for (size_t i = 0; i < codes[0].pixel_count(); ++i) {
         bool clipped = false;
@@ -223,11 +226,12 @@ FrameRadiance radiance_from_frame(const image::Image& codes, const ResponseCurve
                                   const image::Image* mask, int saturation_code) {
     if (!(exposure_s > 0)) throw Error(str("exposure time must be positive, got ", exposure_s));
     if (codes.channels != curve.channels()) {
-        throw Error(str("frame has ", codes.channels, " channels, response curve ",
-                        curve.channels()));
+        throw Error(
+            str("frame has ", codes.channels, " channels, response curve ", curve.channels()));
     }
     for (const image::Image* aux : {solid_angle_sr, mask}) {
-        if (aux && (aux->width != codes.width || aux->height != codes.height || aux->channels != 1)) {
+        if (aux &&
+            (aux->width != codes.width || aux->height != codes.height || aux->channels != 1)) {
             throw Error(str("frame is ", codes.width, "x", codes.height, " but a ",
                             aux == mask ? "mask" : "solid-angle map", " is ", aux->width, "x",
                             aux->height, "x", aux->channels, " (need 1 channel, same size)"));
@@ -278,7 +282,8 @@ image::Image read_codes(const std::string& path) {
 }
 
 void write_response(const std::string& path, const ResponseFit& fit, double lambda,
-                    const std::vector<double>& exposures_s, const std::vector<std::string>& images) {
+                    const std::vector<double>& exposures_s,
+                    const std::vector<std::string>& images) {
     nlohmann::json j;
     j["format"] = "inlight_response";
     j["version"] = 1;
@@ -293,7 +298,8 @@ void write_response(const std::string& path, const ResponseFit& fit, double lamb
     j["images"] = images;
     j["fit_rms_log"] = fit.fit_rms_log;
     nlohmann::json g = nlohmann::json::array();
-    for (const auto& curve : fit.curve.log_exposure) g.push_back(std::vector<double>(curve.begin(), curve.end()));
+    for (const auto& curve : fit.curve.log_exposure)
+        g.push_back(std::vector<double>(curve.begin(), curve.end()));
     j["g"] = g;
     fs::write_text_atomic(path, j.dump(1) + "\n");
 }

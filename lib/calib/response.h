@@ -27,7 +27,7 @@ inline constexpr int kReferenceCode = 128;
 
 /// A response curve per channel.
 struct ResponseCurve {
-    std::vector<std::string> channel_names;            ///< "r", "g", "b" (or "y" for grey)
+    std::vector<std::string> channel_names;                ///< "r", "g", "b" (or "y" for grey)
     std::vector<std::array<double, kCodes>> log_exposure;  ///< g per channel, natural log
 
     int channels() const { return static_cast<int>(log_exposure.size()); }
@@ -51,8 +51,8 @@ struct ResponseOptions {
 
 struct ResponseFit {
     ResponseCurve curve;
-    int samples = 0;                 ///< per channel
-    std::vector<double> fit_rms_log; ///< per channel: weighted RMS of g(Z) - ln E - ln dt
+    int samples = 0;                  ///< per channel
+    std::vector<double> fit_rms_log;  ///< per channel: weighted RMS of g(Z) - ln E - ln dt
 };
 
 /// Recovers g from `codes` (one image per exposure, values 0..255 integers, all the same size
@@ -68,8 +68,8 @@ ResponseFit recover_response(const std::vector<image::Image>& codes,
 /// shortest exposure's code-255 value is used and the pixel is marked saturated; where every
 /// exposure is black, the longest exposure's code-0 value.
 struct MergeResult {
-    image::Image radiance;    ///< linear, relative units, ColorSpace::kRawCamera
-    image::Image saturated;   ///< 1 channel, 1 where clipped in every exposure
+    image::Image radiance;   ///< linear, relative units, ColorSpace::kRawCamera
+    image::Image saturated;  ///< 1 channel, 1 where clipped in every exposure
     int64_t saturated_pixels = 0;
 };
 MergeResult merge_radiance(const std::vector<image::Image>& codes,

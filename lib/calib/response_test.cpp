@@ -1,9 +1,9 @@
 #include "calib/response.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "core/conventions.h"
 #include "core/error.h"
@@ -48,12 +48,14 @@ Scene make_scene(int w, int h, uint64_t seed) {
     s.radiance = image::Image(w, h, 3, image::ColorSpace::kRawCamera);
     for (size_t i = 0; i < s.radiance.pixel_count(); ++i) {
         const double e = std::pow(10.0, 2.7 * u(rng));  // 1 .. 500, log-uniform
-        for (int c = 0; c < 3; ++c) s.radiance.pixels[i * 3 + c] = static_cast<float>(e * kChannelScale[c]);
+        for (int c = 0; c < 3; ++c)
+            s.radiance.pixels[i * 3 + c] = static_cast<float>(e * kChannelScale[c]);
     }
     for (double dt : kExposures) {
         image::Image img(w, h, 3, image::ColorSpace::kData);
         for (size_t i = 0; i < img.pixels.size(); ++i) {
-            img.pixels[i] = static_cast<float>(code_of_exposure(s.radiance.pixels[i] * dt, kGamma[i % 3]));
+            img.pixels[i] =
+                static_cast<float>(code_of_exposure(s.radiance.pixels[i] * dt, kGamma[i % 3]));
         }
         s.bracket.push_back(std::move(img));
     }
@@ -95,7 +97,8 @@ TEST(Response, MergesToTrueRadiance) {
         // The merged radiance equals the truth up to one scale per channel (g's constant).
         std::vector<double> log_ratio;
         for (size_t i = 0; i < m.radiance.pixel_count(); ++i) {
-            log_ratio.push_back(std::log(m.radiance.pixels[i * 3 + c] / scene.radiance.pixels[i * 3 + c]));
+            log_ratio.push_back(
+                std::log(m.radiance.pixels[i * 3 + c] / scene.radiance.pixels[i * 3 + c]));
         }
         double mean = 0;
         for (double r : log_ratio) mean += r;
@@ -121,6 +124,7 @@ TEST(Response, MergesToTrueRadiance) {
         EXPECT_EQ(over, 0) << "pixels beyond their quantisation bound, channel " << c;
         std::sort(err.begin(), err.end());
         EXPECT_LT(err[err.size() / 2], 0.01) << "median, channel " << c;
+        RecordProperty(str("median_log_error_c", c), std::to_string(err[err.size() / 2]));
     }
 }
 
@@ -168,7 +172,8 @@ TEST(Response, FileRoundTrip) {
     const ResponseCurve back = read_response(path);
     ASSERT_EQ(back.channels(), 3);
     for (int c = 0; c < 3; ++c) {
-        for (int z = 0; z < kCodes; ++z) EXPECT_DOUBLE_EQ(back.log_exposure[c][z], fit.curve.log_exposure[c][z]);
+        for (int z = 0; z < kCodes; ++z)
+            EXPECT_DOUBLE_EQ(back.log_exposure[c][z], fit.curve.log_exposure[c][z]);
     }
     EXPECT_EQ(back.channel_names, (std::vector<std::string>{"r", "g", "b"}));
 }

@@ -1,13 +1,12 @@
 #include "calib/solve.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
-
-#include <Eigen/Cholesky>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/ccalib/omnidir.hpp>
+#include <optional>
 
 #include "calib/bundle.h"
 #include "core/check.h"
@@ -44,7 +43,8 @@ Solution opencv_solve(const std::vector<const View*>& views, int width, int heig
             std::vector<std::vector<cv::Point3d>> op(views.size());
             std::vector<std::vector<cv::Point2d>> ip(views.size());
             for (size_t v = 0; v < views.size(); ++v) {
-                for (const auto& p : views[v]->object_points) op[v].emplace_back(p.x(), p.y(), p.z());
+                for (const auto& p : views[v]->object_points)
+                    op[v].emplace_back(p.x(), p.y(), p.z());
                 for (const auto& p : views[v]->image_points) ip[v].emplace_back(p.x(), p.y());
             }
             cv::Matx33d k = cv::Matx33d::eye();
@@ -54,10 +54,10 @@ Solution opencv_solve(const std::vector<const View*>& views, int width, int heig
             if (opt.fix_skew) flags |= cv::fisheye::CALIB_FIX_SKEW;
             // OpenCV's default termination (100 iterations, machine epsilon), as ROS uses; with
             // the joint LM finishing, 30 iterations are enough to start it (4x faster).
-            cv::fisheye::calibrate(op, ip, size, k, d, rv, tv, flags,
-                                   cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS,
-                                                    opt.polish ? 30 : 100,
-                                                    std::numeric_limits<double>::epsilon()));
+            cv::fisheye::calibrate(
+                op, ip, size, k, d, rv, tv, flags,
+                cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS,
+                                 opt.polish ? 30 : 100, std::numeric_limits<double>::epsilon()));
             s.camera = CameraModel::make(ModelType::kFisheye, width, height, k(0, 0), k(1, 1),
                                          k(0, 2), k(1, 2));
             s.camera.skew = k(0, 1);
@@ -89,9 +89,9 @@ Solution opencv_solve(const std::vector<const View*>& views, int width, int heig
             cv::calibrateCamera(op, ip, size, k, d, rv, tv, flags,
                                 cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS,
                                                  100, std::numeric_limits<double>::epsilon()));
-            s.camera = CameraModel::make(ModelType::kPinhole, width, height, k.at<double>(0, 0),
-                                         k.at<double>(1, 1), k.at<double>(0, 2),
-                                         k.at<double>(1, 2));
+            s.camera =
+                CameraModel::make(ModelType::kPinhole, width, height, k.at<double>(0, 0),
+                                  k.at<double>(1, 1), k.at<double>(0, 2), k.at<double>(1, 2));
             for (int i = 0; i < 5; ++i) s.camera.distortion[i] = d.at<double>(i);
             for (size_t v = 0; v < views.size(); ++v) {
                 s.used.push_back(v);
@@ -119,13 +119,12 @@ Solution opencv_solve(const std::vector<const View*>& views, int width, int heig
             cv::Mat k, d, xi, idx;
             std::vector<cv::Mat> rv, tv;
             const int flags = opt.fix_skew ? cv::omnidir::CALIB_FIX_SKEW : 0;
-            cv::omnidir::calibrate(op, ip, size, k, xi, d, rv, tv, flags,
-                                   cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS,
-                                                    300, 1e-10),
-                                   idx);
-            s.camera = CameraModel::make(ModelType::kOmnidir, width, height, k.at<double>(0, 0),
-                                         k.at<double>(1, 1), k.at<double>(0, 2),
-                                         k.at<double>(1, 2));
+            cv::omnidir::calibrate(
+                op, ip, size, k, xi, d, rv, tv, flags,
+                cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 300, 1e-10), idx);
+            s.camera =
+                CameraModel::make(ModelType::kOmnidir, width, height, k.at<double>(0, 0),
+                                  k.at<double>(1, 1), k.at<double>(0, 2), k.at<double>(1, 2));
             s.camera.skew = k.at<double>(0, 1);
             s.camera.xi = xi.at<double>(0);
             for (int i = 0; i < 4; ++i) s.camera.distortion[i] = d.at<double>(i);
@@ -142,7 +141,8 @@ Solution opencv_solve(const std::vector<const View*>& views, int width, int heig
             for (size_t v = 0; v < views.size(); ++v) {
                 if (!in[v]) {
                     s.rejected.push_back(v);
-                    s.rejected_reason.push_back("the omnidir solver could not initialise this view");
+                    s.rejected_reason.push_back(
+                        "the omnidir solver could not initialise this view");
                 }
             }
             break;
@@ -179,7 +179,8 @@ Solution fisheye_fallback(const std::vector<const View*>& views, int width, int 
     std::optional<Solution> best;
     std::vector<size_t> subset;
     for (size_t n = std::max<size_t>(3, views.size() / 3); n >= 3 && !best; --n) {
-        subset.assign(order.begin(), order.begin() + static_cast<ptrdiff_t>(std::min(n, order.size())));
+        subset.assign(order.begin(),
+                      order.begin() + static_cast<ptrdiff_t>(std::min(n, order.size())));
         std::vector<const View*> vs;
         for (size_t j : subset) vs.push_back(views[j]);
         try {
@@ -188,8 +189,10 @@ Solution fisheye_fallback(const std::vector<const View*>& views, int width, int 
         }
     }
     if (!best) {
-        throw Error(str("fisheye calibration failed: OpenCV's solver fails even on the three "
-                        "most central views (", first_error, ")"));
+        throw Error(
+            str("fisheye calibration failed: OpenCV's solver fails even on the three "
+                "most central views (",
+                first_error, ")"));
     }
     Solution s;
     s.camera = best->camera;
@@ -212,8 +215,9 @@ Solution fisheye_fallback(const std::vector<const View*>& views, int width, int 
             s.tvecs.push_back(pose->tvec);
         } else {
             s.rejected.push_back(v);
-            s.rejected_reason.push_back("its pose could not be estimated under the intrinsics of "
-                                        "the other views");
+            s.rejected_reason.push_back(
+                "its pose could not be estimated under the intrinsics of "
+                "the other views");
         }
     }
     return s;
@@ -282,7 +286,6 @@ Solution solve_once(const std::vector<const View*>& views, int width, int height
     }
     return s;
 }
-
 
 FreeParameters free_parameters(const CameraModel& cam, const CalibrateOptions& opt) {
     const auto names = cam.parameter_names();
@@ -373,15 +376,14 @@ Calibration calibrate(const std::vector<View>& views, int width, int height,
             std::vector<double> rms;
             for (const ViewError& e : cal.views) rms.push_back(e.rms_px);
             const double med = median(rms);
-            const size_t worst = static_cast<size_t>(
-                std::max_element(rms.begin(), rms.end()) - rms.begin());
+            const size_t worst =
+                static_cast<size_t>(std::max_element(rms.begin(), rms.end()) - rms.begin());
             const double limit = std::max(opt.outlier_factor * med, opt.outlier_min_px);
             if (rms[worst] > limit) {
-                cal.dropped.push_back(
-                    {cal.views[worst].name,
-                     str("reprojection outlier: RMS ", rms[worst], " px > ", limit,
-                         " px (max of ", opt.outlier_factor, " x median ", med, " px and ",
-                         opt.outlier_min_px, " px)")});
+                cal.dropped.push_back({cal.views[worst].name,
+                                       str("reprojection outlier: RMS ", rms[worst], " px > ",
+                                           limit, " px (max of ", opt.outlier_factor, " x median ",
+                                           med, " px and ", opt.outlier_min_px, " px)")});
                 active.erase(active.begin() + static_cast<ptrdiff_t>(s.used[worst]));
                 continue;
             }

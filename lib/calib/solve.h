@@ -12,10 +12,9 @@
 // under them (bundle.h estimate_pose) and all views are refined jointly.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "calib/camera_model.h"
 #include "calib/detect.h"

@@ -6,14 +6,13 @@
 //   make_inputs bracket DIR W H              3 exposures (0.004, 0.016, 0.064 s) of a still scene
 //                                            through a known response (gamma 2.2)
 //   make_inputs png16 PATH W H               a 16-bit grey PNG
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <string>
-
-#include <Eigen/Geometry>
 
 #include "calib/board.h"
 #include "core/conventions.h"
@@ -49,7 +48,8 @@ Eigen::Isometry3d board_pose(const calib::BoardSpec& b, double theta_c, double p
         Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ());
     Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
     t.linear() = r;
-    t.translation() = dist * dir - r * Eigen::Vector3d(4 * b.square_size_m, 2.5 * b.square_size_m, 0);
+    t.translation() =
+        dist * dir - r * Eigen::Vector3d(4 * b.square_size_m, 2.5 * b.square_size_m, 0);
     return t;
 }
 
@@ -71,9 +71,9 @@ int boards(const std::string& dir, int w, int h, int n, double circle_r) {
     for (const auto& ring : rings) {
         for (int i = 0; i < ring[1] && k < n; ++i, ++k) {
             const double phi = 2 * kPi * i / ring[1] + 0.4 * ring[0] / 55;
-            const auto pose = board_pose(board, ring[0] * kPi / 180, phi,
-                                         0.21 * (1 + 0.1 * (k % 2 ? 1 : -1)), ((k % 3) - 1) * 0.3,
-                                         (((k / 3) % 3) - 1) * 0.3, 0.4 * ((k % 4) - 1.5));
+            const auto pose =
+                board_pose(board, ring[0] * kPi / 180, phi, 0.21 * (1 + 0.1 * (k % 2 ? 1 : -1)),
+                           ((k % 3) - 1) * 0.3, (((k / 3) % 3) - 1) * 0.3, 0.4 * ((k % 4) - 1.5));
             char name[64];
             std::snprintf(name, sizeof name, "/view_%02d.png", k);
             write_gray(dir + name, renderer.render(board, pose));
@@ -82,8 +82,8 @@ int boards(const std::string& dir, int w, int h, int n, double circle_r) {
     std::ofstream t(dir + "/truth.json");
     t.precision(17);
     t << "{\"fx\": " << m.fx << ", \"fy\": " << m.fy << ", \"cx\": " << m.cx << ", \"cy\": " << m.cy
-      << ", \"k1\": " << m.distortion[0] << ", \"k2\": " << m.distortion[1] << ", \"k3\": "
-      << m.distortion[2] << ", \"k4\": " << m.distortion[3] << "}\n";
+      << ", \"k1\": " << m.distortion[0] << ", \"k2\": " << m.distortion[1]
+      << ", \"k3\": " << m.distortion[2] << ", \"k4\": " << m.distortion[3] << "}\n";
     return 0;
 }
 
@@ -94,7 +94,8 @@ int blank(const std::string& dir, int w, int h, int n) {
         g.width = w;
         g.height = h;
         g.pixels.resize(static_cast<size_t>(w) * h);
-        for (size_t i = 0; i < g.pixels.size(); ++i) g.pixels[i] = static_cast<uint8_t>(90 + rng() % 40);
+        for (size_t i = 0; i < g.pixels.size(); ++i)
+            g.pixels[i] = static_cast<uint8_t>(90 + rng() % 40);
         char name[64];
         std::snprintf(name, sizeof name, "/blank_%02d.png", k);
         write_gray(dir + name, g);
@@ -110,7 +111,8 @@ int bracket(const std::string& dir, int w, int h) {
             for (int x = 0; x < w; ++x) {
                 // Radiance from 1 to ~300 across the frame, a different slope per channel.
                 for (int c = 0; c < 3; ++c) {
-                    const double e = std::pow(10.0, 2.5 * (x + 0.37 * y) / (w + 0.37 * h)) * (1 - 0.2 * c);
+                    const double e =
+                        std::pow(10.0, 2.5 * (x + 0.37 * y) / (w + 0.37 * h)) * (1 - 0.2 * c);
                     const double v = std::pow(std::min(e * exposures[j] / 1.2, 1.0), 1 / 2.2);
                     img.at(x, y, c) = static_cast<float>(std::round(255 * v) / 255);
                 }
@@ -153,7 +155,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "make_inputs: %s\n", e.what());
         return 1;
     }
-    std::fprintf(stderr, "usage: make_inputs boards DIR W H N [CIRCLE_R] | blank DIR W H N | "
-                         "bracket DIR W H | png16 PATH W H\n");
+    std::fprintf(stderr,
+                 "usage: make_inputs boards DIR W H N [CIRCLE_R] | blank DIR W H N | "
+                 "bracket DIR W H | png16 PATH W H\n");
     return 2;
 }
