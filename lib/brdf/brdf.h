@@ -31,6 +31,10 @@
 #include <Eigen/Core>
 #include <string>
 
+namespace inlight::toml {
+class Reader;  // core/toml.h
+}  // namespace inlight::toml
+
 namespace inlight::brdf {
 
 /// The lobe models.
@@ -72,16 +76,25 @@ struct Material {
     double specular_scale = 1.0;
 };
 
-/// Reads a flat TOML material file. Keys (all optional; defaults as in Material):
+/// Reads a flat TOML material file (core/toml.h; no [tables]). Keys (all optional; defaults as
+/// in Material):
 ///   specular = "ggx" | "cook-torrance-report" | "charlie" | "lambert"
-///   albedo, f0, sheen_color = [r, g, b] or one number for all channels
-///   alpha, report_f, report_r, specular_scale = number
+///   albedo, f0, sheen_color = [r, g, b] or one number for all channels, each in [0, 1]
+///   alpha, report_f = number in [0, 1]; report_r = number in (0, 100];
+///   specular_scale = number in [0, 1e6]
 ///   name, description = string (ignored)
-/// Throws Error "<file>:<line>: <key>: <what is wrong>" on unknown keys, bad syntax, wrong types
-/// or values out of range, and "<file>: cannot read" when the file cannot be opened.
+/// Throws Error "<file>:<line>: <key>: <what is wrong>" on bad values, wrong types or values out
+/// of range, "<file>:<line>: unknown key '<key>' (known: ...)", "<file>:<line>: duplicate key
+/// '<key>'", "<file>:<line>: tables (...) are not supported in material files" and other syntax
+/// errors with file and line, and "<file>: cannot read material file" when it cannot be opened.
 Material load_material(const std::string& toml_path);
 /// The same from TOML text; `name` is used in error messages.
 Material parse_material(const std::string& toml_text, const std::string& name);
+/// Reads the material keys above (all but name and description) that the table of `reader` has
+/// into `material`, keeping the current values of absent keys; the caller calls
+/// reader.finish() after reading its own keys. Scene files use it for inline [material.<name>]
+/// overrides, so both accept the same keys and ranges. Throws Error as load_material does.
+void read_material_keys(const toml::Reader& reader, Material& material);
 
 /// The material as TOML text that parse_material() reads back to the same values.
 std::string to_toml(const Material& material);

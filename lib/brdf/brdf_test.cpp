@@ -393,18 +393,26 @@ std::string error_of(const std::string& text) {
 TEST(Material, ErrorsNameFileLineAndKey) {
     EXPECT_EQ(error_of("alpha = 0.2\nroughness = 0.3\n"),
               error_of("alpha = 0.2\nroughness = 0.3\n"));
-    EXPECT_NE(
-        error_of("alpha = 0.2\nroughness = 0.3\n").find("cloth.toml:2: roughness: unknown key"),
-        std::string::npos);
-    EXPECT_NE(error_of("alpha = 2\n").find("cloth.toml:1: alpha: 2 out of range"),
-              std::string::npos);
-    EXPECT_NE(error_of("specular = \"phong\"\n").find("cloth.toml:1: specular: unknown BRDF"),
-              std::string::npos);
-    EXPECT_NE(error_of("albedo = [1, 2]\n").find("albedo: expected 3 numbers"), std::string::npos);
-    EXPECT_NE(error_of("f0 = abc\n").find("f0: 'abc' is not a number"), std::string::npos);
-    EXPECT_NE(error_of("[material]\n").find("cloth.toml:1: tables"), std::string::npos);
-    EXPECT_NE(error_of("alpha = 0.1\nalpha = 0.2\n").find("cloth.toml:2: alpha: duplicate key"),
-              std::string::npos);
+    const struct {
+        const char* text;
+        const char* expected;  // a part of the message: file, line and key
+    } kCases[] = {
+        {"alpha = 0.2\nroughness = 0.3\n", "cloth.toml:2: unknown key 'roughness'"},
+        {"alpha = 2\n", "cloth.toml:1: alpha: 2 is outside [0, 1]"},
+        {"report_r = 0\n", "cloth.toml:1: report_r: 0 is not > 0"},
+        {"specular = \"phong\"\n", "cloth.toml:1: specular: unknown BRDF"},
+        {"albedo = [1, 2]\n", "cloth.toml:1: albedo: expected an array of 3 numbers"},
+        {"sheen_color = [0.5, 2, 0.5]\n", "cloth.toml:1: sheen_color: 2 is outside [0, 1]"},
+        {"f0 = abc\n", "cloth.toml:1: f0: 'abc' is not a number"},
+        {"[material]\n", "cloth.toml:1: tables ([material]) are not supported"},
+        {"alpha = 0.1\n\n[[layer]]\nf0 = 1\n", "cloth.toml:3: tables ([[layer]])"},
+        {"alpha = 0.1\nalpha = 0.2\n", "cloth.toml:2: duplicate key 'alpha'"},
+    };
+    for (const auto& c : kCases) {
+        EXPECT_NE(error_of(c.text).find(c.expected), std::string::npos)
+            << "text: " << c.text << "\nmessage: " << error_of(c.text)
+            << "\nexpected to contain: " << c.expected;
+    }
     EXPECT_EQ(error_of("# a comment\nspecular = \"ggx\"  # trailing\nf0 = 0.5\n"), "");
     try {
         load_material("/nonexistent/cloth.toml");

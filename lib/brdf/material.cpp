@@ -1,177 +1,76 @@
-// Material files: a flat TOML subset (key = number | "string" | [n, n, n]; # comments), parsed
-// here so that each error can name the file, the line and the key.
-#include <cctype>
-#include <cmath>
-#include <cstdlib>
+// Material files: flat TOML read with core/toml.h, so that each error names the file, the line
+// and the key.
 #include <iomanip>
-#include <map>
-#include <set>
 #include <sstream>
-#include <vector>
 
 #include "brdf/brdf.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/toml.h"
 
 namespace inlight::brdf {
 namespace {
 
-struct Value {
-    int line = 0;
-    bool is_string = false;
-    std::string text;             // string value
-    std::vector<double> numbers;  // one number, or an array
-    bool is_array = false;
-};
-
-std::string trim(const std::string& s) {
-    size_t b = 0, e = s.size();
-    while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-    while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-    return s.substr(b, e - b);
-}
-
-// Removes a # comment that is not inside a string.
-std::string strip_comment(const std::string& s) {
-    bool in_string = false;
-    for (size_t i = 0; i < s.size(); ++i) {
-        if (s[i] == '"' && (i == 0 || s[i - 1] != '\\')) in_string = !in_string;
-        if (s[i] == '#' && !in_string) return s.substr(0, i);
-    }
-    return s;
-}
-
-bool parse_number(const std::string& token, double& out) {
-    std::string t = trim(token);
-    std::string clean;
-    for (char c : t) {
-        if (c != '_') clean += c;
-    }
-    if (clean.empty()) return false;
-    char* end = nullptr;
-    out = std::strtod(clean.c_str(), &end);
-    return end == clean.c_str() + clean.size() && std::isfinite(out);
-}
-
-std::map<std::string, Value> parse_flat_toml(const std::string& text, const std::string& name) {
-    std::map<std::string, Value> out;
-    std::istringstream in(text);
-    std::string raw;
-    int line_no = 0;
-    while (std::getline(in, raw)) {
-        ++line_no;
-        const std::string line = trim(strip_comment(raw));
-        if (line.empty()) continue;
-        const std::string where = str(name, ":", line_no, ": ");
-        if (line[0] == '[') {
-            throw Error(str(where, "tables ('", line, "') are not supported: use flat keys"));
+/// A material file is flat: throws Error "<file>:<line>: tables ([name]) are not supported..."
+/// naming the first [table] or [[array]] header of `doc`, if it has any.
+void reject_tables(const toml::Document& doc) {
+    const toml::Table* first = nullptr;
+    std::string header;
+    for (const auto& [name, table] : doc.tables) {
+        if (!first || table.line < first->line) {
+            first = &table;
+            header = str("[", name, "]");
         }
-        const size_t eq = line.find('=');
-        if (eq == std::string::npos) throw Error(str(where, "expected 'key = value'"));
-        const std::string key = trim(line.substr(0, eq));
-        const std::string rhs = trim(line.substr(eq + 1));
-        if (key.empty()) throw Error(str(where, "missing key before '='"));
-        if (out.count(key)) throw Error(str(where, key, ": duplicate key"));
-        Value v;
-        v.line = line_no;
-        if (rhs.empty()) throw Error(str(where, key, ": missing value"));
-        if (rhs.front() == '"') {
-            if (rhs.size() < 2 || rhs.back() != '"') {
-                throw Error(str(where, key, ": unterminated string"));
-            }
-            v.is_string = true;
-            v.text = rhs.substr(1, rhs.size() - 2);
-        } else if (rhs.front() == '[') {
-            if (rhs.back() != ']') throw Error(str(where, key, ": unterminated array"));
-            v.is_array = true;
-            std::stringstream items(rhs.substr(1, rhs.size() - 2));
-            std::string item;
-            while (std::getline(items, item, ',')) {
-                if (trim(item).empty()) continue;  // trailing comma
-                double d;
-                if (!parse_number(item, d)) {
-                    throw Error(str(where, key, ": '", trim(item), "' is not a number"));
-                }
-                v.numbers.push_back(d);
-            }
-        } else {
-            double d;
-            if (!parse_number(rhs, d)) {
-                throw Error(str(where, key, ": '", rhs, "' is not a number, string or array"));
-            }
-            v.numbers.push_back(d);
-        }
-        out[key] = v;
     }
-    return out;
+    for (const auto& [name, list] : doc.table_arrays) {
+        if (!first || list.front().line < first->line) {
+            first = &list.front();
+            header = str("[[", name, "]]");
+        }
+    }
+    if (first) {
+        throw Error(str(doc.source, ":", first->line, ": tables (", header,
+                        ") are not supported in material files: use flat keys"));
+    }
 }
 
 }  // namespace
 
-Material parse_material(const std::string& text, const std::string& name) {
-    const auto values = parse_flat_toml(text, name);
-    static const std::set<std::string> kKeys = {
-        "specular", "albedo",         "f0",   "sheen_color", "alpha", "report_f",
-        "report_r", "specular_scale", "name", "description"};
-    Material m;
-    for (const auto& [key, v] : values) {
-        const std::string where = str(name, ":", v.line, ": ", key, ": ");
-        if (!kKeys.count(key)) {
-            throw Error(str(where,
-                            "unknown key (expected one of specular, albedo, f0, "
-                            "sheen_color, alpha, report_f, report_r, specular_scale, "
-                            "name, description)"));
-        }
-        auto want_string = [&]() -> const std::string& {
-            if (!v.is_string) throw Error(str(where, "expected a string"));
-            return v.text;
-        };
-        auto number = [&](double lo, double hi, bool lo_open) {
-            if (v.is_string || v.is_array) throw Error(str(where, "expected a number"));
-            const double d = v.numbers[0];
-            if (d < lo || d > hi || (lo_open && d == lo)) {
-                throw Error(
-                    str(where, d, " out of range ", lo_open ? "(" : "[", lo, ", ", hi, "]"));
-            }
-            return d;
-        };
-        auto rgb = [&]() {
-            if (v.is_string) throw Error(str(where, "expected [r, g, b] or a number"));
-            if (v.is_array && v.numbers.size() != 3) {
-                throw Error(str(where, "expected 3 numbers [r, g, b], got ", v.numbers.size()));
-            }
-            Eigen::Vector3d c = v.is_array
-                                    ? Eigen::Vector3d(v.numbers[0], v.numbers[1], v.numbers[2])
-                                    : Eigen::Vector3d::Constant(v.numbers[0]);
-            if (c.minCoeff() < 0 || c.maxCoeff() > 1) {
-                throw Error(str(where, "each channel must lie in [0, 1]"));
-            }
-            return c;
-        };
-        if (key == "specular") {
-            try {
-                m.specular = model_from_string(want_string());
-            } catch (const UsageError& e) {
-                throw Error(str(where, e.what()));
-            }
-        } else if (key == "albedo") {
-            m.albedo = rgb();
-        } else if (key == "f0") {
-            m.f0 = rgb();
-        } else if (key == "sheen_color") {
-            m.sheen_color = rgb();
-        } else if (key == "alpha") {
-            m.alpha = number(0, 1, false);
-        } else if (key == "report_f") {
-            m.report_f = number(0, 1, false);
-        } else if (key == "report_r") {
-            m.report_r = number(0, 100, true);
-        } else if (key == "specular_scale") {
-            m.specular_scale = number(0, 1e6, false);
-        } else {
-            want_string();  // name, description: documentation only
+void read_material_keys(const toml::Reader& r, Material& m) {
+    if (r.has("specular")) {
+        try {
+            m.specular = model_from_string(r.get_string("specular", ""));
+        } catch (const Error& e) {  // rethrown as Error: a bad file is a runtime error (exit 1)
+            throw Error(str(r.where("specular"), e.what()));
         }
     }
+    auto colour = [&r](const std::string& key, Eigen::Vector3d& c) {
+        c = r.get_vector(key, 3, c, /*allow_scalar=*/true);
+        for (int i = 0; i < 3; ++i) r.check_range(key, c[i], 0, 1);
+    };
+    colour("albedo", m.albedo);
+    colour("f0", m.f0);
+    colour("sheen_color", m.sheen_color);
+    m.alpha = r.get_double("alpha", m.alpha);
+    r.check_range("alpha", m.alpha, 0, 1);
+    m.report_f = r.get_double("report_f", m.report_f);
+    r.check_range("report_f", m.report_f, 0, 1);
+    m.report_r = r.get_double("report_r", m.report_r);
+    if (!(m.report_r > 0)) throw Error(str(r.where("report_r"), m.report_r, " is not > 0"));
+    r.check_range("report_r", m.report_r, 0, 100);
+    m.specular_scale = r.get_double("specular_scale", m.specular_scale);
+    r.check_range("specular_scale", m.specular_scale, 0, 1e6);
+}
+
+Material parse_material(const std::string& text, const std::string& name) {
+    const toml::Document doc = toml::parse(text, name);
+    reject_tables(doc);
+    const toml::Reader r(doc, doc.root);
+    Material m;
+    read_material_keys(r, m);
+    r.get_string("name", "");  // name, description: documentation only
+    r.get_string("description", "");
+    r.finish();
     return m;
 }
 

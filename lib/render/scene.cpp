@@ -6,8 +6,8 @@
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/toml.h"
 #include "render/mesh.h"
-#include "render/toml_lite.h"
 
 namespace inlight::render {
 namespace {
@@ -106,28 +106,7 @@ void parse_materials(const toml::Document& doc, SceneDesc& scene, const std::str
                 throw Error(str(r.where("file"), e.what()));
             }
         }
-        if (r.has("specular")) {
-            try {
-                m.brdf.specular = brdf::model_from_string(r.get_string("specular", ""));
-            } catch (const Error& e) {
-                throw Error(str(r.where("specular"), e.what()));
-            }
-        }
-        auto colour = [&r](const std::string& key, Eigen::Vector3d& v) {
-            v = vec3(r, key, v, true);
-            for (int c = 0; c < 3; ++c) r.check_range(key, v[c], 0, 1);
-        };
-        colour("albedo", m.brdf.albedo);
-        colour("f0", m.brdf.f0);
-        colour("sheen_color", m.brdf.sheen_color);
-        m.brdf.alpha = r.get_double("alpha", m.brdf.alpha);
-        r.check_range("alpha", m.brdf.alpha, 0, 1);
-        m.brdf.report_f = r.get_double("report_f", m.brdf.report_f);
-        r.check_range("report_f", m.brdf.report_f, 0, 1);
-        m.brdf.report_r = r.get_double("report_r", m.brdf.report_r);
-        r.check_range("report_r", m.brdf.report_r, 0, 1e3);
-        m.brdf.specular_scale = r.get_double("specular_scale", m.brdf.specular_scale);
-        r.check_range("specular_scale", m.brdf.specular_scale, 0, 1e6);
+        brdf::read_material_keys(r, m.brdf);  // the keys of a material file, inline
         m.albedo_texture_path = resolve(base, r.get_string("albedo_texture", ""));
         m.normal_texture_path = resolve(base, r.get_string("normal_texture", ""));
         m.roughness_texture_path = resolve(base, r.get_string("roughness_texture", ""));

@@ -8,8 +8,9 @@
 //   [camera]       projection = "orthographic" | "perspective", position, look_at, up,
 //                  fov_deg (vertical, perspective), ortho_height (world units), width_px, height_px
 //   [material.<name>]  file = "denim.toml" (a brdf-sh-bake material, brdf::load_material), then
-//                  any of its keys inline to override: specular, albedo, f0, alpha, report_f,
-//                  report_r, sheen_color, specular_scale; and albedo_texture, normal_texture,
+//                  any of its keys inline to override (brdf::read_material_keys: same keys and
+//                  ranges): specular, albedo, f0, alpha, report_f, report_r, sheen_color,
+//                  specular_scale; and albedo_texture, normal_texture,
 //                  roughness_texture, uv_scale = [su, sv] (render/material.h)
 //   [[object]]     shape = "patch" | "sphere" | "mesh", material = "<name>", name = "...";
 //                  patch: size = [w, h], center = [x, y, z] (in the plane z = center.z, facing +z)

@@ -1,5 +1,5 @@
-// Tests of scene files (TOML subset, every error naming file, line, table and key) and mesh
-// readers (OBJ, PLY ascii and binary).
+// Tests of scene files (every error naming file, line, table and key) and mesh readers (OBJ, PLY
+// ascii and binary). The TOML reader itself is tested in lib/core/toml_test.cpp.
 #include "render/scene.h"
 
 #include <gtest/gtest.h>
@@ -9,7 +9,6 @@
 
 #include "core/error.h"
 #include "render/mesh.h"
-#include "render/toml_lite.h"
 #include "testing/testing.h"
 
 namespace inlight::render {
@@ -92,6 +91,8 @@ TEST(SceneFile, ErrorsNameFileLineTableAndKey) {
                  "bad.toml:9: [camera] fov_deg: 200 is outside");
     expect_error(replace(kScene, "alpha = 0.4", "alpha = [0.4]"),
                  "bad.toml:16: [material.denim] alpha: expected a number, got an array");
+    expect_error(replace(kScene, "alpha = 0.4", "alpha = 0.4\nreport_r = 0"),
+                 "bad.toml:17: [material.denim] report_r: 0 is not > 0");
     expect_error(replace(kScene, "albedo = [0.1, 0.2, 0.5]", "albedo = [0.1, 0.2]"),
                  "bad.toml:15: [material.denim] albedo: expected an array of 3 numbers");
     expect_error(replace(kScene, "specular = \"ggx\"", "specular = \"phong\""),
@@ -129,22 +130,6 @@ TEST(SceneFile, MissingFilesAreNamed) {
         EXPECT_NE(std::string(e.what()).find("/no/such/dir/nowhere.exr"), std::string::npos)
             << e.what();
     }
-}
-
-TEST(Toml, ValuesAndArrays) {
-    const toml::Document doc = toml::parse(
-        "[a]\ns = \"x\\\"y\" # comment\nl = 'C:\\path'\ni = -3\nf = 1e-3\nb = true\n"
-        "v = [1, 2.5,\n  3]  # multi-line\n[[arr]]\nk = 1\n[[arr]]\nk = 2\n",
-        "t.toml");
-    const toml::Table& a = doc.tables.at("a");
-    EXPECT_EQ(std::get<std::string>(a.values.at("s").data), "x\"y");
-    EXPECT_EQ(std::get<std::string>(a.values.at("l").data), "C:\\path");
-    EXPECT_TRUE(a.values.at("i").is_integer);
-    EXPECT_DOUBLE_EQ(std::get<double>(a.values.at("f").data), 1e-3);
-    EXPECT_TRUE(std::get<bool>(a.values.at("b").data));
-    EXPECT_EQ(std::get<toml::Array>(a.values.at("v").data).size(), 3u);
-    EXPECT_EQ(doc.table_arrays.at("arr").size(), 2u);
-    EXPECT_EQ(doc.table_arrays.at("arr")[1].line, 11);
 }
 
 TEST(Mesh, ObjPolygonsNegativeIndicesAndUvFlip) {
@@ -202,41 +187,6 @@ TEST(Mesh, PlyAsciiAndBinaryAgree) {
     EXPECT_EQ(a.uvs[2], Eigen::Vector2d(1, 0));
     EXPECT_THROW(load_mesh(dir + "/missing.ply"), Error);
     EXPECT_THROW(load_mesh(dir + "/a.stl"), Error);
-}
-
-}  // namespace
-}  // namespace inlight::render
-
-namespace inlight::render {
-namespace {
-
-TEST(Toml, MalformedInputsThrowWithLineNumbers) {
-    const char* const bad[] = {"[",
-                               "[[a]",
-                               "[a.]",
-                               "a = [",
-                               "a = \"x",
-                               "a =",
-                               "a = 'x",
-                               "a = [1,,2]",
-                               "a = {b=1}",
-                               "a = 1.2.3",
-                               "= 1",
-                               "a.b = 1",
-                               "a = 1\na = 2",
-                               "[a]\n[[a]]",
-                               "a = \"\"\"x\"\"\"",
-                               "a = \"\\q\"",
-                               "a = [1 2]",
-                               "a = 1 # ok\nb = tru"};
-    for (const char* text : bad) {
-        try {
-            toml::parse(text, "f.toml");
-            ADD_FAILURE() << "no error for: " << text;
-        } catch (const Error& e) {
-            EXPECT_EQ(std::string(e.what()).rfind("f.toml:", 0), 0u) << e.what();
-        }
-    }
 }
 
 }  // namespace

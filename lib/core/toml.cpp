@@ -1,4 +1,4 @@
-#include "render/toml_lite.h"
+#include "core/toml.h"
 
 #include <algorithm>
 #include <cctype>
@@ -8,7 +8,7 @@
 #include "core/error.h"
 #include "core/fs.h"
 
-namespace inlight::render::toml {
+namespace inlight::toml {
 namespace {
 
 /// A cursor over the whole text that tracks the line number.
@@ -33,8 +33,10 @@ class Parser {
     }
 
   private:
+    /// Throws "<source>:<line>: <what>", or "<source>:<line>: [<table>] <key>: <what>" while a
+    /// value is being read.
     [[noreturn]] void fail(const std::string& what, int line = 0) const {
-        throw Error(str(m_source, ":", line > 0 ? line : m_line, ": ", what));
+        throw Error(str(m_source, ":", line > 0 ? line : m_line, ": ", m_key_context, what));
     }
     bool at_end() const { return m_pos >= m_s.size(); }
     char peek() const { return at_end() ? '\0' : m_s[m_pos]; }
@@ -132,9 +134,11 @@ class Parser {
         if (peek() != '=') fail(str("expected '=' after key '", k, "'"));
         get();
         skip_space();
+        m_key_context = str(table.name.empty() ? "" : str("[", table.name, "] "), k, ": ");
         Value v = value();
+        m_key_context.clear();
         v.line = line;
-        if (table.values.count(k)) fail(str("duplicate key '", k, "'"));
+        if (table.values.count(k)) fail(str("duplicate key '", k, "'"), line);
         table.values.emplace(k, std::move(v));
         end_of_line();
     }
@@ -244,6 +248,7 @@ class Parser {
 
     const std::string& m_s;
     std::string m_source;
+    std::string m_key_context;  ///< "[table] key: " while a value is read, else ""
     size_t m_pos = 0;
     int m_line = 1;
 };
@@ -371,4 +376,4 @@ void Reader::finish() const {
     }
 }
 
-}  // namespace inlight::render::toml
+}  // namespace inlight::toml
