@@ -356,6 +356,10 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     double worst = 0;
     for (const ViewError& e : cal.views) worst = std::max(worst, e.rms_px);
     m["worst_view_rms_px"] = worst;
+    nlohmann::json per_view = nlohmann::json::object();
+    for (const ViewError& e : cal.views) per_view[e.name] = e.rms_px;
+    m["view_rms_px"] = per_view;
+    m["dropped_views"] = jd;
     m["views_used"] = cal.views.size();
     m["views_dropped"] = dropped.size();
     m["intrinsics"] = intr;
