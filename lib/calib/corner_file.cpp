@@ -1,5 +1,6 @@
 #include "calib/corner_file.h"
 
+#include <filesystem>
 #include <opencv2/core.hpp>
 
 #include "core/error.h"
@@ -25,6 +26,8 @@ void flatten(const cv::FileNode& node, std::vector<double>& out) {
 }
 
 cv::FileStorage open_read(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw Error(str(path, ": no such file"));
     cv::FileStorage fs;
     try {
         fs.open(path, cv::FileStorage::READ);

@@ -81,6 +81,97 @@ double largest_theta(const DirectionMaps& maps, const Eigen::Vector3d& axis) {
     return t;
 }
 
+/// Everything calibration.json states (see docs/calibrate.md for the contract).
+nlohmann::json calibration_json(
+    const GeometryOptions& o, const CalibrateOptions& co, const BoardSpec& board,
+    const Calibration& cal, const std::vector<DroppedView>& dropped, int width, int height,
+    int passes, const ImageCircle& circle, const std::string& circle_source,
+    const Eigen::Matrix3d& device_from_camera, double fov_theta, const DirectionMaps& full,
+    const std::vector<Eigen::Vector2i>& sizes, const std::vector<DirectionMaps>& small) {
+    const bool from_images = !o.inputs.empty();
+    const CameraModel& cam = cal.camera;
+    nlohmann::json j;
+    j["format"] = "inlight_calibration";
+    j["version"] = 1;
+    j["model"] = to_string(cam.type);
+    j["image_width"] = width;
+    j["image_height"] = height;
+    j["pixel_convention"] =
+        "opencv: the centre of the top-left pixel is (0, 0); add 0.5 for "
+        "inlight's convention";
+    nlohmann::json intr = nlohmann::json::object(), sd = nlohmann::json::object();
+    nlohmann::json fixed = nlohmann::json::array();
+    const Eigen::VectorXd params = cam.parameters();
+    for (size_t i = 0; i < cal.parameter_names.size(); ++i) {
+        const std::string& n = cal.parameter_names[i];
+        intr[n] = params[static_cast<int>(i)];
+        if (cal.fixed[i] && !(n == "fx" && co.fix_aspect_ratio)) {
+            sd[n] = nullptr;
+            fixed.push_back(n);
+        } else {
+            sd[n] = cal.std_dev[static_cast<int>(i)];
+        }
+    }
+    j["intrinsics"] = intr;
+    j["intrinsics_std"] = sd;
+    j["fixed_parameters"] = fixed;
+    Eigen::Matrix3d k;
+    k << cam.fx, cam.skew, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
+    j["camera_matrix"] = matrix_json(k);
+    j["distortion_coefficients"] = cam.distortion;
+    j["reproj_rms_px"] = cal.rms_px;
+    nlohmann::json jv = nlohmann::json::array();
+    for (const ViewError& e : cal.views) {
+        jv.push_back({{"file", e.name},
+                      {"points", e.points},
+                      {"reproj_rms_px", e.rms_px},
+                      {"max_error_px", e.max_error_px},
+                      {"rvec", {e.rvec.x(), e.rvec.y(), e.rvec.z()}},
+                      {"tvec_m", {e.tvec.x(), e.tvec.y(), e.tvec.z()}}});
+    }
+    j["views"] = jv;
+    nlohmann::json jd = nlohmann::json::array();
+    for (const DroppedView& d : dropped) jd.push_back({{"file", d.name}, {"reason", d.reason}});
+    j["dropped_views"] = jd;
+    j["views_used"] = cal.views.size();
+    j["views_dropped"] = dropped.size();
+    j["solver"] = cal.solver;
+    j["detector"] = from_images ? o.detector : "corner_file";
+    j["refine_iterations"] = passes;
+    j["board"] = o.board.empty() ? nlohmann::json(nullptr)
+                                 : nlohmann::json{{"cols", board.cols},
+                                                  {"rows", board.rows},
+                                                  {"square_size_m", board.square_size_m}};
+    j["max_observed_theta_deg"] = cal.max_observed_theta * kDeg;
+    j["model_limit_theta_deg"] = cam.max_theta() * kDeg;
+    j["mask_max_theta_deg"] = full.max_theta * kDeg;
+    j["fov_deg"] = 2 * fov_theta * kDeg;
+    j["image_circle"] = {{"cx_px", circle.cx},
+                         {"cy_px", circle.cy},
+                         {"radius_px", circle.radius_px},
+                         {"source", circle_source}};
+    j["device_from_camera"] = matrix_json(device_from_camera);
+    j["covered_solid_angle_sr"] = full.covered_solid_angle_sr;
+    j["files"] = {
+        {"directions", "directions.exr"}, {"solid_angle", "solid_angle.exr"}, {"mask", "mask.png"}};
+    nlohmann::json maps = nlohmann::json::array();
+    maps.push_back({{"dir", "."},
+                    {"width", width},
+                    {"height", height},
+                    {"valid_pixels", full.valid_pixels},
+                    {"covered_solid_angle_sr", full.covered_solid_angle_sr}});
+    for (size_t i = 0; i < sizes.size(); ++i) {
+        maps.push_back({{"dir", str(sizes[i].x(), "x", sizes[i].y())},
+                        {"width", sizes[i].x()},
+                        {"height", sizes[i].y()},
+                        {"valid_pixels", small[i].valid_pixels},
+                        {"covered_solid_angle_sr", small[i].covered_solid_angle_sr}});
+    }
+    j["maps"] = maps;
+
+    return j;
+}
+
 }  // namespace
 
 nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
@@ -160,6 +251,12 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
             }
             views = std::move(cs.views);
             inputs = views.size();
+        }
+    }
+    for (const Eigen::Vector2i& s : sizes) {  // before any long work
+        if (s.x() > width || s.y() > height) {
+            throw UsageError(str("--downscale ", s.x(), "x", s.y(), " exceeds the image size ",
+                                 width, "x", height));
         }
     }
     if (views.empty()) {
@@ -245,84 +342,9 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     }
 
     // 4. calibration.json.
-    nlohmann::json j;
-    j["format"] = "inlight_calibration";
-    j["version"] = 1;
-    j["model"] = to_string(cam.type);
-    j["image_width"] = width;
-    j["image_height"] = height;
-    j["pixel_convention"] =
-        "opencv: the centre of the top-left pixel is (0, 0); add 0.5 for "
-        "inlight's convention";
-    nlohmann::json intr = nlohmann::json::object(), sd = nlohmann::json::object();
-    nlohmann::json fixed = nlohmann::json::array();
-    const Eigen::VectorXd params = cam.parameters();
-    for (size_t i = 0; i < cal.parameter_names.size(); ++i) {
-        const std::string& n = cal.parameter_names[i];
-        intr[n] = params[static_cast<int>(i)];
-        if (cal.fixed[i] && !(n == "fx" && co.fix_aspect_ratio)) {
-            sd[n] = nullptr;
-            fixed.push_back(n);
-        } else {
-            sd[n] = cal.std_dev[static_cast<int>(i)];
-        }
-    }
-    j["intrinsics"] = intr;
-    j["intrinsics_std"] = sd;
-    j["fixed_parameters"] = fixed;
-    Eigen::Matrix3d k;
-    k << cam.fx, cam.skew, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
-    j["camera_matrix"] = matrix_json(k);
-    j["distortion_coefficients"] = cam.distortion;
-    j["reproj_rms_px"] = cal.rms_px;
-    nlohmann::json jv = nlohmann::json::array();
-    for (const ViewError& e : cal.views) {
-        jv.push_back({{"file", e.name},
-                      {"points", e.points},
-                      {"reproj_rms_px", e.rms_px},
-                      {"max_error_px", e.max_error_px},
-                      {"rvec", {e.rvec.x(), e.rvec.y(), e.rvec.z()}},
-                      {"tvec_m", {e.tvec.x(), e.tvec.y(), e.tvec.z()}}});
-    }
-    j["views"] = jv;
-    nlohmann::json jd = nlohmann::json::array();
-    for (const DroppedView& d : dropped) jd.push_back({{"file", d.name}, {"reason", d.reason}});
-    j["dropped_views"] = jd;
-    j["views_used"] = cal.views.size();
-    j["views_dropped"] = dropped.size();
-    j["solver"] = cal.solver;
-    j["detector"] = from_images ? o.detector : "corner_file";
-    j["refine_iterations"] = passes;
-    j["board"] = o.board.empty() ? nlohmann::json(nullptr)
-                                 : nlohmann::json{{"cols", board.cols},
-                                                  {"rows", board.rows},
-                                                  {"square_size_m", board.square_size_m}};
-    j["max_observed_theta_deg"] = cal.max_observed_theta * kDeg;
-    j["model_limit_theta_deg"] = cam.max_theta() * kDeg;
-    j["mask_max_theta_deg"] = full.max_theta * kDeg;
-    j["fov_deg"] = 2 * fov_theta * kDeg;
-    j["image_circle"] = {{"cx_px", circle.cx},
-                         {"cy_px", circle.cy},
-                         {"radius_px", circle.radius_px},
-                         {"source", circle_source}};
-    j["device_from_camera"] = matrix_json(device_from_camera);
-    j["covered_solid_angle_sr"] = full.covered_solid_angle_sr;
-    j["files"] = {
-        {"directions", "directions.exr"}, {"solid_angle", "solid_angle.exr"}, {"mask", "mask.png"}};
-    nlohmann::json maps = nlohmann::json::array();
-    maps.push_back({{"dir", "."},
-                    {"width", width},
-                    {"height", height},
-                    {"valid_pixels", full.valid_pixels},
-                    {"covered_solid_angle_sr", full.covered_solid_angle_sr}});
-    for (size_t i = 0; i < sizes.size(); ++i) {
-        maps.push_back({{"dir", str(sizes[i].x(), "x", sizes[i].y())},
-                        {"width", sizes[i].x()},
-                        {"height", sizes[i].y()},
-                        {"valid_pixels", small[i].valid_pixels},
-                        {"covered_solid_angle_sr", small[i].covered_solid_angle_sr}});
-    }
-    j["maps"] = maps;
+    const nlohmann::json j =
+        calibration_json(o, co, board, cal, dropped, width, height, passes, circle, circle_source,
+                         device_from_camera, fov_theta, full, sizes, small);
 
     // 5. Files.
     {
@@ -359,11 +381,11 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     nlohmann::json per_view = nlohmann::json::object();
     for (const ViewError& e : cal.views) per_view[e.name] = e.rms_px;
     m["view_rms_px"] = per_view;
-    m["dropped_views"] = jd;
+    m["dropped_views"] = j["dropped_views"];
     m["views_used"] = cal.views.size();
     m["views_dropped"] = dropped.size();
-    m["intrinsics"] = intr;
-    m["intrinsics_std"] = sd;
+    m["intrinsics"] = j["intrinsics"];
+    m["intrinsics_std"] = j["intrinsics_std"];
     m["fov_deg"] = 2 * fov_theta * kDeg;
     m["max_observed_theta_deg"] = cal.max_observed_theta * kDeg;
     m["covered_solid_angle_sr"] = full.covered_solid_angle_sr;
