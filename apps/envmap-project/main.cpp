@@ -21,7 +21,7 @@ struct Args {
     std::string output, input_kind = "latlong", rotate = "none", nonfinite = "reject";
     std::string window = "none", partial = "fit", directions, solid_angle, response;
     int sh_bands = 3, validate_normals = 128, saturation_code = 255;
-    double intensity = 1.0, fit_lambda = 1e-4, max_mean_rel_error = -1, exposure_s = 0;
+    double intensity = 1.0, fit_lambda = -1, max_mean_rel_error = -1, exposure_s = 0;
     bool validate = false;
 };
 
@@ -102,9 +102,10 @@ nlohmann::json process(const Args& a, const std::string& input, Report& report) 
                     {"regularised_condition", result.fit.regularised_condition},
                     {"weighted_residual_rms", result.fit.weighted_residual_rms},
                     {"observed_solid_angle_sr", result.fit.observed_solid_angle_sr},
-                    {"lambda", a.fit_lambda}};
+                    {"lambda", result.fit.lambda}, {"lambda_auto", result.fit_lambda_auto},
+                    {"irradiance_plausible", result.fit_plausible}};
         log::info(str(input, ": least-squares fit over ", result.fit.observed_solid_angle_sr,
-                      " sr, Gram condition ", result.fit.gram_condition));
+                      " sr, Gram condition ", result.fit.gram_condition, ", lambda ", result.fit.lambda));
     }
     if (a.validate) {
         ScopedStage stage(report, "validate " + input);
@@ -167,7 +168,8 @@ int main(int argc, char** argv) {
                    "directions, or projection with the unseen part black")
         ->check(CLI::IsMember({"fit", "zero-fill"}))->capture_default_str();
     cli.add_option("--fit-lambda", a.fit_lambda, "Smoothness regulariser of the fit, relative to "
-                   "the Gram matrix's largest eigenvalue")->check(CLI::NonNegativeNumber)->capture_default_str();
+                   "the Gram matrix's largest eigenvalue; -1 = the smallest whose irradiance "
+                   "non-negative light could produce")->check(CLI::Range(-1.0, 1e6))->capture_default_str();
     cli.add_option("--directions", a.directions, "Fisheye: directions.exr from calibrate (unit "
                    "vectors, device frame)")->check(CLI::ExistingFile);
     cli.add_option("--solid-angle", a.solid_angle, "Fisheye: solid_angle.exr from calibrate (sr "

@@ -209,15 +209,10 @@ TEST(Layouts, ConstantCubeAndAngularSolidAngles) {
     EXPECT_NEAR(a.covered_solid_angle_sr, 4 * kPi, 1e-3 * 4 * kPi);
 }
 
-TEST(Partial, FisheyeFitBeatsZeroFillOnAFrameCutFromAKnownEnvironment) {
-    // Synthetic equidistant fisheye, 165 degree field of view, looking along +z, cut from a
-    // smooth band-limited environment; direction and solid-angle maps as calibrate writes them.
-    const int n = 200;
-    const double theta_max = 82.5 * kPi / 180, f = (n / 2.0) / theta_max;
-    auto env_fn = [](const Eigen::Vector3d& d) {
-        const double v = 1.0 + 0.6 * d.x() + 0.3 * d.z() - 0.2 * d.y() + 0.25 * d.x() * d.z();
-        return Eigen::Vector3d(v, 0.8 * v, 0.6 * v);
-    };
+// A synthetic equidistant fisheye frame looking along +z with field of view 2 theta_max, cut
+// from env_fn, with direction and solid-angle maps as calibrate writes them.
+Environment fisheye_frame(int n, double theta_max, const Fn& env_fn) {
+    const double f = (n / 2.0) / theta_max;
     Environment fe;
     fe.layout = Layout::kFisheye;
     fe.source = "synthetic-fisheye";
@@ -227,18 +222,30 @@ TEST(Partial, FisheyeFitBeatsZeroFillOnAFrameCutFromAKnownEnvironment) {
     for (int y = 0; y < n; ++y) {
         for (int x = 0; x < n; ++x) {
             const double dx = x + 0.5 - n / 2.0, dy = n / 2.0 - (y + 0.5);
-            const double r = std::hypot(dx, dy), theta = r / f;
+            const double theta = std::hypot(dx, dy) / f;
             if (theta > theta_max) continue;
             const double psi = std::atan2(dy, dx);
-            const Eigen::Vector3d d(std::sin(theta) * std::cos(psi), std::sin(theta) * std::sin(psi),
-                                    std::cos(theta));
+            const Eigen::Vector3d d(std::sin(theta) * std::cos(psi),
+                                    std::sin(theta) * std::sin(psi), std::cos(theta));
             for (int c = 0; c < 3; ++c) {
                 fe.directions.at(x, y, c) = float(d[c]);
                 fe.radiance.at(x, y, c) = float(env_fn(d)[c]);
             }
-            fe.solid_angle.at(x, y, 0) = float(theta > 0 ? std::sin(theta) / (f * f * theta) : 1 / (f * f));
+            fe.solid_angle.at(x, y, 0) = float(std::sin(theta) / (f * f * theta));
         }
     }
+    return fe;
+}
+
+TEST(Partial, FisheyeFitBeatsZeroFillOnAFrameCutFromAKnownEnvironment) {
+    // Synthetic equidistant fisheye, 165 degree field of view, looking along +z, cut from a
+    // smooth band-limited environment; direction and solid-angle maps as calibrate writes them.
+    const double theta_max = 82.5 * kPi / 180;
+    auto env_fn = [](const Eigen::Vector3d& d) {
+        const double v = 1.0 + 0.6 * d.x() + 0.3 * d.z() - 0.2 * d.y() + 0.25 * d.x() * d.z();
+        return Eigen::Vector3d(v, 0.8 * v, 0.6 * v);
+    };
+    const Environment fe = fisheye_frame(200, theta_max, env_fn);
     check_layout(fe);
     ProjectOptions fit_opt;
     fit_opt.sh_bands = 3;
@@ -263,6 +270,37 @@ TEST(Partial, FisheyeFitBeatsZeroFillOnAFrameCutFromAKnownEnvironment) {
     // the light from behind the 165-degree cone, well over 10% for these normals.
     EXPECT_LT(fit_err.max_rel, 1e-2);
     EXPECT_GT(zero_err.mean_rel, 0.1);
+}
+
+TEST(Partial, AutomaticLambdaKeepsExactFitsAndTamesWildOnes) {
+    // A smooth band-limited positive environment: the unregularised fit is already plausible,
+    // so the rule picks lambda = 0 and keeps the exact recovery.
+    auto smooth_fn = [](const Eigen::Vector3d& d) {
+        const double v = 1.0 + 0.6 * d.x() + 0.3 * d.z() - 0.2 * d.y();
+        return Eigen::Vector3d(v, v, v);
+    };
+    ProjectOptions opt;
+    opt.sh_bands = 3;
+    const ProjectResult smooth = project(fisheye_frame(160, kPi / 2, smooth_fn), opt);
+    EXPECT_TRUE(smooth.fit_lambda_auto);
+    EXPECT_EQ(smooth.fit.lambda, 0.0);
+    EXPECT_TRUE(smooth.fit_plausible);
+    // A lamp near the edge of a hemispherical view: the unregularised fit extrapolates into
+    // the unseen hemisphere with irradiance no non-negative light can give; the rule raises
+    // lambda until it can, and says so.
+    auto lamp_fn = [](const Eigen::Vector3d& d) {
+        const double lamp = d.dot(Eigen::Vector3d(0.9, 0, 0.436).normalized()) > 0.99 ? 200.0 : 0.0;
+        return Eigen::Vector3d::Constant(0.2 + lamp);
+    };
+    const Environment lamp = fisheye_frame(160, kPi / 2, lamp_fn);
+    ProjectOptions raw = opt;
+    raw.fit_lambda = 0;
+    EXPECT_FALSE(irradiance_is_plausible(project(lamp, raw).coeffs, 3));
+    const ProjectResult tamed = project(lamp, opt);
+    EXPECT_GT(tamed.fit.lambda, 0.0);
+    EXPECT_TRUE(tamed.fit_plausible);
+    EXPECT_TRUE(irradiance_is_plausible(tamed.coeffs, 3));
+    std::printf("lamp at the edge of a 180-degree view: automatic lambda %.0e\n", tamed.fit.lambda);
 }
 
 TEST(Input, NonFinitePixelsRejectedWithPositionOrReplacedAndCounted) {

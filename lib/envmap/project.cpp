@@ -7,7 +7,9 @@
 #include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "core/parallel.h"
+#include "envmap/validate.h"
 #include "sh/quadrature.h"
 #include "sh/rotation.h"
 
@@ -99,6 +101,44 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
         [](Acc a, const Acc& b) { return Acc(a + b); });
 }
 
+namespace {
+
+// min over t in [-1, 1] of sum_{l < bands} A_l (2l+1)/(4 pi) P_l(t): the band-limited clamped
+// cosine's most negative value (0.25 for 1 band, -0.0396 for 3 bands), on a fine grid.
+double kernel_min(int bands) {
+    double lowest = INFINITY;
+    for (int i = 0; i <= 4000; ++i) {
+        const double t = -1.0 + 2.0 * i / 4000;
+        double p0 = 1, p1 = t, k = 0;
+        for (int l = 0; l < bands; ++l) {
+            double pl = l == 0 ? 1.0 : t;
+            if (l >= 2) {
+                pl = ((2.0 * l - 1) * t * p1 - (l - 1.0) * p0) / l;
+                p0 = p1;
+                p1 = pl;
+            }
+            k += sh::cosine_zonal(l) * (2 * l + 1) / (4 * kPi) * pl;
+        }
+        lowest = std::min(lowest, k);
+    }
+    return lowest;
+}
+
+}  // namespace
+
+bool irradiance_is_plausible(const Eigen::MatrixXd& coeffs, int sh_bands) {
+    static const std::vector<Eigen::Vector3d> normals = validation_normals(1000);
+    const double kmin = kernel_min(sh_bands);
+    const Eigen::MatrixXd e = sh_irradiance(coeffs, sh_bands, normals);
+    for (int c = 0; c < coeffs.cols(); ++c) {
+        const double flux = 2.0 * std::sqrt(kPi) * coeffs(0, c);
+        if (!(flux > 0)) return false;
+        // 1e-9 of the flux absorbs rounding for lighting that sits exactly on the bound.
+        if (e.col(c).minCoeff() < (kmin - 1e-9) * flux) return false;
+    }
+    return true;
+}
+
 ProjectResult project(const Environment& env, const ProjectOptions& options) {
     if (options.sh_bands < 1 || options.sh_bands > sh::kMaxBands)
         throw UsageError(str("sh_bands must be in [1, ", sh::kMaxBands, "], got ", options.sh_bands));
@@ -130,9 +170,28 @@ ProjectResult project(const Environment& env, const ProjectOptions& options) {
             } ones(*samples);
             result.covered_solid_angle_sr = sh::project(1, ones)(0, 0) * 2.0 * std::sqrt(kPi);
         } else {
-            sh::FitOptions fit;
-            fit.lambda = options.fit_lambda;
-            result.fit = sh::fit_least_squares(options.sh_bands, *samples, fit);
+            std::vector<double> ladder = {options.fit_lambda};
+            if (options.fit_lambda < 0) {
+                ladder = {0.0};
+                for (double decade = 1e-6; decade < 20; decade *= 10)
+                    for (double f : {1.0, 2.0, 5.0}) ladder.push_back(f * decade);
+            }
+            const auto path = sh::fit_least_squares_path(options.sh_bands, *samples, ladder);
+            const sh::FitResult* chosen = nullptr;
+            for (const auto& r : path) {
+                if (r.coeffs.size() == 0) continue;
+                chosen = &r;
+                if (irradiance_is_plausible(r.coeffs, options.sh_bands)) break;
+            }
+            if (!chosen)
+                throw Error(str(env.source, ": the observed directions do not determine ",
+                                sh::count(options.sh_bands), " SH coefficients; use fewer bands"));
+            result.fit = *chosen;
+            result.fit_lambda_auto = options.fit_lambda < 0;
+            result.fit_plausible = irradiance_is_plausible(chosen->coeffs, options.sh_bands);
+            if (!result.fit_plausible)
+                log::warn(str(env.source, ": the SH fit (lambda ", chosen->lambda,
+                              ") has irradiance no non-negative lighting can produce"));
             result.coeffs = result.fit.coeffs;
             result.fitted = true;
             result.method = "least-squares";

@@ -26,7 +26,12 @@ struct ProjectOptions {
     int sh_bands = 3;                       ///< max l + 1, 1..sh::kMaxBands
     sh::Window window = sh::Window::kNone;  ///< optional band-limiting window (off by default)
     PartialMethod partial = PartialMethod::kFit;
-    double fit_lambda = 1e-4;               ///< see sh::FitOptions::lambda
+    /// Regularisation of the fit (see sh::FitOptions::lambda); negative = automatic: the
+    /// smallest weight on a fixed ladder (0, 1e-6 ... 10) whose fitted lighting is physically
+    /// possible, i.e. has irradiance E(n) >= min_t k(t) * flux for every normal, where k is the
+    /// band-limited clamped-cosine kernel and flux = 2 sqrt(pi) L_00 > 0 (any non-negative
+    /// radiance satisfies this; a wild extrapolation into the unseen directions does not).
+    double fit_lambda = -1;
 };
 
 struct ProjectResult {
@@ -35,8 +40,15 @@ struct ProjectResult {
     std::string method;              ///< "latlong-separable", "quadrature", "least-squares", "zero-fill"
     double covered_solid_angle_sr = 0;
     bool fitted = false;
-    sh::FitResult fit;               ///< when fitted (conditioning, residual)
+    sh::FitResult fit;               ///< when fitted (conditioning, residual, lambda used)
+    bool fit_lambda_auto = false;    ///< lambda chosen by the rule above
+    bool fit_plausible = true;       ///< the chosen fit meets the irradiance condition
 };
+
+/// True when every channel of `coeffs` (count(sh_bands) x channels) has L_00 > 0 and irradiance
+/// at least min_t k(t) * 2 sqrt(pi) L_00 at 1000 Fibonacci normals: a necessary condition for
+/// coefficients of non-negative radiance.
+bool irradiance_is_plausible(const Eigen::MatrixXd& coeffs, int sh_bands);
 
 /// Projects or fits `env` into SH. Deterministic for any thread count.
 ProjectResult project(const Environment& env, const ProjectOptions& options);

@@ -1,10 +1,9 @@
 #include "sh/fit.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 #include <vector>
-
-#include <Eigen/Eigenvalues>
 
 #include "core/check.h"
 #include "core/error.h"
@@ -41,7 +40,8 @@ Eigen::MatrixXd project(int sh_bands, const SampleSet& samples) {
         [](Acc a, const Acc& b) { return Acc(a + b); });
 }
 
-FitResult fit_least_squares(int sh_bands, const SampleSet& samples, const FitOptions& options) {
+std::vector<FitResult> fit_least_squares_path(int sh_bands, const SampleSet& samples,
+                                              const std::vector<double>& lambdas) {
     const int n = count(sh_bands);
     const int channels = samples.channels();
     struct Normal {
@@ -86,34 +86,50 @@ FitResult fit_least_squares(int sh_bands, const SampleSet& samples, const FitOpt
     const double ev_max = plain.eigenvalues().maxCoeff();
     const double ev_min = plain.eigenvalues().minCoeff();
 
-    FitResult result;
-    result.samples_used = normal.used;
-    result.observed_solid_angle_sr = normal.weight;
-    result.gram_condition = ev_min > 0 ? ev_max / ev_min : std::numeric_limits<double>::infinity();
+    FitResult base;
+    base.samples_used = normal.used;
+    base.observed_solid_angle_sr = normal.weight;
+    base.gram_condition = ev_min > 0 ? ev_max / ev_min : std::numeric_limits<double>::infinity();
 
-    Eigen::MatrixXd a = gram;
-    for (int l = 0; l < sh_bands; ++l) {
-        const double penalty = options.lambda * ev_max * double(l) * (l + 1) * double(l) * (l + 1);
-        for (int m = -l; m <= l; ++m) a(index(l, m), index(l, m)) += penalty;
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
-    const Eigen::VectorXd ev = eig.eigenvalues();
-    if (ev.minCoeff() <= ev.maxCoeff() * 1e-14) {
-        throw Error(str("SH least-squares fit: the observed directions do not determine ", n,
-                        " coefficients (eigenvalue ratio ", ev.minCoeff() / ev.maxCoeff(),
-                        "); use fewer bands or lambda > 0"));
-    }
-    result.regularised_condition = ev.maxCoeff() / ev.minCoeff();
-    const Eigen::MatrixXd& v = eig.eigenvectors();
-    result.coeffs = v * (ev.cwiseInverse().asDiagonal() * (v.transpose() * normal.rhs));
+    std::vector<FitResult> results;
+    for (const double lambda : lambdas) {
+        FitResult result = base;
+        result.lambda = lambda;
 
-    // Weighted residual from the normal equations: sum w (y.c - f)^2 = c'Gc - 2 c'b + sum w f^2.
-    double r2 = normal.ff;
-    for (int c = 0; c < channels; ++c) {
-        const Eigen::VectorXd col = result.coeffs.col(c);
-        r2 += col.dot(gram * col) - 2.0 * col.dot(normal.rhs.col(c));
+        Eigen::MatrixXd a = gram;
+        for (int l = 0; l < sh_bands; ++l) {
+            const double penalty = lambda * ev_max * double(l) * (l + 1) * double(l) * (l + 1);
+            for (int m = -l; m <= l; ++m) a(index(l, m), index(l, m)) += penalty;
+        }
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
+        const Eigen::VectorXd ev = eig.eigenvalues();
+        if (ev.minCoeff() <= ev.maxCoeff() * 1e-14) {
+            results.push_back(result);  // singular: coeffs left empty
+            continue;
+        }
+        result.regularised_condition = ev.maxCoeff() / ev.minCoeff();
+        const Eigen::MatrixXd& v = eig.eigenvectors();
+        result.coeffs = v * (ev.cwiseInverse().asDiagonal() * (v.transpose() * normal.rhs));
+
+        // Weighted residual from the normal equations: sum w (y.c - f)^2 = c'Gc - 2 c'b + sum w
+        // f^2.
+        double r2 = normal.ff;
+        for (int c = 0; c < channels; ++c) {
+            const Eigen::VectorXd col = result.coeffs.col(c);
+            r2 += col.dot(gram * col) - 2.0 * col.dot(normal.rhs.col(c));
+        }
+        result.weighted_residual_rms = std::sqrt(std::max(0.0, r2) / (normal.weight * channels));
+        results.push_back(result);
     }
-    result.weighted_residual_rms = std::sqrt(std::max(0.0, r2) / (normal.weight * channels));
+    return results;
+}
+
+FitResult fit_least_squares(int sh_bands, const SampleSet& samples, const FitOptions& options) {
+    FitResult result = fit_least_squares_path(sh_bands, samples, {options.lambda}).front();
+    if (result.coeffs.size() == 0) {
+        throw Error(str("SH least-squares fit: the observed directions do not determine ",
+                        count(sh_bands), " coefficients; use fewer bands or lambda > 0"));
+    }
     return result;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -43,7 +44,13 @@ struct FitResult {
     double regularised_condition = 0;  ///< the same after adding the penalty
     double weighted_residual_rms = 0;  ///< sqrt(sum w (Yc - f)^2 / sum w), mean over channels
     int64_t samples_used = 0;
+    double lambda = 0;                 ///< the regularisation weight used
 };
+
+/// The same fit for several regularisation weights from one pass over the samples (the normal
+/// equations are accumulated once). An entry whose system is singular has coeffs empty.
+std::vector<FitResult> fit_least_squares_path(int sh_bands, const SampleSet& samples,
+                                              const std::vector<double>& lambdas);
 
 /// Minimises sum_i w_i (Y(w_i)^T c - f_i)^2 + lambda' sum_k (l_k(l_k+1))^2 c_k^2 over the
 /// observed samples (normal equations solved by a symmetric eigen-decomposition, in double).
