@@ -74,5 +74,11 @@ jq -r '"  ground truth: \(.metrics.spp) spp, relative noise \(.metrics.rel_error
        "  seed mode (the report'"'"'s shader): mean rel error \(.metrics.realtime.modes.seed.mean_rel * 1e4 | round / 1e4), mean dE2000 \(.metrics.realtime.modes.seed.mean_de2000 * 100 | round / 100)",
        "  side by side: '"$OUT"'/render/patch_city_compare_consistent.png"' "$OUT/render/patch_city_report.json"
 
+# 4. Camera to lighting on real photographs (when ../shared/data is present).
+if [ -d "$SHARED/data/fisheye-ros-mono" ]; then
+    echo
+    INLIGHT_BIN="$BIN" INLIGHT_SHARED_DIR="$SHARED" "$HERE/calibrate_ros.sh" "$OUT/calibrate_ros"
+fi
+
 echo
 echo "demo: outputs and reports in $OUT/"
