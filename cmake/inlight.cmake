@@ -61,3 +61,34 @@ function(inlight_add_bench name)
     target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark inlight_warnings)
     set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/bench)
 endfunction()
+
+# inlight_add_subdirectories(): add_subdirectory() every child folder that has a CMakeLists.txt,
+# in sorted order (lib/, apps/ and tests/ pick up new modules, tools and test folders this way).
+function(inlight_add_subdirectories)
+    file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} *)
+    list(SORT children)
+    foreach(child ${children})
+        if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${child}
+           AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${child}/CMakeLists.txt)
+            add_subdirectory(${child})
+        endif()
+    endforeach()
+endfunction()
+
+# inlight_add_cli_tests(prefix): every *_test.sh beside the calling CMakeLists.txt becomes the
+# ctest test <prefix>.<script>, labelled "cli" (and "slow" when its name says so), run with bash
+# and the test environment (INLIGHT_BIN, INLIGHT_SHARED_DIR, INLIGHT_TEST_BIN, ...).
+function(inlight_add_cli_tests prefix)
+    file(GLOB scripts CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*_test.sh)
+    foreach(script ${scripts})
+        get_filename_component(name ${script} NAME_WE)
+        set(labels cli)
+        if(name MATCHES "slow")
+            set(labels cli slow)
+        endif()
+        add_test(NAME ${prefix}.${name} COMMAND bash ${script})
+        set_tests_properties(${prefix}.${name} PROPERTIES LABELS "${labels}"
+            ENVIRONMENT "${INLIGHT_TEST_ENV};INLIGHT_TEST_BIN=${CMAKE_BINARY_DIR}/tests"
+            TIMEOUT 300)
+    endforeach()
+endfunction()
