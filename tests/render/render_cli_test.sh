@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # CLI behaviour of render: help, exit codes, scene-file errors, reports, stop rules, quality
-# gate, and bit-identical EXR pixels for --threads 1 and 2.
+# gate, and bit-identical EXR pixels (and file bytes) for --threads 1 and 2.
 # shellcheck source=tests/cli/lib.sh
 source "$(dirname "$0")/../cli/lib.sh"
 R="$BIN/render"
@@ -36,6 +36,7 @@ if [ -e /usr/share/blender/datafiles/studiolights/world/studio.exr ]; then
     expect_true "bit-identical radiance for 1 and 2 threads" -- idiff -fail 0 -warn 0 "$WORK/t1.exr" "$WORK/t2.exr"
     expect_true "bit-identical std error for 1 and 2 threads" -- \
         idiff -fail 0 -warn 0 "$WORK/t1_stderr.exr" "$WORK/t2_stderr.exr"
+    expect_true "byte-identical files for 1 and 2 threads (no time stamp)" -- cmp "$WORK/t1.exr" "$WORK/t2.exr"
     expect_exit 0 "drape, another seed" -- "$R" "$SCENE" -o "$WORK/t3.exr" "${SMALL[@]}" --spp 4 --seed 6
     expect_exit 2 "another seed gives other pixels (idiff FAILURE = 2)" -- idiff -fail 0 -warn 0 "$WORK/t1.exr" "$WORK/t3.exr"
 else
