@@ -63,7 +63,6 @@ struct InputStats {
     int64_t negative_values = 0;   ///< slightly negative values are kept (linear quadrature)
     double min_value = 0;
     double max_value = 0;
-    double covered_solid_angle_sr = 0;  ///< sum of sample solid angles (4 pi for full spheres)
 };
 
 /// Loads and checks an environment. Throws Error naming the file when the shape does not
