@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "testing/testing.h"
 
 namespace inlight {
 namespace {
@@ -56,16 +57,7 @@ TEST(Toml, MalformedInputsThrowWithLineNumbers) {
     }
 }
 
-/// The message of the Error that `f` throws, or "" when it throws nothing.
-template <typename F>
-std::string error_of(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+using inlight::testing::error_of;
 
 TEST(Toml, ValueErrorsNameTheKey) {
     EXPECT_EQ(error_of([] { toml::parse("f0 = abc\n", "m.toml"); }),
@@ -105,7 +97,7 @@ TEST(TomlReader, TypesRangesAndUnknownKeys) {
               "r.toml:8: [t] big: expected a finite number");
     EXPECT_EQ(error_of([&] { r.check_range("n", 7, 0, 1); }),
               "r.toml:5: [t] n: 7 is outside [0, 1]");
-    EXPECT_EQ(error_of([&] { r.check_range("n", 1, 0, 1); }), "");
+    EXPECT_NO_THROW(r.check_range("n", 1, 0, 1));
     EXPECT_EQ(error_of([&] { r.require_string("name"); }),
               "r.toml:1: [t] name: required key is missing");
     EXPECT_EQ(error_of([&] { r.finish(); }),

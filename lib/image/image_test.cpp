@@ -27,24 +27,10 @@ namespace stdfs = std::filesystem;
 // A test image with values spread over [lo, hi], fixed seed.
 Image random_image(int w, int h, int c, float lo, float hi, unsigned seed = 1,
                    ColorSpace cs = ColorSpace::kLinearSrgb) {
-    Image img(w, h, c, cs);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(lo, hi);
-    for (float& v : img.pixels) v = u(rng);
-    return img;
+    return inlight::testing::random_image<Image>(w, h, c, lo, hi, seed, cs);
 }
 
-// Runs fn, expects an inlight::Error, and returns its message.
-template <typename Fn>
-std::string error_of(Fn fn) {
-    try {
-        fn();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "expected inlight::Error";
-    return "";
-}
+using inlight::testing::error_of;
 
 int file_count(const std::string& dir) {
     int n = 0;

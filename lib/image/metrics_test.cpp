@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "image/color.h"
+#include "testing/testing.h"
 
 namespace inlight::image {
 namespace {
@@ -24,23 +25,10 @@ Image constant(int w, int h, int c, float v, ColorSpace cs = ColorSpace::kLinear
 }
 
 Image random_image(int w, int h, int c, unsigned seed) {
-    Image img(w, h, c);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 2.0f);
-    for (float& v : img.pixels) v = u(rng);
-    return img;
+    return inlight::testing::random_image<Image>(w, h, c, 0.0f, 2.0f, seed, ColorSpace::kLinearSrgb);
 }
 
-template <typename Fn>
-std::string error_of(Fn fn) {
-    try {
-        fn();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "expected inlight::Error";
-    return "";
-}
+using inlight::testing::error_of;
 
 TEST(Compare, IdenticalImages) {
     const Image a = random_image(20, 10, 3, 1);

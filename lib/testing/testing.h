@@ -1,9 +1,12 @@
 // testing/testing.h: locating real data for tests; a test that needs absent data skips.
 #pragma once
 
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
+
+#include "core/error.h"
 
 namespace inlight::testing {
 
@@ -18,6 +21,29 @@ inline const char* const kBlenderHdris[] = {"city",  "courtyard", "forest", "int
                                              "night", "studio",    "sunrise", "sunset"};
 /// A fresh empty temporary directory for one test (removed by the OS, not by the test).
 std::string temp_dir(const std::string& name);
+
+/// Runs fn, expects it to throw inlight::Error, and returns the message ("" and a test failure
+/// when nothing is thrown).
+template <typename Fn>
+std::string error_of(Fn fn) {
+    try {
+        fn();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "expected inlight::Error";
+    return "";
+}
+
+/// A w x h image of c channels with values uniform in [lo, hi), from a fixed seed.
+template <typename ImageT, typename ColorSpaceT>
+ImageT random_image(int w, int h, int c, float lo, float hi, unsigned seed, ColorSpaceT cs) {
+    ImageT img(w, h, c, cs);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(lo, hi);
+    for (float& v : img.pixels) v = u(rng);
+    return img;
+}
 
 }  // namespace inlight::testing
 
