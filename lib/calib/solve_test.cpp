@@ -73,6 +73,23 @@ std::vector<View> exact_views(const CameraModel& cam, const BoardSpec& board,
     return views;
 }
 
+/// A pinhole camera with radial and tangential distortion, and 12 board poses that see it
+/// from varied angles: shared by the pinhole calibration and uncertainty tests.
+CameraModel test_pinhole() {
+    CameraModel pin = CameraModel::make(ModelType::kPinhole, 640, 480, 520.0, 521.0, 322.0, 241.0);
+    pin.distortion = {-0.21, 0.05, 0.001, -0.0005, 0.01};
+    return pin;
+}
+
+std::vector<Eigen::Isometry3d> pinhole_poses(const BoardSpec& board) {
+    std::vector<Eigen::Isometry3d> poses;
+    for (int i = 0; i < 12; ++i) {
+        poses.push_back(board_pose(board, (i % 3) * 0.08, i * 0.7, 14.0 + (i % 2),
+                                   0.3 * ((i % 3) - 1), 0.25 * (((i / 3) % 3) - 1), 0.2 * i));
+    }
+    return poses;
+}
+
 CameraModel fisheye_truth() {
     CameraModel m = CameraModel::make(ModelType::kFisheye, 960, 720, 225.0, 224.55, 481.3, 358.6);
     m.distortion = {0.021, -0.008, 0.0031, -0.0007};
@@ -151,14 +168,8 @@ TEST(Calibrate, ExactCornersBeyond90DegreesUseFallback) {
 
 TEST(Calibrate, ExactCornersPinholeAndOmnidir) {
     const BoardSpec board{9, 6, 1.0};
-    CameraModel pin = CameraModel::make(ModelType::kPinhole, 640, 480, 520.0, 521.0, 322.0, 241.0);
-    pin.distortion = {-0.21, 0.05, 0.001, -0.0005, 0.01};
-    std::vector<Eigen::Isometry3d> poses;
-    for (int i = 0; i < 12; ++i) {
-        poses.push_back(board_pose(board, (i % 3) * 0.08, i * 0.7, 14.0 + (i % 2),
-                                   0.3 * ((i % 3) - 1), 0.25 * (((i / 3) % 3) - 1), 0.2 * i));
-    }
-    auto views = exact_views(pin, board, poses);
+    const CameraModel pin = test_pinhole();
+    auto views = exact_views(pin, board, pinhole_poses(board));
     ASSERT_GE(views.size(), 8u);
     CalibrateOptions po;
     po.model = ModelType::kPinhole;
@@ -219,14 +230,8 @@ TEST(IntrinsicStdDev, MatchesOpenCvCalibrateCamera) {
     // larger by sqrt((2N - p) / (N - p)); with that factor they agree to finite-difference
     // accuracy (0.5%).
     const BoardSpec board{9, 6, 1.0};
-    CameraModel pin = CameraModel::make(ModelType::kPinhole, 640, 480, 520.0, 521.0, 322.0, 241.0);
-    pin.distortion = {-0.21, 0.05, 0.001, -0.0005, 0.01};
-    std::vector<Eigen::Isometry3d> poses;
-    for (int i = 0; i < 12; ++i) {
-        poses.push_back(board_pose(board, (i % 3) * 0.08, i * 0.7, 14.0 + (i % 2),
-                                   0.3 * ((i % 3) - 1), 0.25 * (((i / 3) % 3) - 1), 0.2 * i));
-    }
-    auto views = exact_views(pin, board, poses);
+    const CameraModel pin = test_pinhole();
+    auto views = exact_views(pin, board, pinhole_poses(board));
     std::mt19937_64 rng(5);
     std::normal_distribution<double> noise(0, 0.2);
     for (View& v : views) {
