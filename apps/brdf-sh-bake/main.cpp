@@ -7,6 +7,7 @@
 #include "core/app.h"
 #include "core/fs.h"
 #include "core/log.h"
+#include "core/validators.h"
 
 using namespace inlight;
 
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
                    "OUT_texture.exr")
         ->required();
     cli.add_option("--grid", grid_spec, "Normal grid: report5x5 | thetaphi:RxC | octa:N | disk:N")
+        ->check(app::parses_with([](const std::string& g) { brdf::parse_grid(g); }, "GRID"))
         ->capture_default_str();
     cli.add_option("--sh-bands", o.sh_bands, "SH bands (max l + 1; 3 = 9 coefficients)")
         ->check(CLI::Range(1, brdf::kMaxBakeBands))
@@ -44,16 +46,19 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     auto* vdeg = cli.add_option("--view-deg", view_deg,
                                 "View direction as THETA[,PHI] degrees "
-                                "from the screen normal +z (default 0: the screen normal)");
+                                "from the screen normal +z (default 0: the screen normal)")
+                    ->check(app::parses_with([](const std::string& v) { brdf::parse_view_deg(v); },
+                                             "THETA[,PHI]"));
     cli.add_option("--view", view_xyz,
                    "View direction x,y,z in the device frame (+z toward the "
                    "viewer)")
+        ->check(app::parses_with([](const std::string& v) { brdf::parse_view(v); }, "X,Y,Z"))
         ->excludes(vdeg);
     cli.add_option("--max-error", max_error,
                    "Choose --sh-bands automatically: the fewest bands "
                    "whose SH truncation error of radiance under the test lightings is <= this "
                    "(relative); exit 3 if 8 bands do not meet it")
-        ->check(CLI::PositiveNumber);
+        ->check(app::finite_positive());
     cli.add_flag("--validate", full_validate,
                  "Check every grid node and 256 off-grid normals "
                  "(default: at most 64 nodes and 64 normals)");

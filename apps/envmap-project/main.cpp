@@ -7,6 +7,7 @@
 #include "core/conventions.h"
 #include "core/fs.h"
 #include "core/log.h"
+#include "core/validators.h"
 #include "envmap/environment.h"
 #include "envmap/project.h"
 #include "envmap/validate.h"
@@ -157,9 +158,10 @@ int main(int argc, char** argv) {
     cli.add_option("--input-kind", a.input_kind, "Layout of the inputs")
         ->check(CLI::IsMember({"latlong", "cube", "angular", "fisheye"}))->capture_default_str();
     cli.add_option("--rotate", a.rotate, "Rotation into the z-up frame: none, y-up, or "
-                   "axis=degrees list applied left to right (z=90,x=-30)")->capture_default_str();
+                   "axis=degrees list applied left to right (z=90,x=-30)")
+        ->check(app::rotation())->capture_default_str();
     cli.add_option("--intensity", a.intensity, "Linear scale applied to the radiance")
-        ->check(CLI::PositiveNumber)->capture_default_str();
+        ->check(app::finite_positive())->capture_default_str();
     cli.add_option("--nonfinite", a.nonfinite, "NaN/Inf pixels: reject (error naming the pixel) "
                    "or zero (replace and count)")->check(CLI::IsMember({"reject", "zero"}))->capture_default_str();
     cli.add_option("--window", a.window, "Band-limiting window (its error cost is reported by "
@@ -169,7 +171,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"fit", "zero-fill"}))->capture_default_str();
     cli.add_option("--fit-lambda", a.fit_lambda, "Smoothness regulariser of the fit, relative to "
                    "the Gram matrix's largest eigenvalue; -1 = the smallest whose irradiance "
-                   "non-negative light could produce")->check(CLI::Range(-1.0, 1e6))->capture_default_str();
+                   "non-negative light could produce")->check(app::finite_range_or(0, 1e6, -1))->capture_default_str();
     cli.add_option("--directions", a.directions, "Fisheye: directions.exr from calibrate (unit "
                    "vectors, device frame)")->check(CLI::ExistingFile);
     cli.add_option("--solid-angle", a.solid_angle, "Fisheye: solid_angle.exr from calibrate (sr "
@@ -177,7 +179,7 @@ int main(int argc, char** argv) {
     auto* resp = cli.add_option("--response", a.response, "Camera response (calibrate response): "
                                 "inputs are 8-bit frames turned into relative radiance")->check(CLI::ExistingFile);
     cli.add_option("--exposure-s", a.exposure_s, "Exposure time of the 8-bit frames, seconds")
-        ->check(CLI::PositiveNumber)->needs(resp);
+        ->check(app::finite_positive())->needs(resp);
     resp->needs("--exposure-s");
     cli.add_option("--saturation-code", a.saturation_code, "8-bit code at and above which a pixel "
                    "counts as clipped")->check(CLI::Range(1, 255))->capture_default_str();
@@ -186,7 +188,8 @@ int main(int argc, char** argv) {
     cli.add_option("--validate-normals", a.validate_normals, "Fibonacci normals (+6 axes) for "
                    "--validate")->check(CLI::Range(1, 100000))->capture_default_str();
     cli.add_option("--max-mean-rel-error", a.max_mean_rel_error, "Quality gate on the validated "
-                   "mean relative irradiance error (exit 3 above it; implies --validate)");
+                   "mean relative irradiance error (exit 3 above it; implies --validate; off unless given)")
+        ->check(app::finite_non_negative());
     app::setup(cli, common, "envmap-project sky.exr -o sky_sh.json --sh-bands 3 --validate --report run.json");
     if (auto code = app::parse(cli, argc, argv)) return *code;
     if (a.max_mean_rel_error >= 0) a.validate = true;

@@ -4,6 +4,8 @@
 
 #include "core/app.h"
 #include "core/log.h"
+#include "core/validators.h"
+#include "brdf/grid.h"
 #include "image/image.h"
 #include "render/compare.h"
 #include "render/path_tracer.h"
@@ -45,12 +47,12 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--time-budget-s", opt.time_budget_s,
                    "Stop after the pass that reaches this render time, seconds (0 = none)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(app::finite_non_negative())
         ->capture_default_str();
     app.add_option("--target-rel-error", opt.target_rel_error,
                    "Stop when the image's relative noise (RMS standard error of luminance / mean "
                    "luminance) is at most this (0 = none)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(app::finite_non_negative())
         ->capture_default_str();
     app.add_option("--max-depth", opt.max_depth, "Surface interactions per path (cap)")
         ->check(CLI::Range(1, 1024))
@@ -78,7 +80,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--max-rel-error", a.max_rel_error,
                    "Quality gate: exit 3 if the final relative noise exceeds this (0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(app::finite_non_negative())
         ->capture_default_str();
     app.add_flag(
         "--compare", a.compare,
@@ -87,15 +89,16 @@ int main(int argc, char** argv) {
         "_de2000_*, metrics.realtime in the report");
     app.add_option("--exposure", cmp.exposure,
                    "Linear scale before dE2000 and the PNG panels (0 = 0.18 / mean luminance)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(app::finite_non_negative())
         ->capture_default_str();
     app.add_option("--heat-max-rel", cmp.heat_max_rel, "Relative error at the top of the heat map")
-        ->check(CLI::PositiveNumber)
+        ->check(app::finite_positive())
         ->capture_default_str();
     app.add_option("--rt-max-bands", cmp.max_bands, "Real-time model: largest SH band count swept")
         ->check(CLI::Range(3, 8))
         ->capture_default_str();
     app.add_option("--rt-grid", cmp.grid, "Real-time model: BRDF table grid (brdf-sh-bake --grid)")
+        ->check(app::parses_with([](const std::string& g) { brdf::parse_grid(g); }, "GRID"))
         ->capture_default_str();
     app.add_option("--rt-bake-samples", cmp.bake_samples, "BRDF table: evaluations per normal")
         ->check(CLI::Range(16, 1 << 22))

@@ -8,6 +8,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/number.h"
 #include "core/parallel.h"
 #include "sh/quadrature.h"
 #include "sh/sh.h"
@@ -252,43 +253,32 @@ Integrator integrator_from_string(const std::string& name) {
 }
 
 Eigen::Vector3d parse_view(const std::string& xyz) {
-    std::stringstream ss(xyz);
-    std::string item;
-    std::vector<double> v;
-    while (std::getline(ss, item, ',')) {
-        try {
-            size_t used = 0;
-            v.push_back(std::stod(item, &used));
-            if (used != item.size() && item.find_first_not_of(" \t", used) != std::string::npos) {
-                throw std::invalid_argument(item);
-            }
-        } catch (const std::exception&) {
-            throw UsageError(str("view '", xyz, "': '", item, "' is not a number"));
-        }
+    const std::string context = str("view '", xyz, "'");
+    const std::vector<std::string> items = split(xyz, ',');
+    if (items.size() != 3) throw UsageError(str(context, ": expected x,y,z"));
+    Eigen::Vector3d d;
+    for (int i = 0; i < 3; ++i) d[i] = parse_finite(items[static_cast<size_t>(i)], context);
+    if (!(d.norm() > 0) || !std::isfinite(d.norm())) {
+        throw UsageError(str(context, ": expected a non-zero direction"));
     }
-    if (v.size() != 3) throw UsageError(str("view '", xyz, "': expected x,y,z"));
-    const Eigen::Vector3d d(v[0], v[1], v[2]);
-    if (!(d.norm() > 0) || !d.allFinite()) throw UsageError(str("view '", xyz, "' is zero"));
+    if (d.z() < 0) {
+        throw UsageError(str(context, ": behind the screen (z < 0; +z points toward the viewer)"));
+    }
     return d.normalized();
 }
 
 Eigen::Vector3d parse_view_deg(const std::string& text) {
-    const size_t comma = text.find(',');
-    try {
-        size_t used = 0;
-        const std::string t = text.substr(0, comma);
-        const double theta = std::stod(t, &used);
-        if (used != t.size()) throw std::invalid_argument(t);
-        double phi = 0;
-        if (comma != std::string::npos) {
-            const std::string p = text.substr(comma + 1);
-            phi = std::stod(p, &used);
-            if (used != p.size()) throw std::invalid_argument(p);
-        }
-        return view_from_deg(theta, phi);
-    } catch (const std::logic_error&) {
-        throw UsageError(str("view '", text, "': expected THETA[,PHI] in degrees"));
+    const std::string context = str("view '", text, "' (THETA[,PHI] in degrees)");
+    const std::vector<std::string> items = split(text, ',');
+    if (items.size() > 2) throw UsageError(str(context, ": expected at most two numbers"));
+    const double theta = parse_finite(items[0], context);
+    const double phi = items.size() == 2 ? parse_finite(items[1], context) : 0.0;
+    if (theta < 0 || theta > 90) {
+        throw UsageError(str(context, ": theta ", theta,
+                             " is outside [0, 90]: the view would be behind the screen"));
     }
+    if (std::abs(phi) > 360) throw UsageError(str(context, ": phi ", phi, " is outside [-360, 360]"));
+    return view_from_deg(theta, phi);
 }
 
 Eigen::Vector3d view_from_deg(double theta_deg, double phi_deg) {

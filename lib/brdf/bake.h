@@ -57,9 +57,11 @@ struct BakeOptions {
     uint64_t seed = 1;
 };
 
-/// Parses a view: "x,y,z" (normalised; must be non-zero) -> unit vector. Throws UsageError.
+/// Parses a view: "x,y,z" (finite, non-zero, z >= 0: in front of the screen or grazing) -> unit
+/// vector. Throws UsageError naming the view otherwise.
 Eigen::Vector3d parse_view(const std::string& xyz);
-/// Parses "THETA[,PHI]" in degrees (PHI defaults to 0) -> view_from_deg. Throws UsageError.
+/// Parses "THETA[,PHI]" in degrees (PHI defaults to 0; THETA in [0, 90], PHI in [-360, 360],
+/// finite) -> view_from_deg. Throws UsageError naming the view otherwise.
 Eigen::Vector3d parse_view_deg(const std::string& theta_phi_deg);
 /// View at polar angle theta_deg from +z toward azimuth phi_deg (from +x toward +y).
 Eigen::Vector3d view_from_deg(double theta_deg, double phi_deg);

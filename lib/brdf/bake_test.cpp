@@ -249,6 +249,13 @@ TEST(Options, ParseAndReject) {
     EXPECT_TRUE(parse_view_deg("0").isApprox(Eigen::Vector3d::UnitZ()));
     EXPECT_THROW(parse_view_deg("10deg"), UsageError);
     EXPECT_THROW(parse_view_deg(""), UsageError);
+    // NaN, Inf and views behind the screen are usage errors, not silently baked tables.
+    for (const char* bad : {"nan,0,1", "0,inf,1", "0,0,-1", "1e308,1e308,1"}) {
+        EXPECT_THROW(parse_view(bad), UsageError) << bad;
+    }
+    for (const char* bad : {"nan", "10,nan", "inf", "90.5", "-1", "120,0", "10,1e999"}) {
+        EXPECT_THROW(parse_view_deg(bad), UsageError) << bad;
+    }
     EXPECT_THROW(integrator_from_string("mc"), UsageError);
     EXPECT_THROW(bake(ggx(0.3), parse_grid("octa:2"), options(Integrator::kGaussLegendre, 9, 8)),
                  UsageError);

@@ -7,6 +7,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/number.h"
 #include "core/parallel.h"
 
 namespace inlight::calib {
@@ -55,25 +56,19 @@ void gaussian_blur(std::vector<float>& img, int w, int h, double sigma) {
 }  // namespace
 
 BoardSpec parse_board(const std::string& spec, double square_size_m) {
+    const std::string context = str("--board '", spec, "'");
     BoardSpec b;
     b.square_size_m = square_size_m;
     const size_t x = spec.find_first_of("xX");
-    try {
-        if (x == std::string::npos) throw std::invalid_argument("no x");
-        size_t used = 0;
-        b.cols = std::stoi(spec.substr(0, x), &used);
-        if (used != x) throw std::invalid_argument("junk");
-        const std::string rows = spec.substr(x + 1);
-        b.rows = std::stoi(rows, &used);
-        if (used != rows.size()) throw std::invalid_argument("junk");
-    } catch (const std::exception&) {
-        throw UsageError(str("--board '", spec, "': expected COLSxROWS inner corners, e.g. 8x6"));
+    if (x == std::string::npos) {
+        throw UsageError(str(context, ": expected COLSxROWS inner corners, e.g. 8x6"));
     }
-    if (b.cols < 2 || b.rows < 2) {
-        throw UsageError(str("--board '", spec, "': need at least 2x2 inner corners"));
-    }
-    if (!(square_size_m > 0)) {
-        throw UsageError(str("--square-size-m ", square_size_m, ": must be positive"));
+    b.cols = static_cast<int>(parse_integer(spec.substr(0, x), str(context, ": columns"), 2,
+                                            kMaxBoardCorners));
+    b.rows = static_cast<int>(parse_integer(spec.substr(x + 1), str(context, ": rows"), 2,
+                                            kMaxBoardCorners));
+    if (!(square_size_m > 0) || !std::isfinite(square_size_m)) {
+        throw UsageError(str("--square-size-m ", square_size_m, ": must be a finite number > 0"));
     }
     return b;
 }

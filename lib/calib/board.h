@@ -21,8 +21,11 @@ struct BoardSpec {
     double square_size_m = 1.0;
 };
 
-/// Parses "COLSxROWS" (inner corners, e.g. "8x6"). Throws UsageError on bad syntax or a count
-/// below 2.
+/// Largest number of inner corners along one side of a board that parse_board accepts.
+inline constexpr int kMaxBoardCorners = 1000;
+
+/// Parses "COLSxROWS" (inner corners, e.g. "8x6"), each in [2, kMaxBoardCorners], and checks
+/// square_size_m is finite and > 0. Throws UsageError naming --board / --square-size-m.
 BoardSpec parse_board(const std::string& spec, double square_size_m);
 
 /// Board-frame corners in OpenCV's detection order: row-major, point (c, r) at

@@ -1,5 +1,8 @@
 #include "calib/cli.h"
 
+#include "calib/board.h"
+#include "core/validators.h"
+
 namespace inlight::calib {
 
 const char* const kGeometryExample =
@@ -22,11 +25,14 @@ void add_geometry_options(CLI::App& app, GeometryOptions& o) {
                    "Object points for --image-points (nodes image_0.. of x y z metres); "
                    "default: from --board");
     app.add_option("--image-size", o.image_size,
-                   "Image size WxH for corner files that do not state it");
-    app.add_option("--board", o.board, "Chessboard inner corners COLSxROWS, e.g. 8x6");
+                   "Image size WxH for corner files that do not state it")
+        ->check(app::parses_with([](const std::string& s) { parse_sizes(s, "--image-size"); },
+                                 "WxH"));
+    app.add_option("--board", o.board, "Chessboard inner corners COLSxROWS, e.g. 8x6")
+        ->check(app::parses_with([](const std::string& s) { parse_board(s, 1.0); }, "COLSxROWS"));
     app.add_option("--square-size-m", o.square_size_m,
                    "Square side, metres (scales only the reported poses)")
-        ->check(CLI::PositiveNumber)
+        ->check(app::finite_positive())
         ->capture_default_str();
     app.add_option("--model", o.model,
                    "Camera model: fisheye (Kannala-Brandt k1..k4), pinhole (k1 k2 p1 p2 k3), "
@@ -49,31 +55,39 @@ void add_geometry_options(CLI::App& app, GeometryOptions& o) {
     app.add_option("--outlier-factor", o.outlier_factor,
                    "Drop a view whose RMS exceeds this x the median view RMS (and "
                    "--outlier-min-px); 0 = keep all")
-        ->check(CLI::NonNegativeNumber)
+        ->check(app::finite_non_negative())
         ->capture_default_str();
     app.add_option("--outlier-min-px", o.outlier_min_px,
                    "Never drop a view whose RMS is below this, pixels")
-        ->check(CLI::NonNegativeNumber)
+        ->check(app::finite_non_negative())
         ->capture_default_str();
     app.add_option("--fov-deg", o.fov_deg,
                    "Mask: full field of view, degrees (0 = up to where the model stops being "
                    "one-to-one)")
-        ->check(CLI::Range(0.0, 360.0))
+        ->check(app::finite_range(0, 360))
         ->capture_default_str();
     app.add_option("--image-circle", o.image_circle,
                    "Mask: the lens' image circle: auto (from the images), none, or CX,CY,R in "
                    "pixels")
+        ->check(app::parses_with(
+            [](const std::string& s) {
+                if (s != "auto" && s != "none") parse_image_circle(s);
+            },
+            "auto|none|CX,CY,R"))
         ->capture_default_str();
     app.add_option("--device-from-camera", o.device_from_camera,
                    "Rotation applied after the default front-camera mapping diag(-1,-1,1): "
                    "none, or axis=degrees list, e.g. z=90")
+        ->check(app::rotation())
         ->capture_default_str();
     app.add_option("--downscale", o.downscale,
-                   "Downscaled map sizes WxH,WxH... (default: 1/4 and 1/8 of the image)");
+                   "Downscaled map sizes WxH,WxH... (default: 1/4 and 1/8 of the image)")
+        ->check(app::parses_with([](const std::string& s) { parse_sizes(s, "--downscale"); },
+                                 "WxH[,WxH...]"));
     app.add_option("--max-reproj-rms-px", o.max_reproj_rms_px,
                    "Quality gate: exit 3 if the RMS reprojection error exceeds this, pixels "
                    "(0 = off)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(app::finite_non_negative())
         ->capture_default_str();
     app.add_option("-o,--output", o.output,
                    "Output folder: calibration.json, directions.exr, solid_angle.exr, mask.png, "
@@ -87,9 +101,9 @@ void add_response_options(CLI::App& app, ResponseToolOptions& o) {
         ->check(CLI::ExistingFile);
     app.add_option("--exposure-s", o.exposure_s, "Exposure time of each image, seconds")
         ->required()
-        ->check(CLI::PositiveNumber);
+        ->check(app::finite_positive());
     app.add_option("--lambda", o.lambda, "Smoothness weight (Debevec-Malik lambda)")
-        ->check(CLI::PositiveNumber)
+        ->check(app::finite_positive())
         ->capture_default_str();
     app.add_option("--samples", o.samples,
                    "Pixel samples per channel (0 = 4 x 256 / (exposures - 1), within 64..1024)")

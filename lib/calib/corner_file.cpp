@@ -1,5 +1,6 @@
 #include "calib/corner_file.h"
 
+#include <cmath>
 #include <filesystem>
 #include <opencv2/core.hpp>
 
@@ -50,10 +51,26 @@ std::vector<std::vector<double>> read_nodes(cv::FileStorage& fs, const std::stri
             throw Error(str(path, ": node image_", i, " holds ", values.size(),
                             " numbers, not a multiple of ", per_point));
         }
+        for (size_t k = 0; k < values.size(); ++k) {
+            if (!std::isfinite(values[k])) {
+                throw Error(str(path, ": node image_", i, ", point ", k / per_point, ": ",
+                                values[k], " is not a finite number"));
+            }
+        }
         nodes.push_back(std::move(values));
     }
     if (nodes.empty()) throw Error(str(path, ": no node image_0"));
     return nodes;
+}
+
+/// image_width / image_height: absent (0), or an integer in [1, 65536].
+int read_size(cv::FileStorage& fs, const char* key, const std::string& path) {
+    const cv::FileNode n = fs[key];
+    if (n.empty() || n.isNone()) return 0;
+    if (!n.isInt() || static_cast<int>(n) < 1 || static_cast<int>(n) > 65536) {
+        throw Error(str(path, ": ", key, " must be an integer in [1, 65536]"));
+    }
+    return static_cast<int>(n);
 }
 
 }  // namespace
@@ -63,8 +80,8 @@ CornerSet read_corner_files(const std::string& image_points_path,
     CornerSet set;
     cv::FileStorage fi = open_read(image_points_path);
     const auto images = read_nodes(fi, image_points_path, 2);
-    if (!fi["image_width"].empty()) set.width = static_cast<int>(fi["image_width"]);
-    if (!fi["image_height"].empty()) set.height = static_cast<int>(fi["image_height"]);
+    set.width = read_size(fi, "image_width", image_points_path);
+    set.height = read_size(fi, "image_height", image_points_path);
     std::vector<std::string> names;
     if (!fi["files"].empty()) {
         for (auto it = fi["files"].begin(); it != fi["files"].end(); ++it) {

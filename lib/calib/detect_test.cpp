@@ -8,6 +8,7 @@
 #include "calib/corner_file.h"
 #include "core/error.h"
 #include "image/image.h"
+#include "core/fs.h"
 #include "testing/testing.h"
 
 namespace inlight::calib {
@@ -105,6 +106,11 @@ TEST(Detect, InputsAndBoardSpecs) {
     EXPECT_THROW(parse_board("8x1", 1.0), UsageError);
     EXPECT_THROW(parse_board("8x6", 0.0), UsageError);
     EXPECT_EQ(parse_board("8x6", 0.1).cols, 8);
+    // A board too large to allocate is a usage error naming the side, not std::bad_alloc.
+    EXPECT_NE(testing::error_of([] { parse_board("100000x100000", 1.0); })
+                  .find("--board '100000x100000': columns: 100000 is outside [2, 1000]"),
+              std::string::npos);
+    EXPECT_THROW(parse_board("8x6", std::nan("")), UsageError);
     EXPECT_EQ(detector_from_string("ros"), Detector::kRos);
     EXPECT_THROW(detector_from_string("harris"), UsageError);
 }
@@ -130,6 +136,22 @@ TEST(CornerFile, RoundTrip) {
     EXPECT_EQ(read_corner_files(dir + "/i.yml", "", board).views[0].object_points, v.object_points);
     EXPECT_THROW(read_corner_files(dir + "/i.yml", "", BoardSpec{5, 3, 0.05}), Error);
     EXPECT_THROW(read_corner_files(dir + "/missing.yml", "", board), Error);
+}
+
+TEST(CornerFile, NonFiniteCoordinatesAreErrorsNamingThePoint) {
+    const std::string dir = testing::temp_dir("corner_nan");
+    for (const char* bad : {".nan", ".inf", "-.inf"}) {
+        fs::write_text_atomic(dir + "/i.yml", str("%YAML:1.0\n---\nimage_width: 64\nimage_height: 48\n"
+                                                  "image_0: [ 1., 2., 3., ", bad, ", 5., 6., 7., 8. ]\n"));
+        const std::string msg = testing::error_of(
+            [&] { read_corner_files(dir + "/i.yml", "", BoardSpec{2, 2, 0.05}); });
+        EXPECT_NE(msg.find("i.yml: node image_0, point 1: "), std::string::npos) << msg;
+        EXPECT_NE(msg.find("is not a finite number"), std::string::npos) << msg;
+    }
+    fs::write_text_atomic(dir + "/i.yml", "%YAML:1.0\n---\nimage_width: -5\nimage_0: [ 1., 2. ]\n");
+    EXPECT_NE(testing::error_of([&] { read_corner_files(dir + "/i.yml", "", BoardSpec{2, 2, 1}); })
+                  .find("image_width must be an integer in [1, 65536]"),
+              std::string::npos);
 }
 
 }  // namespace

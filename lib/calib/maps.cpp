@@ -6,6 +6,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/number.h"
 #include "core/parallel.h"
 
 namespace inlight::calib {
@@ -210,28 +211,17 @@ std::vector<std::string> write_maps(const std::string& dir, const DirectionMaps&
     return {dirs, omega, mask};
 }
 
-std::vector<Eigen::Vector2i> parse_sizes(const std::string& spec) {
+std::vector<Eigen::Vector2i> parse_sizes(const std::string& spec, const std::string& flag) {
+    const std::string context = str(flag, " '", spec, "'");
     std::vector<Eigen::Vector2i> sizes;
-    size_t start = 0;
-    while (start <= spec.size()) {
-        const size_t comma = spec.find(',', start);
-        const std::string item =
-            spec.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    for (const std::string& item : split(spec, ',')) {
         const size_t x = item.find_first_of("xX");
-        try {
-            if (x == std::string::npos) throw std::invalid_argument("x");
-            size_t used = 0;
-            const int w = std::stoi(item.substr(0, x), &used);
-            if (used != x) throw std::invalid_argument("w");
-            const std::string hs = item.substr(x + 1);
-            const int h = std::stoi(hs, &used);
-            if (used != hs.size() || w < 1 || h < 1) throw std::invalid_argument("h");
-            sizes.emplace_back(w, h);
-        } catch (const std::exception&) {
-            throw UsageError(str("size list '", spec, "': expected WxH[,WxH...], e.g. 200x126"));
+        if (x == std::string::npos) {
+            throw UsageError(str(context, ": expected WxH[,WxH...], e.g. 200x126; got '", item, "'"));
         }
-        if (comma == std::string::npos) break;
-        start = comma + 1;
+        const auto w = parse_integer(item.substr(0, x), str(context, ": width"), 1, kMaxMapSidePx);
+        const auto h = parse_integer(item.substr(x + 1), str(context, ": height"), 1, kMaxMapSidePx);
+        sizes.emplace_back(static_cast<int>(w), static_cast<int>(h));
     }
     return sizes;
 }

@@ -71,8 +71,13 @@ DirectionMaps downscale_maps(const DirectionMaps& full, int width, int height);
 /// and <dir>/mask.png (8-bit 0/255, written linearly), each atomically. Returns the paths.
 std::vector<std::string> write_maps(const std::string& dir, const DirectionMaps& maps);
 
-/// Parses "WxH[,WxH...]" (e.g. "200x126,100x63"). Throws UsageError.
-std::vector<Eigen::Vector2i> parse_sizes(const std::string& spec);
+/// Largest map side accepted by parse_sizes, pixels.
+inline constexpr int kMaxMapSidePx = 16384;
+
+/// Parses "WxH[,WxH...]" (e.g. "200x126,100x63"), each side an integer in [1, kMaxMapSidePx].
+/// Throws UsageError "<flag> '<spec>': ..." naming the bad item.
+std::vector<Eigen::Vector2i> parse_sizes(const std::string& spec,
+                                         const std::string& flag = "--downscale");
 
 /// Estimates a lens' image circle from `brightest`, the per-pixel maximum of photographs taken
 /// through it: pixels above 8% of its 99th percentile (and above code 12) are lit, and the

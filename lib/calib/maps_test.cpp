@@ -184,6 +184,9 @@ TEST(Maps, ParseSizes) {
     EXPECT_THROW(parse_sizes("64x"), UsageError);
     EXPECT_THROW(parse_sizes("64x40;32x20"), UsageError);
     EXPECT_THROW(parse_sizes("0x4"), UsageError);
+    EXPECT_EQ(testing::error_of([] { parse_sizes("0x0"); }),
+              "--downscale '0x0': width: 0 is outside [1, 16384]");
+    EXPECT_THROW(parse_sizes("64x40,"), UsageError);
 }
 
 TEST(Maps, DetectsImageCircle) {

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/log.h"
+#include "core/number.h"
 #include "core/parallel.h"
 
 namespace inlight::calib {
@@ -26,25 +27,26 @@ constexpr double kDeg = 180.0 / kPi;
 constexpr double kExtrapolationWarnDeg = 5.0;
 
 Eigen::Vector2i parse_size(const std::string& spec, const std::string& flag) {
-    try {
-        const auto sizes = parse_sizes(spec);
-        if (sizes.size() == 1) return sizes[0];
-    } catch (const UsageError&) {
-    }
-    throw UsageError(str(flag, " '", spec, "': expected WxH, e.g. 1280x800"));
+    const auto sizes = parse_sizes(spec, flag);
+    if (sizes.size() != 1) throw UsageError(str(flag, " '", spec, "': expected one WxH, e.g. 1280x800"));
+    return sizes[0];
 }
 
-ImageCircle parse_circle(const std::string& spec) {
+}  // namespace
+
+ImageCircle parse_image_circle(const std::string& spec) {
+    const std::string context = str("--image-circle '", spec, "'");
+    const std::vector<std::string> items = split(spec, ',');
+    if (items.size() != 3) throw UsageError(str(context, ": expected auto, none or CX,CY,R (pixels)"));
     ImageCircle c;
-    std::stringstream ss(spec);
-    char comma1 = 0, comma2 = 0;
-    if (!(ss >> c.cx >> comma1 >> c.cy >> comma2 >> c.radius_px) || comma1 != ',' ||
-        comma2 != ',' || !ss.eof() || !(c.radius_px > 0)) {
-        throw UsageError(
-            str("--image-circle '", spec, "': expected auto, none or CX,CY,R (pixels)"));
-    }
+    c.cx = parse_finite(items[0], context);
+    c.cy = parse_finite(items[1], context);
+    c.radius_px = parse_finite(items[2], context);
+    if (!(c.radius_px > 0)) throw UsageError(str(context, ": the radius must be > 0"));
     return c;
 }
+
+namespace {
 
 nlohmann::json matrix_json(const Eigen::Matrix3d& m) {
     nlohmann::json a = nlohmann::json::array();
@@ -211,7 +213,7 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     ImageCircle circle;
     std::string circle_source = "none";
     if (!circle_auto && o.image_circle != "none") {
-        circle = parse_circle(o.image_circle);
+        circle = parse_image_circle(o.image_circle);
         circle_source = "given";
     }
     std::vector<Eigen::Vector2i> sizes;

@@ -38,6 +38,9 @@ struct GeometryOptions {
     std::string output;                       ///< output folder
 };
 
+/// Parses --image-circle "CX,CY,R" (pixels; finite, R > 0). Throws UsageError naming the option.
+ImageCircle parse_image_circle(const std::string& spec);
+
 /// Runs geometric calibration and writes everything into options.output. Throws Error on bad
 /// input (exit 1), UsageError on bad options (exit 2), QualityGateFailed after writing when
 /// the RMS exceeds max_reproj_rms_px (exit 3). Returns calibration.json's content.

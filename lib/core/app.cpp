@@ -1,10 +1,13 @@
 #include "core/app.h"
 
 #include <iostream>
+#include <limits>
 
 #include "core/fs.h"
 #include "core/log.h"
+#include "core/number.h"
 #include "core/parallel.h"
+#include "core/validators.h"
 
 namespace inlight::app {
 
@@ -25,6 +28,11 @@ void setup(CLI::App& app, CommonArgs& common, const std::string& example) {
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
     app.add_option("--seed", common.seed, "Random seed (same seed, same output, any --threads)")
+        ->check(parses_with(
+            [](const std::string& s) {
+                parse_integer(s, "--seed", 0, std::numeric_limits<long long>::max());
+            },
+            "INT >= 0"))
         ->capture_default_str();
     app.add_flag("-q,--quiet", common.quiet, "Print only errors");
     app.add_flag("-v,--verbose", common.verbose, "Print extra detail");
@@ -33,6 +41,11 @@ void setup(CLI::App& app, CommonArgs& common, const std::string& example) {
 }
 
 std::optional<int> parse(CLI::App& app, int argc, char** argv) {
+    // Safety net: every floating-point option rejects NaN and Inf, whether or not the tool gave
+    // it one of the finite checks of core/validators.h (CLI11's Range lets NaN through).
+    for (CLI::Option* opt : app.get_options()) {
+        if (opt->get_type_name().rfind("FLOAT", 0) == 0) opt->check(finite());
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

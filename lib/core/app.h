@@ -39,7 +39,8 @@ class QualityGateFailed : public Error {
 /// the common flags, and the Example footer.
 void setup(CLI::App& app, CommonArgs& common, const std::string& example);
 
-/// Parses the command line. Returns an exit code when the program should stop now (0 after
+/// Parses the command line (and --config). Every FLOAT option first gets the finite() check of
+/// core/validators.h, so NaN and Inf are usage errors even where a tool forgot. Returns an exit code when the program should stop now (0 after
 /// --help or --version, kExitUsage on a usage error, message printed), std::nullopt otherwise.
 std::optional<int> parse(CLI::App& app, int argc, char** argv);
 

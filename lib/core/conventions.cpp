@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/number.h"
 
 namespace inlight {
 
@@ -51,13 +52,9 @@ Eigen::Matrix3d parse_rotation(const std::string& spec) {
                                  "': expected 'none', 'y-up' or axis=degrees items such as "
                                  "'z=90,x=-30'"));
         }
-        double deg = 0;
-        try {
-            size_t used = 0;
-            deg = std::stod(item.substr(2), &used);
-            if (used != item.size() - 2) throw std::invalid_argument("trailing");
-        } catch (const std::exception&) {
-            throw UsageError(str("rotation '", spec, "': '", item.substr(2), "' is not a number"));
+        const double deg = parse_finite(item.substr(2), str("rotation '", spec, "'"));
+        if (std::abs(deg) > 360) {
+            throw UsageError(str("rotation '", spec, "': ", deg, " degrees is outside [-360, 360]"));
         }
         const Eigen::Vector3d axis = item[0] == 'x'   ? Eigen::Vector3d::UnitX()
                                      : item[0] == 'y' ? Eigen::Vector3d::UnitY()

@@ -35,7 +35,8 @@ double latlong_pixel_solid_angle(int row, int width, int height);
 
 /// Parses a rotation: "none"; "y-up" (a y-up frame into the z-up frame: +90 deg about x);
 /// or a comma-separated list of axis=degrees applied left to right, e.g. "z=90" or
-/// "x=90,z=-30". Returns world_from_input. Throws UsageError on bad syntax.
+/// "x=90,z=-30". Returns world_from_input. Throws UsageError on bad syntax and on an angle that
+/// is not a finite number in [-360, 360] ("z=nan", "x=inf", "y=1e300").
 Eigen::Matrix3d parse_rotation(const std::string& spec);
 
 }  // namespace inlight

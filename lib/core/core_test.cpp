@@ -8,9 +8,11 @@
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/number.h"
 #include "core/parallel.h"
 #include "core/report.h"
 #include "core/sha256.h"
+#include "core/validators.h"
 #include "testing/testing.h"
 
 namespace inlight {
@@ -97,6 +99,85 @@ TEST(Conventions, ParseRotation) {
     EXPECT_NEAR((both * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitZ()).norm(), 0, kExact);
     EXPECT_THROW(parse_rotation("q=3"), UsageError);
     EXPECT_THROW(parse_rotation("z=abc"), UsageError);
+    // Angles that are not finite numbers are usage errors naming the rotation, never an abort.
+    for (const char* bad : {"z=nan", "x=inf", "y=-inf", "z=1e999", "z=", "z=90,x=nan", "z=400"}) {
+        const std::string msg = testing::error_of([&] { parse_rotation(bad); });
+        EXPECT_NE(msg.find(str("rotation '", bad, "'")), std::string::npos) << msg;
+    }
+}
+
+TEST(Number, ParseFiniteAcceptsDecimalsOnly) {
+    EXPECT_EQ(parse_finite("1.5", "x"), 1.5);
+    EXPECT_EQ(parse_finite(" +2e-3 ", "x"), 2e-3);
+    EXPECT_EQ(parse_finite("-7", "x"), -7.0);
+    for (const char* bad : {"nan", "NaN", "-nan", "inf", "-inf", "infinity", "1e999", "", " ",
+                            "1.5x", "0x10", "1,5", "--1"}) {
+        const std::string msg = testing::error_of([&] { parse_finite(bad, "--opt"); });
+        EXPECT_EQ(msg, str("--opt: '", bad, "' is not a finite number")) << bad;
+    }
+    EXPECT_EQ(parse_integer("42", "n", 0, 100), 42);
+    EXPECT_NE(testing::error_of([] { parse_integer("100000", "n", 0, 16384); })
+                  .find("100000 is outside [0, 16384]"),
+              std::string::npos);
+    EXPECT_NE(testing::error_of([] { parse_integer("1.5", "n", 0, 9); }).find("not an integer"),
+              std::string::npos);
+    EXPECT_EQ(split("a,,b", ','), (std::vector<std::string>{"a", "", "b"}));
+}
+
+/// Parses argv with `cli`; returns the exit code (or -1 to continue) and the captured stderr.
+std::pair<int, std::string> parse_args(CLI::App& cli, std::vector<std::string> args) {
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    ::testing::internal::CaptureStderr();
+    ::testing::internal::CaptureStdout();
+    const std::optional<int> code = app::parse(cli, static_cast<int>(argv.size()), argv.data());
+    ::testing::internal::GetCapturedStdout();
+    return {code.value_or(-1), ::testing::internal::GetCapturedStderr()};
+}
+
+TEST(Validators, RejectNanInfAndOutOfRange) {
+    struct Case {
+        CLI::Validator check;
+        const char* value;
+        bool ok;
+    };
+    const Case cases[] = {
+        {app::finite(), "1e300", true},          {app::finite(), "nan", false},
+        {app::finite(), "-inf", false},          {app::finite_range(0, 1), "1", true},
+        {app::finite_range(0, 1), "nan", false}, {app::finite_range(0, 1), "1.0001", false},
+        {app::finite_positive(), "1e-300", true}, {app::finite_positive(), "0", false},
+        {app::finite_positive(), "nan", false},  {app::finite_positive(), "inf", false},
+        {app::finite_non_negative(), "0", true}, {app::finite_non_negative(), "-0.5", false},
+        {app::finite_non_negative(), "nan", false},
+        {app::finite_range_or(0, 1e6, -1), "-1", true},
+        {app::finite_range_or(0, 1e6, -1), "-0.5", false},
+        {app::finite_range_or(0, 1e6, -1), "nan", false},
+    };
+    for (const Case& c : cases) {
+        std::string v = c.value;
+        EXPECT_EQ(c.check(v).empty(), c.ok) << c.value << ": " << c.check(v);
+    }
+}
+
+TEST(Validators, ParseAddsFiniteToEveryFloatOption) {
+    // A tool that forgot the check (or used CLI11's NaN-blind PositiveNumber) still rejects NaN,
+    // on the command line and in --config.
+    CLI::App cli{"t"};
+    app::CommonArgs common;
+    double intensity = 1;
+    std::vector<double> exposures;
+    cli.add_option("--intensity", intensity)->check(CLI::PositiveNumber);
+    cli.add_option("--exposure-s", exposures);
+    app::setup(cli, common, "t");
+    for (const char* v : {"nan", "inf", "-inf"}) {
+        EXPECT_EQ(parse_args(cli, {"t", "--intensity", v}).first, app::kExitUsage) << v;
+    }
+    const std::string err = parse_args(cli, {"t", "--intensity", "nan"}).second;
+    EXPECT_NE(err.find("--intensity: 'nan' is not a finite number"), std::string::npos) << err;
+    EXPECT_EQ(parse_args(cli, {"t", "--exposure-s", "1", "nan"}).first, app::kExitUsage);
+    const std::string dir = testing::temp_dir("validators");
+    fs::write_text_atomic(dir + "/nan.toml", "intensity = nan\n");
+    EXPECT_EQ(parse_args(cli, {"t", "--config", dir + "/nan.toml"}).first, app::kExitUsage);
 }
 
 TEST(Parallel, ReduceIsIdenticalForAnyThreadCount) {

@@ -1,5 +1,6 @@
 #include "render/mesh.h"
 
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <sstream>
@@ -7,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/number.h"
 
 namespace inlight::render {
 namespace {
@@ -117,10 +119,11 @@ TriangleMesh load_ply(const std::string& path) {
             for (const PlyProperty& p : e.props) {
                 auto read_value = [&](const std::string& type) -> double {
                     if (format == "ascii") {
-                        double v;
-                        if (!(ascii >> v))
+                        std::string word;
+                        if (!(ascii >> word))
                             throw Error(str(path, ": truncated PLY data in '", e.name, "'"));
-                        return v;
+                        return parse_finite_field(
+                            word, str(path, ": element '", e.name, "' ", i, ", '", p.name, "'"));
                     }
                     const int size = ply_type_size(type, path);
                     if (offset + static_cast<size_t>(size) > data.size()) {
@@ -128,6 +131,10 @@ TriangleMesh load_ply(const std::string& path) {
                     }
                     const double v = ply_read_binary(data.data() + offset, type);
                     offset += static_cast<size_t>(size);
+                    if (!std::isfinite(v)) {
+                        throw Error(str(path, ": element '", e.name, "' ", i, ", '", p.name,
+                                        "': ", v, " is not a finite number"));
+                    }
                     return v;
                 };
                 if (!p.count_type.empty()) {
@@ -185,15 +192,22 @@ TriangleMesh parse_obj(const std::string& text, const std::string& source) {
         std::istringstream ls(line);
         std::string tag;
         if (!(ls >> tag) || tag[0] == '#') continue;
-        if (tag == "v" || tag == "vn") {
-            Eigen::Vector3d p;
-            if (!(ls >> p[0] >> p[1] >> p[2]))
-                throw fail(str("expected 3 numbers after '", tag, "'"));
-            (tag == "v" ? v : vn).push_back(p);
-        } else if (tag == "vt") {
-            Eigen::Vector2d t;
-            if (!(ls >> t[0] >> t[1])) throw fail("expected 2 numbers after 'vt'");
-            vt.push_back(t);
+        if (tag == "v" || tag == "vn" || tag == "vt") {
+            // v x y z [w], vn x y z, vt u [v [w]]: every number finite, or the line is an error.
+            const int need = tag == "vt" ? 2 : 3;
+            std::vector<double> p;
+            std::string word;
+            while (ls >> word) {
+                p.push_back(parse_finite_field(word, str(source, ":", line_no, ": '", tag, "'")));
+            }
+            if (static_cast<int>(p.size()) < need) {
+                throw fail(str("expected ", need, " numbers after '", tag, "', got ", p.size()));
+            }
+            if (tag == "vt") {
+                vt.emplace_back(p[0], p[1]);
+            } else {
+                (tag == "v" ? v : vn).emplace_back(p[0], p[1], p[2]);
+            }
         } else if (tag == "f") {
             std::vector<int> corners;
             std::string item;

@@ -231,7 +231,13 @@ Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
                 auto mesh = std::make_shared<TriangleMesh>(load_mesh(o.mesh_path));
                 m_files.push_back(o.mesh_path);
                 const Eigen::Matrix3d r = parse_rotation(o.rotation);
-                for (auto& p : mesh->positions) p = o.translate + r * (o.scale * p);
+                for (auto& p : mesh->positions) {
+                    p = o.translate + r * (o.scale * p);
+                    if (!p.allFinite()) {
+                        throw Error(str(o.mesh_path, ": a vertex is not finite after scale ",
+                                        o.scale, " and translate (object '", o.name, "')"));
+                    }
+                }
                 for (auto& n : mesh->normals) n = (r * n).normalized();
                 s.mesh = std::move(mesh);
             }

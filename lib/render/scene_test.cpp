@@ -152,6 +152,24 @@ TEST(Mesh, ObjPolygonsNegativeIndicesAndUvFlip) {
     }
 }
 
+TEST(Mesh, ObjNonFiniteNumbersAreErrorsWithTheLine) {
+    // NaN/Inf vertices used to make their triangles vanish without a word.
+    const struct {
+        const char* text;
+        const char* expect;
+    } cases[] = {
+        {"v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n", "n.obj:3: 'v': 'nan' is not a finite number"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 1e999\nf 1 2 3\n", "n.obj:3: 'v': '1e999' is not"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 inf\nf 1//1 2//1 3//1\n", "n.obj:4: 'vn': 'inf'"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt -inf 0\nf 1/1 2/1 3/1\n", "n.obj:4: 'vt': '-inf'"},
+        {"v 0 0\n", "n.obj:1: expected 3 numbers after 'v', got 2"},
+    };
+    for (const auto& c : cases) {
+        const std::string msg = testing::error_of([&] { parse_obj(c.text, "n.obj"); });
+        EXPECT_NE(msg.find(c.expect), std::string::npos) << msg;
+    }
+}
+
 TEST(Mesh, PlyAsciiAndBinaryAgree) {
     const std::string dir = testing::temp_dir("render_ply");
     const char* header_fmt =
