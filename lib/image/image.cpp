@@ -1,5 +1,6 @@
 #include "image/image.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -134,6 +135,33 @@ std::vector<T> quantise(const std::vector<float>& v, double max_code) {
     return out;
 }
 
+// Opens `name` from disk, or from `memory` (an in-memory file whose format OpenImageIO picks by
+// the extension of `name`) when it is non-null.
+std::unique_ptr<OIIO::ImageInput> open_input(const std::string& name, OIIO::ImageSpec& config,
+                                             OIIO::Filesystem::IOProxy* memory) {
+    void* proxy = memory;
+    if (memory) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    auto in = OIIO::ImageInput::open(name, &config);
+    if (!in) throw Error(str(name, ": cannot open: ", clean(OIIO::geterror())));
+    return in;
+}
+
+ImageInfo info_of(const std::string& name, OIIO::Filesystem::IOProxy* memory) {
+    OIIO::ImageSpec config;
+    auto in = open_input(name, config, memory);
+    const OIIO::ImageSpec& spec = in->spec();
+    ImageInfo info;
+    info.width = spec.width;
+    info.height = spec.height;
+    info.channels = spec.nchannels;
+    info.bits_per_channel =
+        spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
+    info.is_float = !is_integer(spec.format);
+    info.format = in->format_name();
+    in->close();
+    return info;
+}
+
 }  // namespace
 
 std::string to_string(ColorSpace cs) { return entry(cs).name; }
@@ -153,27 +181,13 @@ Image::Image(int w, int h, int c, ColorSpace cs)
     pixels.assign(static_cast<size_t>(w) * h * c, 0.0f);
 }
 
-ImageInfo read_info(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error(str(path, ": cannot open: ", clean(OIIO::geterror())));
-    const OIIO::ImageSpec& spec = in->spec();
-    ImageInfo info;
-    info.width = spec.width;
-    info.height = spec.height;
-    info.channels = spec.nchannels;
-    info.bits_per_channel =
-        spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
-    info.is_float = !is_integer(spec.format);
-    info.format = in->format_name();
-    in->close();
-    return info;
-}
+namespace {
 
-Image read_image(const std::string& path, const ReadOptions& options) {
+Image read_from(const std::string& path, const ReadOptions& options,
+                OIIO::Filesystem::IOProxy* memory) {
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // pass alpha through as stored
-    auto in = OIIO::ImageInput::open(path, &config);
-    if (!in) throw Error(str(path, ": cannot open: ", clean(OIIO::geterror())));
+    auto in = open_input(path, config, memory);
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.deep) throw Error(str(path, ": deep images are not supported"));
     if (spec.depth > 1) throw Error(str(path, ": volume images are not supported"));
@@ -217,6 +231,25 @@ Image read_image(const std::string& path, const ReadOptions& options) {
     img.color_space = tagged;
     in->close();
     return img;
+}
+
+}  // namespace
+
+ImageInfo read_info(const std::string& path) { return info_of(path, nullptr); }
+
+ImageInfo read_info_memory(const void* data, size_t size, const std::string& name) {
+    OIIO::Filesystem::IOMemReader memory(data, size);
+    return info_of(name, &memory);
+}
+
+Image read_image(const std::string& path, const ReadOptions& options) {
+    return read_from(path, options, nullptr);
+}
+
+Image read_image_memory(const void* data, size_t size, const std::string& name,
+                        const ReadOptions& options) {
+    OIIO::Filesystem::IOMemReader memory(data, size);
+    return read_from(name, options, &memory);
 }
 
 void write_image(const std::string& path, const Image& img, const WriteOptions& options) {

@@ -60,11 +60,16 @@ struct ImageInfo {
     int channels = 0;
     int bits_per_channel = 0;  ///< 8, 16 or 32 (float); 16 for half
     bool is_float = false;
-    std::string format;        ///< OpenImageIO format name: "openexr", "hdr", "png", ...
+    std::string format;  ///< OpenImageIO format name: "openexr", "hdr", "png", ...
 };
 
 /// Reads a file's header. Throws Error naming the file if it cannot be opened.
 ImageInfo read_info(const std::string& path);
+
+/// read_info of an image file held in memory (`data`, `size` bytes, e.g. a zip entry). The
+/// format is chosen by the extension of `name`, which also names the file in errors. Only the
+/// header needs to be present. Throws Error naming `name`.
+ImageInfo read_info_memory(const void* data, size_t size, const std::string& name);
 
 /// Reads any format OpenImageIO reads into linear float. Float formats (EXR, HDR, float TIFF)
 /// are taken as linear_srgb; integer formats are sRGB-decoded (see ReadOptions) and tagged
@@ -74,6 +79,12 @@ ImageInfo read_info(const std::string& path);
 /// as stored (never decoded). Alpha (the last of 2 or 4 channels) is passed through as the
 /// file stores it: never decoded, premultiplied or divided. Reads subimage 0, mip level 0.
 Image read_image(const std::string& path, const ReadOptions& options = {});
+
+/// read_image of an image file held in memory; the format is chosen by the extension of
+/// `name`, which also names the file in errors. `data` is not kept after the call. Truncated or
+/// corrupt data throws Error naming `name`.
+Image read_image_memory(const void* data, size_t size, const std::string& name,
+                        const ReadOptions& options = {});
 
 /// How to write.
 struct WriteOptions {
