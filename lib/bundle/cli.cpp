@@ -34,6 +34,11 @@ void add_fabric_maps_options(CLI::App& app, FabricMapsToolOptions& o) {
     app.add_option("--thumbnail-px", o.maps.thumbnail_px, "Longer side of the thumbnail, pixels")
         ->check(CLI::Range(1, 4096))
         ->capture_default_str();
+    app.add_option("--name", o.maps.name, "The fabric's name for the catalogue (echoed)");
+    app.add_option("--tile-size-m", o.maps.tile_size_m,
+                   "Physical width of one texture tile, metres (echoed for the bundle)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("-o,--output", o.output, "Folder for albedo.png, normal.png, thumbnail.png")
         ->required();
 }

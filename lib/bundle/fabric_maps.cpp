@@ -38,6 +38,9 @@ void write_fabric_maps(const FabricMapsOptions& o, const std::string& out_dir, R
     if (!std::isfinite(o.relief_texels) || o.relief_texels < 0) {
         throw UsageError(str("--relief-texels ", o.relief_texels, ": must be finite and >= 0"));
     }
+    if (!std::isfinite(o.tile_size_m) || o.tile_size_m <= 0) {
+        throw UsageError(str("--tile-size-m ", o.tile_size_m, ": must be finite and > 0"));
+    }
     if (o.blur_px < 0 || o.max_size_px < 1 || o.thumbnail_px < 1) {
         throw UsageError("--blur-px must be >= 0, --max-size-px and --thumbnail-px >= 1");
     }
@@ -104,6 +107,8 @@ void write_fabric_maps(const FabricMapsOptions& o, const std::string& out_dir, R
     m["height_px"] = albedo.height;
     m["thumbnail_width_px"] = thumb.width;
     m["thumbnail_height_px"] = thumb.height;
+    m["name"] = o.name;
+    m["tile_size_m"] = o.tile_size_m;
     m["normal_source"] = o.normal_texture.empty() ? "derived" : "given";
     if (o.normal_texture.empty()) {
         m["relief_texels"] = o.relief_texels;

@@ -16,6 +16,8 @@ struct FabricMapsOptions {
     int blur_px = 1;              ///< derived normals: box blur radius before differencing
     int max_size_px = 1024;       ///< textures larger than this are box-filtered down
     int thumbnail_px = 128;       ///< thumbnail: longer side in pixels
+    std::string name;             ///< the fabric's name for the catalogue (echoed in the report)
+    double tile_size_m = 0.05;    ///< physical width of one texture tile, metres (echoed)
 };
 
 /// Writes OUT/albedo.png, OUT/normal.png and OUT/thumbnail.png. Everything is computed before

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# bake-catalog: a catalogue folder (fabrics/<id>/, devices/<id>/, catalog.toml) -> OUT/bundles/
+# (one verified bundle per fabric and device, catalog.sqlite) and OUT/validate/ (the validation
+# report), through the Snakemake workflow pipelines/bake-catalog.smk.
+#   pipelines/bake-catalog.sh [-j N] [--slurm] CATALOG OUT [SNAKEMAKE_ARGS...]
+#     -j N      jobs in parallel (default: the number of cores; with --slurm: jobs in the queue)
+#     --slurm   submit every job to Slurm with sbatch (generic --cluster mode, status through
+#               scontrol: no accounting database needed); SBATCH_ARGS adds sbatch options
+# Rerun it at any time: only what changed (by content) is rebuilt; after a kill, the jobs that
+# were running are redone and nothing else. Binaries from ${INLIGHT_BIN:-build/bin}.
+set -euo pipefail
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(cd "$HERE/.." && pwd)
+JOBS=$(nproc)
+SLURM=0
+while [ $# -gt 0 ]; do
+    case $1 in
+        -j) JOBS=$2; shift 2 ;;
+        -j*) JOBS=${1#-j}; shift ;;
+        --slurm) SLURM=1; shift ;;
+        *) break ;;
+    esac
+done
+if [ $# -lt 2 ]; then
+    echo "usage: bake-catalog.sh [-j N] [--slurm] CATALOG OUT [SNAKEMAKE_ARGS...]" >&2
+    exit 2
+fi
+CATALOG=$(cd "$1" && pwd)
+mkdir -p "$2"
+OUT=$(cd "$2" && pwd)
+shift 2
+BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+for t in bundle brdf-sh-bake calibrate render; do
+    if [ ! -x "$BIN/$t" ]; then
+        echo "bake-catalog: $BIN/$t not found: build first (make)" >&2
+        exit 1
+    fi
+done
+
+# One bake-catalog per output folder. Holding this lock also proves that a Snakemake lock left
+# in OUT is stale (its run was killed), so it is safe to clear.
+exec 9>"$OUT/.bake-catalog.lock"
+if ! flock -n 9; then
+    echo "bake-catalog: another bake-catalog is running on $OUT" >&2
+    exit 1
+fi
+common=(-s "$HERE/bake-catalog.smk" --directory "$OUT" --config "catalog=$CATALOG" "bin=$BIN")
+snakemake "${common[@]}" --unlock -q >/dev/null 2>&1 || true
+
+args=("${common[@]}" --rerun-incomplete --jobs "$JOBS")
+if [ "$SLURM" -eq 1 ]; then
+    mkdir -p "$OUT/slurm"
+    # shellcheck disable=SC2016  # {rule} and {threads} are Snakemake's placeholders
+    args+=(--cluster "sbatch --parsable --job-name=inlight-{rule} --cpus-per-task={threads} --output=$OUT/slurm/%j.log ${SBATCH_ARGS:-}"
+        --cluster-status "$HERE/slurm-status.sh" --latency-wait 30 --max-status-checks-per-second 2)
+else
+    args+=(--cores "$JOBS")
+fi
+snakemake "${args[@]}" "$@"

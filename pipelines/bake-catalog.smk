@@ -1,0 +1,175 @@
+# bake-catalog: every fabric and device of a catalogue folder into verified bundles, the SQLite
+# catalogue, and the validation report (every fabric under every environment), as a Snakemake
+# workflow. Run it through pipelines/bake-catalog.sh (it sets the flags below); docs/pipelines.md.
+#
+#   snakemake -s pipelines/bake-catalog.smk --directory OUT --config catalog=DIR bin=DIR -j N
+#
+# Incremental by content: when the workflow is loaded, each job's inputs (the fabric's folder,
+# the textures its fabric.toml names, the environment maps, the configs, the pipeline scripts
+# and the tool binaries) are hashed (SHA-256) into a key file under OUT/keys/, rewritten only
+# when its content changes. Rules depend on key files, so a touched but unchanged input rebuilds
+# nothing, and a changed one rebuilds exactly the jobs that read it.
+# Safe to interrupt: every tool and bundle writes atomically, each job's declared output is
+# written last, and Snakemake reruns the jobs that were running when it was killed
+# (--rerun-incomplete); finished jobs are not redone.
+import glob
+import hashlib
+import os
+import sys
+import tomllib
+
+from snakemake.exceptions import WorkflowError
+
+ROOT = os.path.abspath(os.path.join(workflow.basedir, ".."))
+CAT = os.path.abspath(config["catalog"])
+BIN = os.path.abspath(config.get("bin", os.path.join(ROOT, "build", "bin")))
+OUT = os.getcwd()  # --directory OUT
+PIPE = os.path.join(ROOT, "pipelines")
+VALIDATE_CONFIG = os.path.abspath(config.get("validate_config", os.environ.get(
+    "VALIDATE_RENDER_CONFIG", os.path.join(ROOT, "configs", "pipelines", "validate.toml"))))
+
+
+def sha256_file(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def content_key(name, paths):
+    """Writes OUT/keys/<name>.key listing the SHA-256 of every path (files, or folders walked
+    in sorted order); rewrites it only when the listing changes, so its mtime moves only with
+    content. Returns its path."""
+    lines = []
+    for p in paths:
+        if os.path.isdir(p):
+            for d, dirs, files in os.walk(p):
+                dirs.sort()
+                for f in sorted(files):
+                    q = os.path.join(d, f)
+                    lines.append(f"{sha256_file(q)}  {os.path.relpath(q, p)}")
+        elif os.path.isfile(p):
+            lines.append(f"{sha256_file(p)}  {os.path.basename(p)}")
+        else:
+            raise WorkflowError(f"bake-catalog: {p}: not found (needed by {name})")
+    text = "\n".join(lines) + "\n"
+    key = os.path.join(OUT, "keys", name + ".key")
+    if os.path.exists(key):
+        with open(key) as f:
+            if f.read() == text:
+                return key
+    os.makedirs(os.path.dirname(key), exist_ok=True)
+    with open(key + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(key + ".tmp", key)
+    return key
+
+
+def folders(sub):
+    d = os.path.join(CAT, sub)
+    if not os.path.isdir(d):
+        return []
+    return sorted(n for n in os.listdir(d) if not n.startswith(".") and os.path.isdir(os.path.join(d, n)))
+
+
+def tool(name):
+    return os.path.join(BIN, name)
+
+
+# The catalogue's own settings: environments (globs, relative to the catalogue folder).
+settings = {}
+if os.path.isfile(os.path.join(CAT, "catalog.toml")):
+    with open(os.path.join(CAT, "catalog.toml"), "rb") as f:
+        settings = tomllib.load(f)
+ENVS = {}
+for pattern in settings.get("environments", []):
+    for p in sorted(glob.glob(os.path.join(CAT, pattern))):
+        ENVS[os.path.splitext(os.path.basename(p))[0]] = p
+if config.get("environments"):  # --config environments=city,night: a subset
+    wanted = str(config["environments"]).split(",")
+    ENVS = {k: v for k, v in ENVS.items() if k in wanted}
+
+# Keys, computed now (this is what makes the workflow incremental by content).
+FABRICS = folders("fabrics")
+for fid in FABRICS:
+    fdir = os.path.join(CAT, "fabrics", fid)
+    with open(os.path.join(fdir, "fabric.toml"), "rb") as f:
+        maps = tomllib.load(f)
+    textures = [os.path.join(fdir, maps[k]) for k in ("albedo-texture", "normal-texture") if k in maps]
+    content_key("fabric-" + fid, [fdir] + textures + [
+        os.path.join(ROOT, "configs", "brdf-sh-bake.toml"), os.path.join(PIPE, "bake-fabric.sh"),
+        tool("bundle"), tool("brdf-sh-bake")])
+
+DEVICES = []
+for did in folders("devices"):
+    ddir = os.path.join(CAT, "devices", did)
+    with open(os.path.join(ddir, "calibrate.toml"), "rb") as f:
+        inputs = [os.path.join(ddir, p) for p in tomllib.load(f).get("inputs", [])]
+    missing = [p for p in inputs if not os.path.exists(p)]
+    if missing:
+        print(f"bake-catalog: device {did} skipped: {', '.join(missing)} not found "
+              "(../shared/data is not beside the repository)", file=sys.stderr)
+        continue
+    DEVICES.append(did)
+    content_key("device-" + did, [ddir] + inputs + [os.path.join(PIPE, "bake-device.sh"),
+                                                    tool("bundle"), tool("calibrate")])
+
+for env, path in ENVS.items():
+    content_key("env-" + env, [path])
+content_key("validate", [VALIDATE_CONFIG, os.path.join(PIPE, "validate-pair.sh"), tool("render"),
+                         tool("bundle")])
+content_key("report", [os.path.join(PIPE, "validate-report.sh")])
+content_key("index", [tool("bundle")])
+
+localrules: all
+
+rule all:
+    input:
+        "bundles/catalog.sqlite",
+        "validate/index.html" if ENVS and FABRICS else [],
+
+rule fabric:
+    input: "keys/fabric-{fid}.key"
+    output: "stamps/fabric-{fid}.json"
+    log: "logs/fabric-{fid}.log"
+    shell:
+        "INLIGHT_BIN={BIN:q} {PIPE}/bake-fabric.sh {CAT}/fabrics/{wildcards.fid} {OUT:q} {wildcards.fid} > {log} 2>&1"
+        " && cp work/fabrics/{wildcards.fid}/verify.json {output}.tmp && mv {output}.tmp {output}"
+
+rule device:
+    input: "keys/device-{did}.key"
+    output: "stamps/device-{did}.json"
+    log: "logs/device-{did}.log"
+    shell:
+        "INLIGHT_BIN={BIN:q} {PIPE}/bake-device.sh {CAT}/devices/{wildcards.did} {OUT:q} {wildcards.did} > {log} 2>&1"
+        " && cp work/devices/{wildcards.did}/verify.json {output}.tmp && mv {output}.tmp {output}"
+
+rule pair:
+    input:
+        stamp="stamps/fabric-{fid}.json",
+        env="keys/env-{env}.key",
+        validate="keys/validate.key",
+    output: "validate/pairs/{fid}/{env}/summary.json"
+    log: "logs/pair-{fid}-{env}.log"
+    params: envpath=lambda w: ENVS[w.env]
+    shell:
+        "INLIGHT_BIN={BIN:q} VALIDATE_RENDER_CONFIG={VALIDATE_CONFIG:q} {PIPE}/validate-pair.sh"
+        " bundles/fabrics/{wildcards.fid} {params.envpath:q} validate/pairs/{wildcards.fid}/{wildcards.env} > {log} 2>&1"
+
+rule report:
+    input:
+        expand("validate/pairs/{fid}/{env}/summary.json", fid=FABRICS, env=list(ENVS)),
+        "keys/report.key",
+    output: "validate/index.html", "validate/summary.md"
+    log: "logs/report.log"
+    shell: "{PIPE}/validate-report.sh validate > {log} 2>&1"
+
+rule index:
+    input:
+        expand("stamps/fabric-{fid}.json", fid=FABRICS),
+        expand("stamps/device-{did}.json", did=DEVICES),
+        "keys/index.key",
+    output: "bundles/catalog.sqlite"
+    log: "logs/index.log"
+    shell: "{BIN}/bundle index bundles -o {output} -q --report logs/index.json > {log} 2>&1"

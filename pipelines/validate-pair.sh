@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# validate-pair: one fabric bundle under one environment: the path-traced truth against the
+# app's real-time model (and, once issue 8 lands, the GLES output), into OUTDIR/summary.json.
+#   pipelines/validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR      (binaries from ${INLIGHT_BIN})
+# The scene is the app's case: the fabric on the screen (z = 0, facing +z), seen along -z by an
+# orthographic camera, a PATCH_WIDTH_M-wide patch (0.1 m) showing the bundle's textures tiled at
+# its tile_size_m, lit by the environment (lat-long, device frame). Render options come from
+# ${VALIDATE_RENDER_CONFIG:-configs/pipelines/validate.toml}; the real-time model bakes the BRDF
+# table with the bundle's grid and samples per normal, so it is the table the bundle ships.
+set -euo pipefail
+if [ $# -ne 3 ]; then
+    echo "usage: validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR" >&2
+    exit 2
+fi
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(cd "$HERE/.." && pwd)
+BUNDLE=$(cd "$1" && pwd)
+ENV_MAP=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
+mkdir -p "$3"
+OUTDIR=$(cd "$3" && pwd)
+BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+CONFIG=${VALIDATE_RENDER_CONFIG:-$ROOT/configs/pipelines/validate.toml}
+PATCH_WIDTH_M=0.1
+M="$BUNDLE/manifest.json"
+
+# The bundle is checked before anything is rendered from it.
+"$BIN/bundle" verify "$BUNDLE" -q --report "$OUTDIR/verify.json"
+id=$(jq -r '.id' "$M")
+env_name=$(basename "$ENV_MAP")
+env_name=${env_name%.*}
+role() { jq -r --arg r "$1" '[.files[] | select(.role == $r)][0].path // empty' "$M"; }
+albedo=$(role albedo)
+normal=$(role normal)
+uv=$(jq --argjson w "$PATCH_WIDTH_M" '$w / .properties.tile_size_m' "$M")
+{
+    echo "# validate-pair: $id under $env_name (generated)"
+    echo "[environment]"
+    echo "path = \"$ENV_MAP\""
+    echo "[camera]"
+    echo "projection = \"orthographic\""
+    echo "ortho_height = 1.0"
+    echo "[material.fabric]"
+    echo "file = \"$BUNDLE/$(role material)\""
+    echo "albedo = [1, 1, 1]"
+    echo "albedo_texture = \"$BUNDLE/$albedo\""
+    [ -n "$normal" ] && echo "normal_texture = \"$BUNDLE/$normal\""
+    echo "uv_scale = [$uv, $uv]"
+    echo "[[object]]"
+    echo "name = \"fabric\""
+    echo "shape = \"patch\""
+    echo "material = \"fabric\""
+    echo "size = [1, 1]"
+} > "$OUTDIR/scene.toml"
+
+"$BIN/render" "$OUTDIR/scene.toml" -o "$OUTDIR/render.exr" --config "$CONFIG" --compare \
+    --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
+    --rt-bake-samples "$(jq '.properties.brdf_samples_per_normal' "$M")" \
+    -q --report "$OUTDIR/render.json"
+
+# GLES output (issue 8): a third column once render --export-gles and its harness are on main.
+gles=null
+if "$BIN/render" --help 2>/dev/null | grep -q -- '--export-gles'; then
+    echo "validate-pair: render --export-gles exists; its column is wired in phase 2 of issue 11" >&2
+fi
+
+jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_name" \
+    --arg envpath "$ENV_MAP" --argjson gles "$gles" '
+    $r[0].metrics as $m | $m.realtime as $rt | $b[0] as $bundle |
+    {fabric: $bundle.id, fabric_name: $bundle.name, environment: $env, environment_path: $envpath,
+     bundle_bytes: $bundle.total_bytes, sh_bands_shipped: $bundle.properties.sh_bands,
+     truth: {spp: $m.spp, rel_noise: $m.rel_error, render_time_s: $m.render_time_s,
+             stop_reason: $m.stop_reason},
+     consistent: $rt.modes.consistent, seed: $rt.modes.seed,
+     by_sh_bands: [$rt.consistent_by_sh_bands[] | {sh_bands, mean_rel, mean_de2000, max_de2000,
+                                                    frame_time_ms}],
+     gles: $gles,
+     images: {compare_consistent: "render_compare_consistent.png",
+              compare_seed: "render_compare_seed.png"}}' > "$OUTDIR/summary.json.tmp"
+mv "$OUTDIR/summary.json.tmp" "$OUTDIR/summary.json"

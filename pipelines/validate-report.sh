@@ -1,0 +1,144 @@
+#!/usr/bin/env bash
+# validate-report: the validation pairs of a run (VALIDATE_DIR/pairs/<fabric>/<environment>/
+# summary.json, from validate-pair.sh) -> VALIDATE_DIR/index.html, summary.md, summary.json and
+# gnuplot plots of error against cost.
+#   pipelines/validate-report.sh VALIDATE_DIR
+# Verdict per pair: the app's shading (consistent mode, the bundle's SH bands) against the
+# truth in mean CIEDE2000 after exposure: good <= MAX_DE2000 (default 2: a difference an
+# observer notices only side by side), marginal <= 2 x that, else poor. The truth's own noise
+# is a floor under every figure: a pair whose truth noise exceeds half the model's relative
+# error is marked noise-limited.
+set -euo pipefail
+if [ $# -ne 1 ]; then
+    echo "usage: validate-report.sh VALIDATE_DIR" >&2
+    exit 2
+fi
+V=$(cd "$1" && pwd)
+MAX_DE2000=${MAX_DE2000:-2.0}
+P="$V/plots"
+mkdir -p "$P"
+mapfile -t summaries < <(find "$V/pairs" -name summary.json | sort)
+if [ "${#summaries[@]}" -eq 0 ]; then
+    echo "validate-report: no pairs in $V/pairs" >&2
+    exit 1
+fi
+
+# 1. One table of every pair with its verdict and what would make it better.
+jq -s --argjson t "$MAX_DE2000" '
+  map(. as $p
+    | ($p.by_sh_bands | map(select(.sh_bands == $p.sh_bands_shipped))[0]) as $ship
+    | ($p.by_sh_bands | map(select(.mean_de2000 <= $t)) | min_by(.sh_bands)) as $enough
+    | ($p.by_sh_bands | min_by(.mean_de2000)) as $best
+    | (($p.truth.rel_noise // 0) > 0.5 * $ship.mean_rel) as $noisy
+    | $p + {shipped: $ship,
+            verdict: (if $ship.mean_de2000 <= $t then "good"
+                      elif $ship.mean_de2000 <= 2 * $t then "marginal" else "poor" end),
+            noise_limited: $noisy,
+            bands_needed: ($enough.sh_bands // null),
+            best_sh_bands: $best.sh_bands, best_de2000: $best.mean_de2000,
+            advice: (if $noisy then "truth too noisy to judge: render it with more samples (validate.toml spp / target-rel-error)"
+                     elif $ship.mean_de2000 <= $t then "ships as is at \($p.sh_bands_shipped) SH bands"
+                     elif $enough != null then "use \($enough.sh_bands) SH bands: dE2000 \($enough.mean_de2000 * 100 | round / 100) at \($enough.frame_time_ms * 100 | round / 100) ms per frame (CPU model)"
+                     else "more SH bands do not get there (best \($best.sh_bands) bands, dE2000 \($best.mean_de2000 * 100 | round / 100)): the rest is the BRDF grid, the fixed view or missing shadowing; extract dominant lights (issue 14)" end)})
+  | sort_by(.fabric, .environment)' "${summaries[@]}" > "$V/summary.json"
+
+# 2. Plot data: per fabric and environment, error against SH bands and frame time.
+: > "$P/bands.dat"
+while IFS=$'\t' read -r fabric; do
+    while IFS=$'\t' read -r env; do
+        {
+            echo "# $fabric $env"
+            jq -r --arg f "$fabric" --arg e "$env" '.[] | select(.fabric == $f and .environment == $e)
+                | .by_sh_bands[] | [.sh_bands, .mean_de2000, .frame_time_ms, .mean_rel] | @tsv' "$V/summary.json"
+            printf '\n\n'
+        } >> "$P/bands.dat"
+    done < <(jq -r --arg f "$fabric" '[.[] | select(.fabric == $f) | .environment] | unique[]' "$V/summary.json")
+done < <(jq -r '[.[].fabric] | unique[]' "$V/summary.json")
+jq -r '.[] | [.fabric, .environment, .bundle_bytes, .shipped.mean_de2000, .truth.rel_noise, .shipped.mean_rel, .seed.mean_de2000] | @tsv' \
+    "$V/summary.json" > "$P/pairs.dat"
+nblocks=$(jq 'length' "$V/summary.json")
+titles=$(jq -r '[.[] | "\(.fabric)/\(.environment)"] | join(" ")' "$V/summary.json")
+
+gnuplot <<GNUPLOT
+set terminal pngcairo size 900,560 font "sans,10"
+set grid
+set key outside right top font "sans,8"
+titles = "$titles"
+set output "$P/error_vs_sh_bands.png"
+set title "Real-time model vs path-traced truth: error against SH bands (consistent mode)"
+set xlabel "SH bands (lighting and BRDF table)"
+set ylabel "mean CIEDE2000"
+set logscale y
+set xtics 1
+plot for [i=0:$nblocks-1] "$P/bands.dat" index i using 1:2 with linespoints title word(titles, i+1), \
+     $MAX_DE2000 with lines dashtype 2 lw 2 lc rgb "black" title "good (dE2000 $MAX_DE2000)"
+set output "$P/error_vs_frame_time.png"
+set title "Error against cost: CPU model frame time per band count (64 x 64 fragments)"
+set xlabel "frame time, ms (CPU real-time model; GLES frame time: issue 8)"
+set logscale x
+plot for [i=0:$nblocks-1] "$P/bands.dat" index i using 3:2 with linespoints title word(titles, i+1), \
+     $MAX_DE2000 with lines dashtype 2 lw 2 lc rgb "black" title "good"
+unset logscale x
+set output "$P/truth_noise.png"
+set title "Is the truth good enough? Its noise against the model error it judges"
+set xlabel "truth: relative noise (standard error / mean)"
+set ylabel "model: mean relative error"
+set logscale xy
+set key inside left top
+plot "$P/pairs.dat" using 5:6 with points pt 7 title "pairs", x with lines lc rgb "red" title "noise = error", \
+     2*x with lines dashtype 2 lc rgb "red" title "noise = error / 2"
+set output "$P/error_vs_bytes.png"
+set title "Error against bytes downloaded (bundle size; BTF components: issue 10)"
+set xlabel "bundle bytes"
+set ylabel "mean CIEDE2000 (shipped SH bands)"
+set logscale x
+unset logscale y
+plot "$P/pairs.dat" using 3:4 with points pt 7 title "pairs (consistent)", \
+     "$P/pairs.dat" using 3:7 with points pt 6 title "pairs (the report's seed shader)"
+GNUPLOT
+
+# 3. Markdown summary.
+{
+    echo "# Validation: real-time model against path-traced truth"
+    echo
+    echo "Verdict: mean CIEDE2000 of the app's shading (consistent mode, the bundle's SH bands) against"
+    echo "the truth; good <= $MAX_DE2000, marginal <= $(jq -n "2 * $MAX_DE2000"), else poor. GLES column: issue 8."
+    echo
+    echo "| fabric | environment | verdict | dE2000 | rel. error | seed shader dE2000 | truth noise | advice |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
+    jq -r '.[] | "| \(.fabric) | \(.environment) | \(.verdict)\(if .noise_limited then " (noise-limited)" else "" end) | \(.shipped.mean_de2000 * 100 | round / 100) | \(.shipped.mean_rel * 1000 | round / 1000) | \(.seed.mean_de2000 * 100 | round / 100) | \(.truth.rel_noise * 1000 | round / 1000) | \(.advice) |"' "$V/summary.json"
+    echo
+    echo "Plots: plots/error_vs_sh_bands.png, plots/error_vs_frame_time.png, plots/truth_noise.png, plots/error_vs_bytes.png."
+    echo "Page: index.html."
+} > "$V/summary.md"
+
+# 4. The HTML page: verdicts first, then each pair side by side (truth | model | heat map).
+{
+    cat <<'HTML'
+<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>inlight validation</title>
+<style>
+body{font-family:sans-serif;margin:1.5em;max-width:1200px}
+table{border-collapse:collapse;font-size:90%}td,th{border:1px solid #ccc;padding:3px 6px}
+.good{background:#c8f0c8}.marginal{background:#f8e8a0}.poor{background:#f4b8b8}
+img.pair{image-rendering:pixelated;height:128px}
+</style></head><body>
+<h1>Validation: the app's real-time model against path-traced truth</h1>
+HTML
+    echo "<p>Each row: one fabric bundle under one environment. <b>Verdict</b>: mean CIEDE2000 of the"
+    echo "app's shading (consistent mode, the SH bands the bundle ships) against the truth after"
+    echo "exposure; good &le; $MAX_DE2000, marginal &le; $(jq -n "2 * $MAX_DE2000"), else poor."
+    echo "<b>Advice</b> says what would make it better. Images: truth | real-time model | relative"
+    echo "error heat map (0 to 0.5). The GLES column arrives with issue 8; PCA components and bytes"
+    echo "streamed with issue 10.</p>"
+    echo "<h2>Verdicts</h2><table><tr><th>fabric</th><th>environment</th><th>verdict</th><th>dE2000</th><th>seed shader dE2000</th><th>truth noise</th><th>advice</th><th>truth | model | error</th></tr>"
+    jq -r '.[] | "<tr class=\"\(.verdict)\"><td>\(.fabric)</td><td>\(.environment)</td><td>\(.verdict)\(if .noise_limited then " (noise-limited)" else "" end)</td><td>\(.shipped.mean_de2000 * 100 | round / 100)</td><td>\(.seed.mean_de2000 * 100 | round / 100)</td><td>\(.truth.rel_noise * 1000 | round / 1000)</td><td>\(.advice)</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\(.images.compare_consistent)\" alt=\"\(.fabric) \(.environment)\"></td></tr>"' "$V/summary.json"
+    echo "</table>"
+    echo "<h2>Error against cost</h2>"
+    for p in error_vs_sh_bands error_vs_frame_time truth_noise error_vs_bytes; do
+        echo "<p><img src=\"plots/$p.png\" alt=\"$p\"></p>"
+    done
+    echo "<p>Data: <a href=\"summary.json\">summary.json</a>, <a href=\"summary.md\">summary.md</a>.</p>"
+    echo "</body></html>"
+} > "$V/index.html"
+echo "validate: $(jq -r 'group_by(.verdict) | map("\(length) \(.[0].verdict)") | join(", ")' "$V/summary.json") of $(jq length "$V/summary.json") pairs; report $V/index.html" >&2

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# validate: every fabric bundle of a bundle root under every environment: path-traced truth
+# against the real-time model (validate-pair.sh), then one HTML page, a Markdown summary and
+# plots of error against cost (validate-report.sh) in OUT/.
+#   pipelines/validate.sh OUT BUNDLE_ROOT ENVIRONMENT...     (binaries from ${INLIGHT_BIN})
+# bake-catalog runs the same two scripts as Snakemake rules, in parallel.
+set -euo pipefail
+if [ $# -lt 3 ]; then
+    echo "usage: validate.sh OUT BUNDLE_ROOT ENVIRONMENT..." >&2
+    exit 2
+fi
+HERE=$(cd "$(dirname "$0")" && pwd)
+OUT=$1
+BUNDLES=$2
+shift 2
+mapfile -t fabrics < <(find "$BUNDLES/fabrics" -mindepth 1 -maxdepth 1 -type d ! -name '.*' | sort)
+n=$((${#fabrics[@]} * $#))
+i=0
+for fabric in "${fabrics[@]}"; do
+    for env in "$@"; do
+        i=$((i + 1))
+        name=$(basename "$env")
+        echo "[validate $i/$n] $(basename "$fabric") under ${name%.*}" >&2
+        "$HERE/validate-pair.sh" "$fabric" "$env" "$OUT/pairs/$(basename "$fabric")/${name%.*}"
+    done
+done
+"$HERE/validate-report.sh" "$OUT"

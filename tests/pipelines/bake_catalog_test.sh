@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# bake-catalog (Snakemake): builds a tiny catalogue; a rerun does nothing; a touched but
+# unchanged input rebuilds nothing; a changed one rebuilds only what reads it; killed mid-run
+# (SIGKILL to the whole process group), the rerun finishes with every bundle intact and
+# without redoing the jobs that had finished.
+HERE=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=tests/cli/lib.sh
+source "$HERE/../cli/lib.sh"
+# shellcheck source=tests/pipelines/tiny.sh
+source "$HERE/tiny.sh"
+require_blender_data
+CAT="$WORK/cat"
+OUT="$WORK/out"
+make_catalog "$CAT" 3 "$HDRI_DIR/night.exr"
+export VALIDATE_RENDER_CONFIG="$CAT/validate.toml"
+run() { "$PIPE/bake-catalog.sh" -j 1 "$CAT" "$OUT" >"$WORK/run.log" 2>&1; }
+
+# 1. Start, and kill everything once one fabric is done and another is running.
+setsid "$PIPE/bake-catalog.sh" -j 1 "$CAT" "$OUT" >"$WORK/killed.log" 2>&1 &
+pid=$!
+state() {  # prints "DONE RUNNING": fabric ids with a stamp, fabric ids started without one
+    local done="" running="" f id
+    for f in "$OUT"/logs/fabric-*.log; do
+        [ -e "$f" ] || continue
+        id=$(basename "$f" .log)
+        if [ -f "$OUT/stamps/$id.json" ]; then done+="${id#fabric-} "; else running+="${id#fabric-} "; fi
+    done
+    echo "$done|$running"
+}
+for _ in $(seq 1 1200); do
+    s=$(state)
+    [ "${s%%|*}" != "" ] && [ "${s##*|}" != "" ] && break
+    sleep 0.05
+done
+kill -KILL -- "-$pid" 2>/dev/null
+wait "$pid" 2>/dev/null
+s=$(state)
+read -r -a finished <<<"${s%%|*}"
+read -r -a interrupted <<<"${s##*|}"
+echo "killed: finished [${finished[*]}], interrupted [${interrupted[*]}]"
+expect_true "killed with a fabric done and another running" -- \
+    test "${#finished[@]}" -ge 1 -a "${#interrupted[@]}" -ge 1
+declare -A sums
+for id in "${finished[@]}"; do
+    sums[$id]="$(sha256sum "$OUT/stamps/fabric-$id.json") $(stat -c %y "$OUT/stamps/fabric-$id.json")"
+done
+# Nothing corrupt: every bundle folder a reader can see verifies (unfinished ones are hidden).
+expect_exit 0 "bundles visible after the kill all verify" -- "$BIN/bundle" verify "$OUT/bundles" -q
+
+# 2. The rerun finishes, redoes the interrupted fabric and not the finished ones.
+expect_exit 0 "rerun after the kill finishes" -- run
+for id in "${finished[@]}"; do
+    expect_true "$id was not redone (its stamp is untouched)" -- \
+        test "$(sha256sum "$OUT/stamps/fabric-$id.json") $(stat -c %y "$OUT/stamps/fabric-$id.json")" = "${sums[$id]}"
+    expect_true "the rerun did not run $id's job" -- bash -c "! grep -q 'wildcards: fid=$id\$' '$WORK/run.log'"
+done
+for id in "${interrupted[@]}"; do
+    expect_true "the rerun redid the interrupted $id" -- grep -q "wildcards: fid=$id\$" "$WORK/run.log"
+done
+expect_exit 0 "every bundle verifies" -- "$BIN/bundle" verify "$OUT/bundles" -q
+expect_true "no hidden unfinished bundle folder is left" -- \
+    test -z "$(find "$OUT/bundles/fabrics" -mindepth 1 -maxdepth 1 -name '.*')"
+expect_true "catalogue lists the three fabrics" -- \
+    test "$(sqlite3 "$OUT/bundles/catalog.sqlite" 'SELECT group_concat(id) FROM fabrics ORDER BY id')" = "f1,f2,f3"
+expect_true "validation report written" -- test -s "$OUT/validate/index.html" -a -s "$OUT/validate/plots/error_vs_sh_bands.png"
+expect_true "summary covers the three pairs" -- test "$(jq length "$OUT/validate/summary.json")" -eq 3
+
+# 3. Incremental by content.
+expect_exit 0 "rerun" -- run
+expect_true "a rerun does nothing" -- grep -q 'Nothing to be done' "$WORK/run.log"
+touch "$CAT/fabrics/f2/material.toml"
+expect_exit 0 "rerun after touch" -- run
+expect_true "a touched, unchanged input rebuilds nothing" -- grep -q 'Nothing to be done' "$WORK/run.log"
+sed -i 's/alpha = 0.3/alpha = 0.35/' "$CAT/fabrics/f2/material.toml"
+expect_exit 0 "rerun after an edit" -- run
+expect_true "an edited fabric is rebuilt" -- grep -q 'wildcards: fid=f2$' "$WORK/run.log"
+expect_true "the others are not" -- bash -c "! grep -Eq 'wildcards: fid=f[13]' '$WORK/run.log'"
+expect_true "its new table is in its bundle" -- \
+    grep -q 'alpha = 0.35' "$OUT/bundles/fabrics/f2/material.toml"
+
+# 4. A second bake-catalog on the same folder is refused while one runs.
+exec 8>"$OUT/.bake-catalog.lock"
+flock -n 8
+expect_exit 1 "a concurrent run on the same OUT is refused" -- "$PIPE/bake-catalog.sh" "$CAT" "$OUT"
+expect_stderr "another bake-catalog is running" "and says why"
+exec 8>&-
+finish
