@@ -122,6 +122,9 @@ content_key("validate", [VALIDATE_CONFIG, os.path.join(PIPE, "validate-pair.sh")
 content_key("report", [os.path.join(PIPE, "validate-report.sh")])
 content_key("index", [tool("bundle")])
 
+# One convergence study of the truth (error against spp), on the first fabric and environment.
+FIRST = f"validate/pairs/{FABRICS[0]}/{sorted(ENVS)[0]}/convergence.json" if FABRICS and ENVS else None
+
 localrules: all
 
 rule all:
@@ -157,9 +160,17 @@ rule pair:
         "INLIGHT_BIN={BIN:q} VALIDATE_RENDER_CONFIG={VALIDATE_CONFIG:q} {PIPE}/validate-pair.sh"
         " bundles/fabrics/{wildcards.fid} {params.envpath:q} validate/pairs/{wildcards.fid}/{wildcards.env} > {log} 2>&1"
 
+rule convergence:
+    input: "validate/pairs/{fid}/{env}/summary.json"
+    output: "validate/pairs/{fid}/{env}/convergence.json"
+    log: "logs/convergence-{fid}-{env}.log"
+    shell:
+        "INLIGHT_BIN={BIN:q} {PIPE}/validate-convergence.sh validate/pairs/{wildcards.fid}/{wildcards.env} > {log} 2>&1"
+
 rule report:
     input:
         expand("validate/pairs/{fid}/{env}/summary.json", fid=FABRICS, env=list(ENVS)),
+        [FIRST] if FIRST else [],
         "keys/report.key",
     output: "validate/index.html", "validate/summary.md"
     log: "logs/report.log"

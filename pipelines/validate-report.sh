@@ -42,59 +42,116 @@ jq -s --argjson t "$MAX_DE2000" '
                      else "more SH bands do not get there (best \($best.sh_bands) bands, dE2000 \($best.mean_de2000 * 100 | round / 100)): the rest is the BRDF grid, the fixed view or missing shadowing; extract dominant lights (issue 14)" end)})
   | sort_by(.fabric, .environment)' "${summaries[@]}" > "$V/summary.json"
 
-# 2. Plot data: per fabric and environment, error against SH bands and frame time.
+# 2. Plot data: per fabric and environment, error against SH bands; per fabric, the median
+#    over environments of error and of frame time per band count (single timings on a shared
+#    machine are noisy; the median is not).
+mapfile -t FABRICS < <(jq -r '[.[].fabric] | unique[]' "$V/summary.json")
+mapfile -t ENVS < <(jq -r '[.[].environment] | unique[]' "$V/summary.json")
 : > "$P/bands.dat"
-while IFS=$'\t' read -r fabric; do
-    while IFS=$'\t' read -r env; do
+: > "$P/cost.dat"
+for fabric in "${FABRICS[@]}"; do
+    for env in "${ENVS[@]}"; do
         {
             echo "# $fabric $env"
             jq -r --arg f "$fabric" --arg e "$env" '.[] | select(.fabric == $f and .environment == $e)
                 | .by_sh_bands[] | [.sh_bands, .mean_de2000, .frame_time_ms, .mean_rel] | @tsv' "$V/summary.json"
             printf '\n\n'
         } >> "$P/bands.dat"
-    done < <(jq -r --arg f "$fabric" '[.[] | select(.fabric == $f) | .environment] | unique[]' "$V/summary.json")
-done < <(jq -r '[.[].fabric] | unique[]' "$V/summary.json")
+    done
+    {
+        echo "# $fabric: sh_bands, median frame_time_ms, median mean_de2000 over environments"
+        jq -r --arg f "$fabric" 'def median: sort | if length % 2 == 1 then .[length / 2 | floor]
+                                                   else (.[length / 2 - 1] + .[length / 2]) / 2 end;
+            [.[] | select(.fabric == $f) | .by_sh_bands[]] | group_by(.sh_bands)[]
+            | [.[0].sh_bands, (map(.frame_time_ms) | median), (map(.mean_de2000) | median)] | @tsv' "$V/summary.json"
+        printf '\n\n'
+    } >> "$P/cost.dat"
+done
 jq -r '.[] | [.fabric, .environment, .bundle_bytes, .shipped.mean_de2000, .truth.rel_noise, .shipped.mean_rel, .seed.mean_de2000] | @tsv' \
     "$V/summary.json" > "$P/pairs.dat"
-nblocks=$(jq 'length' "$V/summary.json")
-titles=$(jq -r '[.[] | "\(.fabric)/\(.environment)"] | join(" ")' "$V/summary.json")
+nf=${#FABRICS[@]}
+ne=${#ENVS[@]}
+cols=$((nf < 3 ? nf : 3))
+rows=$(((nf + cols - 1) / cols))
+
+gnuplot <<GNUPLOT
+set terminal pngcairo size $((cols * 420 + 160)),$((rows * 360 + 40)) font "sans,9"
+set output "$P/error_vs_sh_bands.png"
+set multiplot layout $rows,$cols title "Real-time model vs path-traced truth: mean CIEDE2000 against SH bands (consistent mode; dashed: good)"
+fabrics = "${FABRICS[*]}"
+envs = "${ENVS[*]}"
+set grid
+set logscale y
+set xtics 1
+set xlabel "SH bands (lighting and BRDF table)"
+set ylabel "mean CIEDE2000"
+set key top right font "sans,7"
+do for [f=0:$nf-1] {
+    set title word(fabrics, f+1)
+    plot for [e=0:$ne-1] "$P/bands.dat" index f*$ne+e using 1:2 with linespoints title word(envs, e+1), \
+         $MAX_DE2000 with lines dashtype 2 lw 2 lc rgb "black" notitle
+}
+unset multiplot
+set terminal pngcairo size 900,560 font "sans,10"
+set key outside right top font "sans,8"
+set output "$P/error_vs_frame_time.png"
+set title "Error against cost: median over environments, per band count (labels: SH bands)"
+set xlabel "frame time, ms (CPU real-time model, 1 fragment per pixel; GLES frame time: issue 8)"
+set ylabel "median mean CIEDE2000"
+unset logscale x
+set logscale y
+plot for [f=0:$nf-1] "$P/cost.dat" index f using 2:3 with linespoints title word(fabrics, f+1), \
+     for [f=0:$nf-1] "$P/cost.dat" index f using 2:3:1 with labels offset 0.8,0.6 notitle, \
+     $MAX_DE2000 with lines dashtype 2 lw 2 lc rgb "black" title "good"
+set output "$P/truth_noise.png"
+set title "Is the truth good enough? Its noise against the model error it judges"
+set xlabel "truth: relative noise (standard error / mean)"
+set ylabel "model: mean relative error"
+set key inside left top
+set logscale xy
+set xrange [0.003:0.5]
+set yrange [0.003:1]
+plot "$P/pairs.dat" using 5:6 with points pt 7 title "pairs", x with lines lc rgb "red" title "noise = error", \
+     2*x with lines dashtype 2 lc rgb "red" title "noise = error / 2 (above: judged by the model, not the noise)"
+GNUPLOT
+
+# The path tracer against spp, beside the model errors it must resolve (first pair with a study).
+conv=$(find "$V/pairs" -name convergence.json | sort | head -n 1)
+if [ -n "$conv" ]; then
+    pair_dir=$(dirname "$conv")
+    jq -r '.points[] | [.spp, .rel_rmse, .time_s] | @tsv' "$conv" > "$P/convergence.dat"
+    cf=$(basename "$(dirname "$pair_dir")")
+    ce=$(basename "$pair_dir")
+    pick() { jq --arg f "$cf" --arg e "$ce" ".[] | select(.fabric == \$f and .environment == \$e) | $1" "$V/summary.json"; }
+    model=$(pick .shipped.mean_rel)
+    seed=$(pick .seed.mean_rel)
+    gnuplot <<GNUPLOT2
+set terminal pngcairo size 900,560 font "sans,10"
+set output "$P/error_vs_spp.png"
+set grid
+set logscale xy
+set title "The truth's own error against samples per pixel ($cf / $ce, slope $(jq '.slope * 1000 | round / 1000' "$conv"))"
+set xlabel "samples per pixel (path tracer)"
+set ylabel "relative RMSE against a $(jq .reference_spp "$conv") spp reference"
+set key top right
+plot "$P/convergence.dat" using 1:2 with linespoints pt 7 title "path tracer", \
+     $model with lines lw 2 lc rgb "dark-green" title "real-time model, mean relative error", \
+     $seed with lines dashtype 2 lc rgb "red" title "the report's seed shader"
+GNUPLOT2
+fi
 
 gnuplot <<GNUPLOT
 set terminal pngcairo size 900,560 font "sans,10"
 set grid
 set key outside right top font "sans,8"
-titles = "$titles"
-set output "$P/error_vs_sh_bands.png"
-set title "Real-time model vs path-traced truth: error against SH bands (consistent mode)"
-set xlabel "SH bands (lighting and BRDF table)"
-set ylabel "mean CIEDE2000"
-set logscale y
-set xtics 1
-plot for [i=0:$nblocks-1] "$P/bands.dat" index i using 1:2 with linespoints title word(titles, i+1), \
-     $MAX_DE2000 with lines dashtype 2 lw 2 lc rgb "black" title "good (dE2000 $MAX_DE2000)"
-set output "$P/error_vs_frame_time.png"
-set title "Error against cost: CPU model frame time per band count (64 x 64 fragments)"
-set xlabel "frame time, ms (CPU real-time model; GLES frame time: issue 8)"
-set logscale x
-plot for [i=0:$nblocks-1] "$P/bands.dat" index i using 3:2 with linespoints title word(titles, i+1), \
-     $MAX_DE2000 with lines dashtype 2 lw 2 lc rgb "black" title "good"
-unset logscale x
-set output "$P/truth_noise.png"
-set title "Is the truth good enough? Its noise against the model error it judges"
-set xlabel "truth: relative noise (standard error / mean)"
-set ylabel "model: mean relative error"
-set logscale xy
-set key inside left top
-plot "$P/pairs.dat" using 5:6 with points pt 7 title "pairs", x with lines lc rgb "red" title "noise = error", \
-     2*x with lines dashtype 2 lc rgb "red" title "noise = error / 2"
 set output "$P/error_vs_bytes.png"
-set title "Error against bytes downloaded (bundle size; BTF components: issue 10)"
+set title "Error against bytes downloaded (bundle size; BTF components streamed: issue 10)"
 set xlabel "bundle bytes"
 set ylabel "mean CIEDE2000 (shipped SH bands)"
-set logscale x
 unset logscale y
-plot "$P/pairs.dat" using 3:4 with points pt 7 title "pairs (consistent)", \
-     "$P/pairs.dat" using 3:7 with points pt 6 title "pairs (the report's seed shader)"
+set autoscale xy
+plot "$P/pairs.dat" using 3:4 with points pt 7 title "consistent model", \
+     "$P/pairs.dat" using 3:7 with points pt 6 title "the report's seed shader"
 GNUPLOT
 
 # 3. Markdown summary.
@@ -108,7 +165,7 @@ GNUPLOT
     echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
     jq -r '.[] | "| \(.fabric) | \(.environment) | \(.verdict)\(if .noise_limited then " (noise-limited)" else "" end) | \(.shipped.mean_de2000 * 100 | round / 100) | \(.shipped.mean_rel * 1000 | round / 1000) | \(.seed.mean_de2000 * 100 | round / 100) | \(.truth.rel_noise * 1000 | round / 1000) | \(.advice) |"' "$V/summary.json"
     echo
-    echo "Plots: plots/error_vs_sh_bands.png, plots/error_vs_frame_time.png, plots/truth_noise.png, plots/error_vs_bytes.png."
+    echo "Plots: plots/error_vs_sh_bands.png, plots/error_vs_frame_time.png, plots/error_vs_spp.png (with a convergence study), plots/truth_noise.png, plots/error_vs_bytes.png."
     echo "Page: index.html."
 } > "$V/summary.md"
 
@@ -135,8 +192,8 @@ HTML
     jq -r '.[] | "<tr class=\"\(.verdict)\"><td>\(.fabric)</td><td>\(.environment)</td><td>\(.verdict)\(if .noise_limited then " (noise-limited)" else "" end)</td><td>\(.shipped.mean_de2000 * 100 | round / 100)</td><td>\(.seed.mean_de2000 * 100 | round / 100)</td><td>\(.truth.rel_noise * 1000 | round / 1000)</td><td>\(.advice)</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\(.images.compare_consistent)\" alt=\"\(.fabric) \(.environment)\"></td></tr>"' "$V/summary.json"
     echo "</table>"
     echo "<h2>Error against cost</h2>"
-    for p in error_vs_sh_bands error_vs_frame_time truth_noise error_vs_bytes; do
-        echo "<p><img src=\"plots/$p.png\" alt=\"$p\"></p>"
+    for p in error_vs_sh_bands error_vs_frame_time error_vs_spp truth_noise error_vs_bytes; do
+        [ -f "$P/$p.png" ] && echo "<p><img src=\"plots/$p.png\" alt=\"$p\"></p>"
     done
     echo "<p>Data: <a href=\"summary.json\">summary.json</a>, <a href=\"summary.md\">summary.md</a>.</p>"
     echo "</body></html>"

@@ -127,7 +127,6 @@ void run_pack(const PackToolOptions& o, Report& report) {
     for (const std::string& spec : o.files) {
         const FileSpec f = parse_file_spec(spec);
         req.files.push_back({f.source, f.path, f.role, f.stream_index});
-        report.add_input(f.source);
     }
     const std::string dest =
         (stdfs::path(o.root) / (o.kind + "s") / o.id).string();
@@ -136,6 +135,7 @@ void run_pack(const PackToolOptions& o, Report& report) {
         ScopedStage stage(report, "pack");
         m = write_bundle(dest, req);
     }
+    for (const PackFile& f : req.files) report.add_input(f.source);
     report.add_output(dest, "bundle");
     auto& j = report.metrics();
     j["bundle"] = dest;

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The bundle tool as a pipeline calls it: exit codes, messages that name the file and the
+# problem, reports, and nothing written by a failed run.
+HERE=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=tests/cli/lib.sh
+source "$HERE/../cli/lib.sh"
+# shellcheck source=tests/pipelines/tiny.sh
+source "$HERE/tiny.sh"
+require_blender_data
+B="$BIN/bundle"
+expect_exit 2 "no mode" -- "$B"
+expect_exit 0 "--help" -- "$B" pack --help
+expect_exit 2 "pack without --file" -- "$B" pack --kind fabric --id x -o "$WORK/b"
+expect_exit 2 "unknown kind" -- "$B" pack --kind sofa --id x --file albedo=a.png -o "$WORK/b"
+expect_exit 2 "fabric-maps: negative relief" -- "$B" fabric-maps --albedo-texture "$TEXTURE" --relief-texels -1 -o "$WORK/m"
+
+expect_exit 0 "fabric-maps" -- "$B" fabric-maps --albedo-texture "$TEXTURE" --max-size-px 64 \
+    --thumbnail-px 16 --name "Weave" --tile-size-m 0.04 -o "$WORK/m" --report "$WORK/m.json"
+expect_true "maps: 64 px albedo, derived normals, 16 px thumbnail" -- \
+    jq -e '.metrics.width_px == 64 and .metrics.normal_source == "derived" and .metrics.thumbnail_width_px == 16 and .metrics.tile_size_m == 0.04' "$WORK/m.json"
+printf 'specular = "lambert"\n' > "$WORK/mat.toml"
+files=(--file "albedo=$WORK/m/albedo.png" --file "normal=$WORK/m/normal.png"
+    --file "thumbnail=$WORK/m/thumbnail.png" --file "material=$WORK/mat.toml@material.toml")
+expect_exit 1 "pack: unknown role" -- "$B" pack --kind fabric --id w "${files[@]}" --file "sparkle=$WORK/mat.toml" -o "$WORK/b"
+expect_stderr "'sparkle' is not a fabric role" "names the role"
+expect_exit 1 "pack: missing source" -- "$B" pack --kind fabric --id w "${files[@]}" --file "brdf_sh_table=$WORK/nope.bin" -o "$WORK/b"
+expect_stderr "nope.bin: not found" "names the file"
+expect_true "failed packs leave nothing" -- test ! -e "$WORK/b/fabrics/w"
+expect_exit 1 "pack: bad id" -- "$B" pack --kind fabric --id "../w" "${files[@]}" -o "$WORK/b"
+expect_exit 0 "pack" -- "$B" pack --kind fabric --id w --name "Weave" "${files[@]}" \
+    --property sh_bands=3 --property note=plain -o "$WORK/b" --report "$WORK/pack.json"
+expect_true "manifest properties typed (3 is a number, plain a string)" -- \
+    jq -e '.properties.sh_bands == 3 and .properties.note == "plain"' "$WORK/b/fabrics/w/manifest.json"
+expect_exit 0 "verify" -- "$B" verify "$WORK/b" --report "$WORK/v.json"
+expect_true "verify report lists the bundle" -- jq -e '.metrics.verified == 1 and .metrics.failed == 0' "$WORK/v.json"
+expect_exit 0 "index" -- "$B" index "$WORK/b"
+expect_true "catalogue row" -- test "$(sqlite3 "$WORK/b/catalog.sqlite" 'SELECT name FROM fabrics')" = "Weave"
+
+cp -r "$WORK/b" "$WORK/c"
+printf 'x' >> "$WORK/c/fabrics/w/material.toml"
+expect_exit 1 "verify: a grown file" -- "$B" verify "$WORK/c" --report "$WORK/v2.json"
+expect_stderr "material.toml: .* bytes, the manifest says" "names the file and the sizes"
+expect_true "report says failed" -- jq -e '.status == "failed" and .metrics.failed == 1' "$WORK/v2.json"
+expect_exit 1 "index refuses a broken bundle" -- "$B" index "$WORK/c"
+finish
