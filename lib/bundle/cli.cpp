@@ -6,6 +6,7 @@
 #include "bundle/bundle.h"
 #include "bundle/catalog.h"
 #include "core/error.h"
+#include "core/validators.h"
 #include "core/log.h"
 
 namespace inlight::bundle {
@@ -22,7 +23,7 @@ void add_fabric_maps_options(CLI::App& app, FabricMapsToolOptions& o) {
         ->check(CLI::ExistingFile);
     app.add_option("--relief-texels", o.maps.relief_texels,
                    "Derived normals: height range of the weave, in texel pitches")
-        ->check(CLI::Range(0.0, 1e3))
+        ->check(app::finite_range(0.0, 1e3))
         ->capture_default_str();
     app.add_option("--blur-px", o.maps.blur_px, "Derived normals: box blur radius, pixels")
         ->check(CLI::Range(0, 64))
@@ -37,7 +38,7 @@ void add_fabric_maps_options(CLI::App& app, FabricMapsToolOptions& o) {
     app.add_option("--name", o.maps.name, "The fabric's name for the catalogue (echoed)");
     app.add_option("--tile-size-m", o.maps.tile_size_m,
                    "Physical width of one texture tile, metres (echoed for the bundle)")
-        ->check(CLI::PositiveNumber)
+        ->check(app::finite_positive())
         ->capture_default_str();
     app.add_option("-o,--output", o.output, "Folder for albedo.png, normal.png, thumbnail.png")
         ->required();
