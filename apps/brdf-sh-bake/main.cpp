@@ -69,6 +69,8 @@ int main(int argc, char** argv) {
 
     return app::run("brdf-sh-bake", cli, common, argc, argv, [&](Report& report) {
         report.add_input(material_path);
+        for (const char* suffix : {".bin", ".json", ".glsl", "_texture.exr"})
+            fs::declare_output(output + suffix, "-o");
         const brdf::Material material = brdf::load_material(material_path);
         const brdf::Grid grid = brdf::parse_grid(grid_spec);
         o.integrator = brdf::integrator_from_string(integrator);

@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
         if (mode == "verify") bundle::add_verify_options(app, verify);
         if (mode == "index") bundle::add_index_options(app, index);
         app::setup(app, common, md.example);
-        if (auto code = app::parse(app, argc - 1, argv + 1)) return *code;
+        if (auto code = app::parse(app, argc, argv, 1)) return *code;
         return app::run("bundle", app, common, argc, argv, [&](Report& report) {
             report.metrics()["mode"] = mode;
             if (mode == "fabric-maps") bundle::run_fabric_maps(maps, report);

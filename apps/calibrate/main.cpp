@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
             calib::add_response_options(app, ropt);
         }
         app::setup(app, common, geometry ? calib::kGeometryExample : calib::kResponseExample);
-        if (auto code = app::parse(app, argc - 1, argv + 1)) return *code;
+        if (auto code = app::parse(app, argc, argv, 1)) return *code;
         return app::run("calibrate", app, common, argc, argv, [&](Report& report) {
             report.metrics()["mode"] = mode;
             if (geometry) {

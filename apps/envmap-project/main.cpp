@@ -195,6 +195,15 @@ int main(int argc, char** argv) {
     if (a.max_mean_rel_error >= 0) a.validate = true;
 
     return app::run("envmap-project", cli, common, argc, argv, [&](Report& report) {
+        // Every input and output named before any work: no output may overwrite an input or
+        // another output (two inputs with one stem into one folder).
+        for (const auto& [path, flag] : {std::pair{a.directions, "--directions"},
+                                         {a.solid_angle, "--solid-angle"}, {a.response, "--response"}})
+            if (!path.empty()) fs::declare_input(path, flag);
+        for (const auto& input : a.inputs) fs::declare_input(input, "input");
+        for (const auto& input : a.inputs)
+            for (const char* ext : {".json", ".bin"})
+                fs::declare_output(output_stem(a, input) + ext, str("-o, for ", input));
         nlohmann::json per_input = nlohmann::json::array();
         double worst = 0;
         for (const auto& input : a.inputs) {

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "core/app.h"
+#include "core/fs.h"
 #include "core/log.h"
 #include "core/validators.h"
 #include "brdf/grid.h"
@@ -118,6 +119,8 @@ int main(int argc, char** argv) {
         opt.strategy = render::strategy_from_string(a.strategy);
         if (a.stderr_output.empty()) a.stderr_output = default_stderr_path(a.output);
         report.add_input(a.scene);
+        fs::declare_output(a.output, "-o");
+        fs::declare_output(a.stderr_output, "--stderr-output");
         std::unique_ptr<render::Scene> scene;
         {
             ScopedStage stage(report, "load scene");

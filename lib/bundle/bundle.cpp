@@ -126,7 +126,8 @@ Manifest write_bundle(const std::string& dest, const PackRequest& request) {
         // Validate through the reader's own schema check before anything becomes visible.
         const nlohmann::json j = to_json(m);
         m = manifest_from_json(j, str(dest, "/", kManifestName));
-        fs::write_text_atomic((tmp / kManifestName).string(), j.dump(2) + "\n");
+        // Inside the private folder committed below: visible now, not with the run's outputs.
+        fs::write_text_atomic((tmp / kManifestName).string(), j.dump(2) + "\n", fs::Commit::kNow);
         read_bundle(tmp.string());
         commit_folder(tmp, dest_path);
     } catch (const stdfs::filesystem_error& e) {

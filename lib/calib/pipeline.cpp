@@ -220,6 +220,18 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     if (!o.downscale.empty()) sizes = parse_sizes(o.downscale);
     Eigen::Vector2i given_size(0, 0);
     if (!o.image_size.empty()) given_size = parse_size(o.image_size, "--image-size");
+    // Every output named before any work (no output may overwrite an input, e.g. a corner file
+    // kept in the output folder).
+    const std::filesystem::path out_dir(o.output);
+    for (const char* f : {"calibration.json", "directions.exr", "solid_angle.exr", "mask.png",
+                          "image_points.yml", "object_points.yml"}) {
+        fs::declare_output((out_dir / f).string(), "-o");
+    }
+    for (const Eigen::Vector2i& s : sizes) {
+        for (const char* f : {"directions.exr", "solid_angle.exr", "mask.png"}) {
+            fs::declare_output((out_dir / str(s.x(), "x", s.y()) / f).string(), "--downscale");
+        }
+    }
 
     // 1. Corners.
     std::vector<View> views;
@@ -409,6 +421,9 @@ void run_response(const ResponseToolOptions& o, uint64_t seed, Report& report) {
         throw UsageError(
             str(o.images.size(), " images but ", o.exposure_s.size(), " --exposure-s values"));
     }
+    for (const std::string& p : o.images) fs::declare_input(p, "--images");
+    fs::declare_output(o.output, "-o");
+    if (!o.merged.empty()) fs::declare_output(o.merged, "--merged");
     std::vector<image::Image> codes;
     {
         ScopedStage stage(report, "read_images");

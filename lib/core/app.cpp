@@ -1,5 +1,6 @@
 #include "core/app.h"
 
+#include <filesystem>
 #include <iostream>
 #include <limits>
 
@@ -40,17 +41,92 @@ void setup(CLI::App& app, CommonArgs& common, const std::string& example) {
                "\nExit codes: 0 ok, 1 runtime error, 2 usage error, 3 quality gate failed.");
 }
 
-std::optional<int> parse(CLI::App& app, int argc, char** argv) {
+namespace {
+
+/// The value of --report in argv ("--report X" or "--report=X"), or "" (the last one wins, as in
+/// CLI11). Used when the parser rejected the command line and CommonArgs may not be filled.
+std::string report_path_in(int argc, char** argv) {
+    std::string path;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--report" && i + 1 < argc) path = argv[++i];
+        if (a.rfind("--report=", 0) == 0) path = a.substr(9);
+    }
+    return path;
+}
+
+/// Whether `path` is the same file as an existing file named on the command line (other than as
+/// the value of --report): such a file may be an input, and the report must not overwrite it.
+bool is_argv_file(const std::string& path, int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a == "--report") {
+            ++i;
+            continue;
+        }
+        if (a.rfind("--report=", 0) == 0) continue;
+        const size_t eq = a.find('=');
+        if (a.rfind("--", 0) == 0 && eq != std::string::npos) a = a.substr(eq + 1);
+        std::error_code ec;
+        if (std::filesystem::is_regular_file(a, ec) && fs::same_file(a, path)) return true;
+    }
+    return false;
+}
+
+/// The tool's name for its report: the first word of the app's name ("calibrate geometry" ->
+/// "calibrate"), without a directory.
+std::string tool_name(const CLI::App& app) {
+    std::string name = app.get_name();
+    name = name.substr(0, name.find(' '));
+    const size_t slash = name.rfind('/');
+    return slash == std::string::npos ? name : name.substr(slash + 1);
+}
+
+/// Writes `report` to `path` ("-" = stdout), unless `path` is a file named on the command line
+/// (argv). Returns false (message printed) if it does not.
+bool write_report(const Report& report, const std::string& path, const std::string& status,
+                  int code, int argc, char** argv) {
+    if (path != "-" && is_argv_file(path, argc, argv)) {
+        log::error(str(report.tool(), ": error: --report '", path,
+                       "' is a file named on the command line (an input?): report not written"));
+        return false;
+    }
+    const std::string text = report.to_json(status, code, log::take_warnings()).dump(2) + "\n";
+    try {
+        if (path == "-") {
+            std::cout << text;
+        } else {
+            fs::write_text_atomic(path, text);
+        }
+    } catch (const std::exception& e) {
+        log::error(str(report.tool(), ": error: ", e.what()));
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip) {
     // Safety net: every floating-point option rejects NaN and Inf, whether or not the tool gave
     // it one of the finite checks of core/validators.h (CLI11's Range lets NaN through).
     for (CLI::Option* opt : app.get_options()) {
         if (opt->get_type_name().rfind("FLOAT", 0) == 0) opt->check(finite());
     }
     try {
-        app.parse(argc, argv);
+        app.parse(argc - skip, argv + skip);
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? kExitOk : kExitUsage;
+        const int code = app.exit(e) == 0 ? kExitOk : kExitUsage;
+        // A run rejected by the parser still gets the report it asked for.
+        const std::string report_path = report_path_in(argc, argv);
+        if (code != kExitOk && !report_path.empty()) {
+            Report report(tool_name(app));
+            report.set_argv(argc, argv);
+            report.set_config(resolved_config(app));
+            report.set_error(e.what());
+            write_report(report, report_path, "failed", code, argc, argv);
+        }
+        return code;
     }
     return std::nullopt;
 }
@@ -102,33 +178,55 @@ int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, 
 
     int code = kExitOk;
     std::string status = "ok";
-    try {
-        body(report);
-    } catch (const QualityGateFailed& e) {
-        code = kExitQualityGate;
-        status = "quality_gate_failed";
-        log::error(str(tool, ": quality gate failed: ", e.what()));
-    } catch (const UsageError& e) {
-        code = kExitUsage;
-        status = "failed";
-        log::error(str(tool, ": error: ", e.what()));
-    } catch (const std::exception& e) {
-        code = kExitRuntime;
-        status = "failed";
-        log::error(str(tool, ": error: ", e.what()));
+    bool report_is_input = false;
+    auto fail = [&](int exit_code, const std::string& prefix, const std::exception& e) {
+        code = exit_code;
+        status = exit_code == kExitQualityGate ? "quality_gate_failed" : "failed";
+        report.set_error(e.what());
+        log::error(str(tool, prefix, e.what()));
+    };
+    {
+        // Every output of the run is staged and appears only if the run succeeds (or ran to a
+        // failed quality gate, whose outputs are part of the contract).
+        fs::OutputTransaction outputs;
+        try {
+            if (!common.report_path.empty() && common.report_path != "-") {
+                outputs.reserve(common.report_path, "--report");
+            }
+            // The config file is an input like any other: hashed in the report, never
+            // overwritten.
+            if (const CLI::Option* config = app.get_config_ptr(); config && config->count() > 0) {
+                for (const std::string& path : config->results()) report.add_input(path);
+            }
+            body(report);
+        } catch (const QualityGateFailed& e) {
+            fail(kExitQualityGate, ": quality gate failed: ", e);
+        } catch (const UsageError& e) {
+            fail(kExitUsage, ": error: ", e);
+        } catch (const std::exception& e) {
+            fail(kExitRuntime, ": error: ", e);
+        }
+        if (code == kExitOk || code == kExitQualityGate) {
+            try {
+                outputs.commit();
+            } catch (const std::exception& e) {
+                fail(kExitRuntime, ": error: ", e);
+            }
+        }
+        if (code != kExitOk && code != kExitQualityGate) {
+            outputs.rollback();
+            report.clear_outputs();
+        }
+        report_is_input = !common.report_path.empty() && outputs.is_input(common.report_path);
     }
 
     if (!common.report_path.empty()) {
-        const std::string text = report.to_json(status, code, log::take_warnings()).dump(2) + "\n";
-        try {
-            if (common.report_path == "-") {
-                std::cout << text;
-            } else {
-                fs::write_text_atomic(common.report_path, text);
-            }
-        } catch (const std::exception& e) {
-            log::error(str(tool, ": error: ", e.what()));
-            if (code == kExitOk) code = kExitRuntime;
+        if (report_is_input) {  // never overwrite an input, not even with the report
+            log::error(str(tool, ": error: --report '", common.report_path,
+                           "' is an input of the run: report not written"));
+        } else if (!write_report(report, common.report_path, status, code, argc, argv) &&
+                   code == kExitOk) {
+            code = kExitRuntime;
         }
     }
     return code;

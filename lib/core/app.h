@@ -39,14 +39,19 @@ class QualityGateFailed : public Error {
 /// the common flags, and the Example footer.
 void setup(CLI::App& app, CommonArgs& common, const std::string& example);
 
-/// Parses the command line (and --config). Every FLOAT option first gets the finite() check of
-/// core/validators.h, so NaN and Inf are usage errors even where a tool forgot. Returns an exit code when the program should stop now (0 after
-/// --help or --version, kExitUsage on a usage error, message printed), std::nullopt otherwise.
-std::optional<int> parse(CLI::App& app, int argc, char** argv);
+/// Parses the command line (and --config) in argv[skip..] (skip = 1 for a mode word such as
+/// `calibrate geometry`). Every FLOAT option first gets the finite() check of
+/// core/validators.h, so NaN and Inf are usage errors even where a tool forgot. Returns an exit
+/// code when the program should stop now (0 after --help or --version; kExitUsage on a usage
+/// error, message printed, and the JSON report written when argv asks for one with --report),
+/// std::nullopt otherwise.
+std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip = 0);
 
-/// Runs `body` with a Report: applies --threads and -q/-v, maps exceptions to exit codes
-/// (Error -> 1, UsageError -> 2, QualityGateFailed -> 3), prints "<tool>: error: <msg>" to stderr,
-/// and writes the report (also when the run fails). Returns the exit code.
+/// Runs `body` with a Report inside an fs::OutputTransaction: applies --threads and -q/-v, maps
+/// exceptions to exit codes (Error -> 1, UsageError -> 2, QualityGateFailed -> 3), prints
+/// "<tool>: error: <msg>" to stderr, commits the run's outputs on success or a failed quality
+/// gate and removes them all otherwise, and writes the report (also when the run fails; never
+/// onto an input). Returns the exit code.
 int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, int argc,
         char** argv, const std::function<void(Report&)>& body);
 

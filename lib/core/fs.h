@@ -1,8 +1,12 @@
-// core/fs.h: outputs that appear whole or not at all (write to a temporary sibling, then rename).
+// core/fs.h: outputs that appear whole or not at all. Every file is written to a temporary
+// sibling and renamed; inside a run (app::run) every output of the run is staged that way and
+// all are renamed together only when the whole run succeeds (OutputTransaction).
 #pragma once
 
 #include <functional>
+#include <mutex>
 #include <string>
+#include <vector>
 
 namespace inlight::fs {
 
@@ -10,18 +14,93 @@ namespace inlight::fs {
 /// extension still works: "out/sky.exr" -> "out/sky.tmp-<pid>-<n>.exr".
 std::string temp_sibling(const std::string& path);
 
-/// Calls write(tmp_path), then renames tmp_path onto path. If write throws, the temporary file
-/// is removed and the exception propagates; `path` is never left partially written.
-/// Creates the parent directory if it does not exist.
-void write_atomic(const std::string& path, const std::function<void(const std::string&)>& write);
+/// When a file written by write_atomic becomes visible under its name.
+enum class Commit {
+    kWithRun,  ///< with the run's other outputs, when the run succeeds (immediately outside a run)
+    kNow,      ///< immediately: only for files inside a private temporary tree that the caller
+               ///< moves into place itself (e.g. a bundle folder written under a hidden name)
+};
+
+/// Calls write(tmp_path) for a temporary sibling of `path`, then renames it onto `path`, now
+/// or, inside an OutputTransaction, when the run commits. If write throws, the temporary file is
+/// removed and the exception propagates; `path` is never left partially written. Creates the
+/// parent directory if it does not exist. Inside a transaction, throws UsageError if `path`
+/// resolves to an input of the run or to another output of it.
+void write_atomic(const std::string& path, const std::function<void(const std::string&)>& write,
+                  Commit commit = Commit::kWithRun);
 
 /// Writes text (or bytes) atomically. Throws Error naming the file on failure.
-void write_text_atomic(const std::string& path, const std::string& content);
+void write_text_atomic(const std::string& path, const std::string& content,
+                       Commit commit = Commit::kWithRun);
 
 /// Reads a whole file. Throws Error naming the file if it cannot be read.
 std::string read_file(const std::string& path);
 
 /// The file name's extension in lower case without the dot ("EXR" -> "exr"), or "".
 std::string extension(const std::string& path);
+
+/// Whether two paths name the same file: the same path once symlinks, "." and ".." are resolved,
+/// or (when both exist) the same device and inode (hard links).
+bool same_file(const std::string& a, const std::string& b);
+
+/// Declares an input of the current run (no-op outside one). Throws UsageError naming both if it
+/// is the same file as a declared output. Report::add_input calls this for every input.
+void declare_input(const std::string& path, const std::string& what = "");
+/// Declares an output of the current run before any work (no-op outside one). Throws UsageError
+/// naming both if it is the same file as an input or as another declared output.
+void declare_output(const std::string& path, const std::string& what = "");
+
+/// The outputs of one run: every write_atomic(Commit::kWithRun) while it is current is staged as
+/// a temporary sibling; commit() renames them all into place, rollback() (or the destructor
+/// without commit) removes them and the directories the run created, so a failed run leaves
+/// the output folders exactly as they were. Before staging, each output is checked against the
+/// run's inputs and other outputs. One transaction at a time per process (app::run owns it);
+/// thread-safe.
+class OutputTransaction {
+  public:
+    OutputTransaction();
+    ~OutputTransaction();
+    OutputTransaction(const OutputTransaction&) = delete;
+    OutputTransaction& operator=(const OutputTransaction&) = delete;
+
+    /// The transaction of the running tool, or nullptr.
+    static OutputTransaction* current();
+
+    void add_input(const std::string& path, const std::string& what);
+    void add_output(const std::string& path, const std::string& what);
+    /// A path that is neither input nor output but must not be either (the --report file).
+    void reserve(const std::string& path, const std::string& what);
+    /// Whether `path` is the same file as a declared input.
+    bool is_input(const std::string& path) const;
+
+    /// Stages a write of `path`: checks it, creates its parent directories (remembered for
+    /// rollback) and returns the temporary path to write. The caller writes it, then either
+    /// keeps it staged or calls unstage(path) on failure.
+    std::string stage(const std::string& path);
+    void unstage(const std::string& path);
+
+    /// Renames every staged file into place, in the order staged. Throws Error if a rename
+    /// fails (the remaining temporaries are removed; the message names what was already moved).
+    void commit();
+    /// Removes every staged file and the directories created for them. Never throws.
+    void rollback() noexcept;
+    /// Number of staged files.
+    size_t staged_count() const;
+
+  private:
+    struct Entry {
+        std::string path, what;  ///< as given, and the option or role that named it
+    };
+    struct Staged {
+        std::string path, tmp;
+    };
+    const Entry* find_same(const std::vector<Entry>& list, const std::string& path) const;
+
+    mutable std::mutex m_mutex;
+    std::vector<Entry> m_inputs, m_outputs, m_reserved;
+    std::vector<Staged> m_staged;
+    std::vector<std::string> m_created_dirs;  ///< deepest last
+    bool m_done = false;
+};
 
 }  // namespace inlight::fs

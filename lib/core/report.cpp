@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/fs.h"
 #include "core/log.h"
 #include "core/sha256.h"
 
@@ -37,6 +38,7 @@ void Report::add_input(const std::string& path) {
     for (const auto& in : m_inputs) {
         if (in["path"] == path) return;
     }
+    fs::declare_input(path);
     m_inputs.push_back({{"path", path}, {"sha256", sha256_file(path)}});
 }
 
@@ -61,15 +63,16 @@ nlohmann::json Report::to_json(const std::string& status, int exit_code,
             {"exit_code", exit_code},
             {"argv", m_argv},
             {"config", m_config},
-            {"seed", m_seed},
-            {"threads", m_threads},
+            {"seed", m_seed ? nlohmann::json(*m_seed) : nlohmann::json(nullptr)},
+            {"threads", m_threads ? nlohmann::json(*m_threads) : nlohmann::json(nullptr)},
             {"started_utc", m_started_utc},
             {"wall_time_s", wall},
             {"stage_time_s", m_stages},
             {"inputs", m_inputs},
             {"outputs", m_outputs},
             {"metrics", m_metrics},
-            {"warnings", warnings}};
+            {"warnings", warnings},
+            {"error", m_error ? nlohmann::json(*m_error) : nlohmann::json(nullptr)}};
 }
 
 ScopedStage::ScopedStage(Report& report, std::string stage)

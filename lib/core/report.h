@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,12 +24,18 @@ class Report {
     void set_seed(uint64_t seed) { m_seed = seed; }
     void set_threads(int threads) { m_threads = threads; }
 
-    /// Records an input file and its SHA-256. Throws Error if the file cannot be read.
+    /// Records an input file and its SHA-256, and declares it to the run's output transaction
+    /// (fs::declare_input), so no output of the run may overwrite it. Throws Error if the file
+    /// cannot be read, UsageError if it is one of the run's outputs.
     void add_input(const std::string& path);
     /// Records an output file with its kind ("sh_coefficients", "image", ...) and colour space
     /// (empty when not an image).
     void add_output(const std::string& path, const std::string& kind,
                     const std::string& color_space = "");
+    /// Forgets the outputs (a failed run's outputs were removed, so the report lists none).
+    void clear_outputs() { m_outputs = nlohmann::json::array(); }
+    /// The error message of a failed run ("error" in the report; null when the run succeeded).
+    void set_error(std::string message) { m_error = std::move(message); }
     /// Adds the wall time of a named stage (seconds); repeated names accumulate.
     void add_stage_time(const std::string& stage, double seconds);
 
@@ -36,7 +43,8 @@ class Report {
     nlohmann::json& metrics() { return m_metrics; }
     const nlohmann::json& metrics() const { return m_metrics; }
 
-    /// The complete report. status is "ok", "failed" or "quality_gate_failed".
+    /// The complete report (schema and status values: docs/report.md). status is "ok",
+    /// "failed" or "quality_gate_failed". Seed and threads are null until set.
     nlohmann::json to_json(const std::string& status, int exit_code,
                            const std::vector<std::string>& warnings) const;
 
@@ -50,8 +58,9 @@ class Report {
     nlohmann::json m_outputs = nlohmann::json::array();
     nlohmann::json m_stages = nlohmann::json::object();
     nlohmann::json m_metrics = nlohmann::json::object();
-    uint64_t m_seed = 0;
-    int m_threads = 0;
+    std::optional<uint64_t> m_seed;
+    std::optional<int> m_threads;
+    std::optional<std::string> m_error;
     std::string m_started_utc;
     std::chrono::steady_clock::time_point m_start;
 };
