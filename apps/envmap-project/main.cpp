@@ -8,6 +8,7 @@
 #include "core/fs.h"
 #include "core/log.h"
 #include "core/validators.h"
+#include "envmap/budget_cli.h"
 #include "envmap/environment.h"
 #include "envmap/project.h"
 #include "envmap/validate.h"
@@ -33,7 +34,8 @@ std::string output_stem(const Args& a, const std::string& input) {
 }
 
 // An 8-bit camera frame through the response curve: radiance, and how much light clipping hides.
-image::Image frame_radiance(const Args& a, const std::string& input, nlohmann::json& m) {
+image::Image frame_radiance(const Args& a, const std::string& input, nlohmann::json& m,
+                            image::Image& saturated) {
     const calib::ResponseCurve curve = calib::read_response(a.response);
     image::Image sa, mask;
     if (!a.solid_angle.empty()) {
@@ -58,10 +60,12 @@ image::Image frame_radiance(const Args& a, const std::string& input, nlohmann::j
     if (fr.saturated_pixels > 0)
         log::warn(str(input, ": ", fr.saturated_pixels, " saturated pixels hide at least ",
                       100 * (total > 0 ? clipped / total : 0.0), "% of the light seen"));
+    saturated = fr.saturated;
     return fr.radiance;
 }
 
-nlohmann::json process(const Args& a, const std::string& input, Report& report) {
+nlohmann::json process(const Args& a, const envmap::BudgetSetup* budget, const std::string& input,
+                       Report& report) {
     envmap::LoadOptions lo;
     lo.layout = envmap::layout_from_string(a.input_kind);
     lo.rotate = a.rotate;
@@ -80,15 +84,30 @@ nlohmann::json process(const Args& a, const std::string& input, Report& report) 
     for (const auto& p : {input, a.directions, a.solid_angle, a.response})
         if (!p.empty()) report.add_input(p);
     envmap::InputStats stats;
+    image::Image saturated;
     envmap::Environment env = [&] {
         ScopedStage stage(report, "load " + input);
         if (a.response.empty()) return envmap::load_environment(input, lo, &stats);
-        return envmap::environment_from_image(frame_radiance(a, input, m), input, lo, &stats);
+        return envmap::environment_from_image(frame_radiance(a, input, m, saturated), input, lo,
+                                              &stats);
     }();
     envmap::ProjectResult result;
+    int sh_bands = a.sh_bands;
+    std::vector<envmap::DirectionalLight> lights;
     {
         ScopedStage stage(report, "project " + input);
-        result = envmap::project(env, po);
+        if (budget) {  // bands and lights from the error budget (docs/budget.md)
+            envmap::BudgetOptions bo = budget->options();
+            bo.project = po;
+            const auto plan = envmap::plan_budget(env, bo, saturated.pixels.empty() ? nullptr : &saturated);
+            result = plan.projection;
+            sh_bands = plan.sh_bands;
+            lights.assign(plan.extraction.lights.begin(), plan.extraction.lights.begin() + plan.lights);
+            m["budget"] = envmap::to_json(plan, bo);
+            m["sh_bands"] = sh_bands;
+        } else {
+            result = envmap::project(env, po);
+        }
         m["project_time_s"] = stage.elapsed_s();
     }
     m.update({{"width", env.radiance.width}, {"height", env.radiance.height},
@@ -119,18 +138,23 @@ nlohmann::json process(const Args& a, const std::string& input, Report& report) 
     }
 
     sh::CoefficientSet set;
-    set.sh_bands = a.sh_bands;
+    set.sh_bands = sh_bands;
     set.coeffs = result.coeffs;
     set.color_space = image::to_string(env.radiance.color_space);
     set.metadata = {{"source", input}, {"input_kind", a.input_kind}, {"rotate", a.rotate},
                     {"intensity", a.intensity}, {"method", result.method}, {"window", a.window},
                     {"tool", "envmap-project"}, {"version", version_string()}};
+    nlohmann::json doc = sh::to_json(set);
+    if (budget) {  // the SH above are of the map without these lights
+        doc["lights"] = nlohmann::json::array();
+        for (const auto& l : lights) doc["lights"].push_back(envmap::to_json(l));
+    }
     const std::string stem = output_stem(a, input);
-    fs::write_text_atomic(stem + ".json", sh::to_json(set).dump(2) + "\n");
+    fs::write_text_atomic(stem + ".json", doc.dump(2) + "\n");
     sh::write_binary(stem + ".bin", set);
     report.add_output(stem + ".json", "sh_coefficients", set.color_space);
     report.add_output(stem + ".bin", "sh_coefficients_binary", set.color_space);
-    if (a.sh_bands >= 3) {
+    if (sh_bands >= 3) {
         std::ostringstream os;
         os << input << ": irradiance matrices E(n) = (n,1)^T M (n,1)\n";
         for (int c = 0; c < 3; ++c) {
@@ -183,13 +207,16 @@ int main(int argc, char** argv) {
     resp->needs("--exposure-s");
     cli.add_option("--saturation-code", a.saturation_code, "8-bit code at and above which a pixel "
                    "counts as clipped")->check(CLI::Range(1, 255))->capture_default_str();
-    cli.add_flag("--validate", a.validate, "Compare SH irradiance with brute-force integration of "
+    envmap::BudgetArgs budget;
+    envmap::add_budget_options(cli, budget);
+    auto* validate = cli.add_flag("--validate", a.validate, "Compare SH irradiance with brute-force integration of "
                  "the map, for every band count up to --sh-bands");
     cli.add_option("--validate-normals", a.validate_normals, "Fibonacci normals (+6 axes) for "
                    "--validate")->check(CLI::Range(1, 100000))->capture_default_str();
-    cli.add_option("--max-mean-rel-error", a.max_mean_rel_error, "Quality gate on the validated "
+    auto* gate = cli.add_option("--max-mean-rel-error", a.max_mean_rel_error, "Quality gate on the validated "
                    "mean relative irradiance error (exit 3 above it; implies --validate; off unless given)")
         ->check(app::finite_non_negative());
+    cli.get_option("--max-error")->excludes(validate)->excludes(gate);
     app::setup(cli, common, "envmap-project sky.exr -o sky_sh.json --sh-bands 3 --validate --report run.json");
     if (auto code = app::parse(cli, argc, argv)) return *code;
     if (a.max_mean_rel_error >= 0) a.validate = true;
@@ -206,12 +233,19 @@ int main(int argc, char** argv) {
                 fs::declare_output(output_stem(a, input) + ext, str("-o, for ", input));
         nlohmann::json per_input = nlohmann::json::array();
         double worst = 0;
+        int unmet = 0;
+        std::unique_ptr<envmap::BudgetSetup> setup;  // reads --brdf-table and --material first
+        if (budget.enabled()) setup = std::make_unique<envmap::BudgetSetup>(budget, a.validate_normals);
         for (const auto& input : a.inputs) {
-            per_input.push_back(process(a, input, report));
+            per_input.push_back(process(a, setup.get(), input, report));
             if (a.validate) worst = std::max(worst, per_input.back()["validation"]["mean_rel"].get<double>());
+            if (budget.enabled()) unmet += per_input.back()["budget"]["met"].get<bool>() ? 0 : 1;
         }
         report.metrics()["environments"] = per_input;
         if (a.validate) report.metrics()["worst_mean_rel_error"] = worst;
+        if (unmet > 0)
+            throw app::QualityGateFailed(str(unmet, " input(s) miss the --max-error budget of ",
+                                             budget.max_error, " (outputs hold the least error)"));
         if (a.max_mean_rel_error >= 0 && worst > a.max_mean_rel_error)
             throw app::QualityGateFailed(str("mean relative irradiance error ", worst,
                                              " exceeds --max-mean-rel-error ", a.max_mean_rel_error));

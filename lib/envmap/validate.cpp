@@ -107,12 +107,13 @@ IrradianceError irradiance_error(const Eigen::MatrixXd& approx, const Eigen::Mat
         ref_max = std::max(ref_max, std::abs(ref[static_cast<size_t>(i)]));
     }
     const double floor = kRelFloor * ref_max;
-    double sum = 0, sum2 = 0, abs2 = 0, ref_sum = 0;
+    double sum = 0, sum2 = 0, abs1 = 0, abs2 = 0, ref_sum = 0;
     for (size_t i = 0; i < ref.size(); ++i) {
         const double abs_err = std::abs(est[i] - ref[i]);
         const double rel = abs_err / std::max(std::abs(ref[i]), floor > 0 ? floor : 1e-30);
         sum += rel;
         sum2 += rel * rel;
+        abs1 += abs_err;
         abs2 += abs_err * abs_err;
         ref_sum += ref[i];
         err.max_rel = std::max(err.max_rel, rel);
@@ -120,7 +121,10 @@ IrradianceError irradiance_error(const Eigen::MatrixXd& approx, const Eigen::Mat
     }
     err.mean_rel = sum / static_cast<double>(n);
     err.rms_rel = std::sqrt(sum2 / static_cast<double>(n));
-    if (ref_sum != 0) err.rms_over_mean = std::sqrt(abs2 / static_cast<double>(n)) * n / ref_sum;
+    if (ref_sum != 0) {
+        err.rms_over_mean = std::sqrt(abs2 / static_cast<double>(n)) * n / ref_sum;
+        err.abs_over_mean = abs1 / ref_sum;
+    }
     return err;
 }
 
@@ -130,7 +134,8 @@ nlohmann::json validation_json(const Environment& env, const Eigen::MatrixXd& co
     auto to_json = [](const IrradianceError& e) {
         return nlohmann::json{{"mean_rel", e.mean_rel}, {"rms_rel", e.rms_rel},
                               {"max_rel", e.max_rel},   {"max_abs", e.max_abs},
-                              {"rms_over_mean", e.rms_over_mean}};
+                              {"rms_over_mean", e.rms_over_mean},
+                              {"abs_over_mean", e.abs_over_mean}};
     };
     const auto t0 = std::chrono::steady_clock::now();
     const Eigen::MatrixXd ref = brute_force_irradiance(env, normals);

@@ -39,6 +39,9 @@ struct IrradianceError {
     double max_rel = 0;
     double max_abs = 0;  ///< max |E - E_ref| (luminance, W/m^2 in the map's units)
     double rms_over_mean = 0;  ///< RMS of E - E_ref over the mean of E_ref (normalised RMSE)
+    /// Mean of |E - E_ref| over the mean of E_ref: the error relative to the scene's light level,
+    /// which dark normals cannot inflate (mean_rel divides each normal by its own E_ref).
+    double abs_over_mean = 0;
 };
 inline constexpr double kRelFloor = 1e-3;
 IrradianceError irradiance_error(const Eigen::MatrixXd& approx, const Eigen::MatrixXd& reference);

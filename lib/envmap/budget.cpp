@@ -1,0 +1,370 @@
+#include "envmap/budget.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "core/conventions.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/parallel.h"
+#include "sh/sh.h"
+
+namespace inlight::envmap {
+
+ErrorMetric error_metric_from_string(const std::string& name) {
+    if (name == "abs-over-mean") return ErrorMetric::kAbsOverMean;
+    if (name == "mean-rel") return ErrorMetric::kMeanRel;
+    throw UsageError(str("error metric '", name, "': expected abs-over-mean or mean-rel"));
+}
+
+std::string to_string(ErrorMetric metric) {
+    return metric == ErrorMetric::kAbsOverMean ? "abs-over-mean" : "mean-rel";
+}
+
+double metric_value(const IrradianceError& error, ErrorMetric metric) {
+    return metric == ErrorMetric::kAbsOverMean ? error.abs_over_mean : error.mean_rel;
+}
+
+ShaderCost shader_cost(int sh_bands, int lights, const CostModel& model) {
+    ShaderCost c;
+    c.sh_bands = sh_bands;
+    c.lights = lights;
+    c.lighting_floats = 3 * sh::count(sh_bands) + 7 * lights;
+    // Diffuse: the basis for every coefficient, the sum over the bands with A_l != 0 (l = 1 and
+    // even l; the shader skips the others).
+    int nonzero = 0;
+    for (int l = 0; l < sh_bands; ++l)
+        if (sh::cosine_zonal(l) != 0) nonzero += 2 * l + 1;
+    int ops = (sh_bands > 1 ? kBasisOpsPerCoeff * sh::count(sh_bands) : 0) +
+              kIrradianceOpsPerCoeff * nonzero;
+    ops += lights * (kLightIrradianceOps + kLightDiffuseOps);
+    if (model.table_bands > 0) {
+        c.specular_bands = std::min(sh_bands, model.table_bands);
+        const int k = sh::count(c.specular_bands);
+        c.texture_fetches = 4 * ((k + 3) / 4) * model.table_channels;
+        ops += kTableCoordOps + kTableOpsPerCoeff * k * model.table_channels +
+               kSpecularOpsPerCoeff * k + lights * kLightSpecularOps;
+    }
+    c.operations = ops;
+    return c;
+}
+
+Eigen::MatrixXd brute_force_radiance(const Environment& env, const RadianceCheck& check,
+                                     const std::vector<Eigen::Vector3d>& normals) {
+    const auto samples = make_sample_set(env);
+    // The samples with light, once (a lat-long map has ~5e5; most normals see half of them).
+    std::vector<Eigen::Vector3d> dirs, rad;
+    Eigen::Vector3d d;
+    double w, v[3];
+    for (int64_t i = 0; i < samples->size(); ++i) {
+        if (!samples->sample(i, d, w, v) || !(w > 0)) continue;
+        if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;
+        dirs.push_back(d);
+        rad.emplace_back(v[0] * w, v[1] * w, v[2] * w);
+    }
+    const brdf::Material& m = check.material;
+    const Eigen::Vector3d& view = check.table.view;
+    const bool specular = m.specular != brdf::Model::kLambert;
+    Eigen::MatrixXd out(static_cast<Eigen::Index>(normals.size()), 3);
+    parallel::for_chunks(static_cast<int64_t>(normals.size()), 1, [&](int64_t b, int64_t e) {
+        for (int64_t k = b; k < e; ++k) {
+            const Eigen::Vector3d& n = normals[static_cast<size_t>(k)];
+            const Eigen::Matrix3d local_from_world = brdf::world_from_local(n).transpose();
+            const Eigen::Vector3d wo = local_from_world * view;
+            Eigen::Vector3d diffuse = Eigen::Vector3d::Zero(), spec = Eigen::Vector3d::Zero();
+            for (size_t i = 0; i < dirs.size(); ++i) {
+                const double c = n.dot(dirs[i]);
+                if (c <= 0) continue;
+                diffuse += c * rad[i];
+                if (specular)
+                    spec +=
+                        c *
+                        brdf::eval_specular(m, wo, local_from_world * dirs[i]).cwiseProduct(rad[i]);
+            }
+            out.row(k) = (m.albedo.cwiseProduct(diffuse) * kInvPi + spec).transpose();
+        }
+    });
+    return out;
+}
+
+Eigen::MatrixXd model_radiance(const Eigen::MatrixXd& coeffs, int sh_bands,
+                               const std::vector<DirectionalLight>& lights,
+                               const RadianceCheck& check,
+                               const std::vector<Eigen::Vector3d>& normals) {
+    const brdf::Material& m = check.material;
+    const brdf::Table& t = check.table;
+    const Eigen::MatrixXd e = sh_irradiance(coeffs, sh_bands, normals);
+    const int k_spec = sh::count(std::min(sh_bands, t.sh_bands));
+    const bool specular = m.specular != brdf::Model::kLambert;
+    Eigen::MatrixXd out(static_cast<Eigen::Index>(normals.size()), 3);
+    std::vector<float> b(static_cast<size_t>(t.coeff_count()));
+    for (size_t i = 0; i < normals.size(); ++i) {
+        const Eigen::Vector3d& n = normals[i];
+        Eigen::Vector3d irr = e.row(static_cast<Eigen::Index>(i)).transpose(),
+                        spec = Eigen::Vector3d::Zero();
+        for (const auto& l : lights) {
+            irr += light_irradiance(l, n);
+            spec += light_specular(l, n, t.view, m);
+        }
+        if (specular) {
+            for (int c = 0; c < 3; ++c) {
+                lookup(t, n.cast<float>(), t.channels == 3 ? c : 0, b.data());
+                for (int k = 0; k < k_spec; ++k)
+                    spec[c] += coeffs(k, c) * b[static_cast<size_t>(k)];
+            }
+        }
+        out.row(static_cast<Eigen::Index>(i)) =
+            (m.albedo.cwiseProduct(irr) * kInvPi + spec).transpose();
+    }
+    return out;
+}
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Irradiance of the first `count` lights at each normal (normals x 3).
+Eigen::MatrixXd lights_irradiance(const std::vector<DirectionalLight>& lights, int count,
+                                  const std::vector<Eigen::Vector3d>& normals) {
+    Eigen::MatrixXd e = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(normals.size()), 3);
+    for (int j = 0; j < count; ++j)
+        for (size_t i = 0; i < normals.size(); ++i)
+            e.row(static_cast<Eigen::Index>(i)) +=
+                light_irradiance(lights[static_cast<size_t>(j)], normals[i]).transpose();
+    return e;
+}
+
+/// Partial-sphere frames: the irradiance the SH radiance gives from the OBSERVED directions
+/// only, by the same per-pixel sum as the reference (the unseen part, which the fit
+/// extrapolates, has no data to be checked against). normals x 3.
+class ObservedIrradiance {
+  public:
+    explicit ObservedIrradiance(const Environment& env) {
+        const auto samples = make_sample_set(env);
+        Eigen::Vector3d d;
+        double w, v[3];
+        for (int64_t i = 0; i < samples->size(); ++i) {
+            if (!samples->sample(i, d, w, v) || !(w > 0)) continue;
+            m_dirs.push_back(d);
+            m_weights.push_back(w);
+        }
+    }
+    Eigen::MatrixXd operator()(const Eigen::MatrixXd& coeffs, int sh_bands,
+                               const std::vector<Eigen::Vector3d>& normals) const {
+        const int nn = static_cast<int>(normals.size()), kc = sh::count(sh_bands);
+        Eigen::Matrix3Xd nm(3, nn);
+        for (int i = 0; i < nn; ++i) nm.col(i) = normals[static_cast<size_t>(i)];
+        using Acc = Eigen::MatrixXd;
+        return parallel::reduce(
+            static_cast<int64_t>(m_dirs.size()), 4096, Acc(Acc::Zero(nn, 3)),
+            [&](int64_t b, int64_t e) {
+                Acc acc = Acc::Zero(nn, 3);
+                std::vector<double> y(static_cast<size_t>(kc));
+                Eigen::VectorXd cosines(nn);
+                for (int64_t i = b; i < e; ++i) {
+                    const auto is = static_cast<size_t>(i);
+                    sh::eval(sh_bands, m_dirs[is], y.data());
+                    Eigen::Vector3d l = Eigen::Vector3d::Zero();
+                    for (int k = 0; k < kc; ++k)
+                        l += y[static_cast<size_t>(k)] * coeffs.row(k).transpose();
+                    cosines.noalias() = nm.transpose() * m_dirs[is];
+                    for (int k = 0; k < nn; ++k)
+                        if (cosines(k) > 0)
+                            acc.row(k) += (m_weights[is] * cosines(k)) * l.transpose();
+                }
+                return acc;
+            },
+            [](Acc a, const Acc& o) { return Acc(a + o); });
+    }
+
+  private:
+    std::vector<Eigen::Vector3d> m_dirs;
+    std::vector<double> m_weights;
+};
+
+}  // namespace
+
+BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
+                       const image::Image* saturated) {
+    if (!(options.max_error > 0) || !std::isfinite(options.max_error))
+        throw UsageError(
+            str("budget: max_error must be a positive number, got ", options.max_error));
+    if (options.max_bands < 1 || options.max_bands > sh::kMaxBands)
+        throw UsageError(
+            str("budget: max_bands must be in [1, ", sh::kMaxBands, "], got ", options.max_bands));
+    if (options.validate_normals < 1) throw UsageError("budget: validate_normals must be >= 1");
+    if (options.radiance && !env.full_sphere())
+        throw UsageError(
+            str(env.source, ": the radiance check (--brdf-table) needs a full-sphere map"));
+    const auto t_start = std::chrono::steady_clock::now();
+    BudgetPlan plan;
+    plan.extraction = extract_lights(env, options.extract, saturated);
+    const auto& lights = plan.extraction.lights;
+    const int max_k = static_cast<int>(lights.size());
+
+    // References: brute force over the original map's pixels.
+    const auto normals =
+        validation_normals(options.validate_normals, env.full_sphere() ? 4.0 : kPi / 3);
+    plan.normals = static_cast<int>(normals.size());
+    auto t0 = std::chrono::steady_clock::now();
+    const Eigen::MatrixXd e_ref = brute_force_irradiance(env, normals);
+    std::vector<Eigen::Vector3d> facing;
+    Eigen::MatrixXd l_ref;
+    CostModel cost_model;
+    if (options.radiance) {
+        for (const auto& n : normals)
+            if (n.dot(options.radiance->table.view) > 0) facing.push_back(n);
+        plan.radiance_normals = static_cast<int>(facing.size());
+        l_ref = brute_force_radiance(env, *options.radiance, facing);
+        if (options.radiance->material.specular != brdf::Model::kLambert) {
+            cost_model.table_bands = options.radiance->table.sh_bands;
+            cost_model.table_channels = options.radiance->table.channels;
+        }
+    }
+    plan.reference_time_s = seconds_since(t0);
+
+    // Every residual's SH: full-sphere projections are orthogonal, so b bands are the first b^2
+    // coefficients of one projection; partial-sphere fits are redone for every band count.
+    std::vector<std::vector<ProjectResult>> proj(static_cast<size_t>(max_k + 1));
+    for (int k = 0; k <= max_k; ++k) {
+        const Environment residual = residual_environment(env, plan.extraction, k);
+        ProjectOptions po = options.project;
+        if (env.full_sphere()) {
+            po.sh_bands = options.max_bands;
+            const ProjectResult full = project(residual, po);
+            for (int b = 1; b <= options.max_bands; ++b) {
+                ProjectResult r = full;
+                r.coeffs = full.coeffs.topRows(sh::count(b));
+                r.coeffs_unwindowed = full.coeffs_unwindowed.topRows(sh::count(b));
+                // Windows depend on the band count: reapply to the truncated projection.
+                r.coeffs = r.coeffs_unwindowed;
+                sh::apply_window(po.window, b, r.coeffs);
+                proj[static_cast<size_t>(k)].push_back(std::move(r));
+            }
+        } else {
+            for (int b = 1; b <= options.max_bands; ++b) {
+                po.sh_bands = b;
+                proj[static_cast<size_t>(k)].push_back(project(residual, po));
+            }
+        }
+    }
+
+    std::unique_ptr<ObservedIrradiance> observed;
+    if (!env.full_sphere()) observed = std::make_unique<ObservedIrradiance>(env);
+    for (int k = 0; k <= max_k; ++k) {
+        const Eigen::MatrixXd e_lights = lights_irradiance(lights, k, normals);
+        const std::vector<DirectionalLight> used(lights.begin(), lights.begin() + k);
+        for (int b = 1; b <= options.max_bands; ++b) {
+            const ProjectResult& r = proj[static_cast<size_t>(k)][static_cast<size_t>(b - 1)];
+            BudgetCandidate c;
+            c.lights = k;
+            c.sh_bands = b;
+            const Eigen::MatrixXd e_sh =
+                observed ? (*observed)(r.coeffs, b, normals) : sh_irradiance(r.coeffs, b, normals);
+            c.irradiance = irradiance_error(e_sh + e_lights, e_ref);
+            c.error = metric_value(c.irradiance, options.metric);
+            if (options.radiance && !facing.empty()) {
+                c.has_radiance = true;
+                c.radiance = irradiance_error(
+                    model_radiance(r.coeffs, b, used, *options.radiance, facing), l_ref);
+                c.error = std::max(c.error, metric_value(c.radiance, options.metric));
+            }
+            c.cost = shader_cost(b, k, cost_model);
+            c.meets = c.error <= options.max_error;
+            plan.candidates.push_back(c);
+        }
+    }
+    // The cheapest that meets the budget (ties: fewer lights, then fewer bands: the order of the
+    // candidates); if none does, the one with the least error.
+    for (size_t i = 0; i < plan.candidates.size(); ++i) {
+        const auto& c = plan.candidates[i];
+        if (!c.meets) continue;
+        if (plan.chosen < 0 ||
+            c.cost.operations < plan.candidates[static_cast<size_t>(plan.chosen)].cost.operations)
+            plan.chosen = static_cast<int>(i);
+    }
+    plan.met = plan.chosen >= 0;
+    if (!plan.met) {
+        for (size_t i = 0; i < plan.candidates.size(); ++i)
+            if (plan.chosen < 0 ||
+                plan.candidates[i].error < plan.candidates[static_cast<size_t>(plan.chosen)].error)
+                plan.chosen = static_cast<int>(i);
+    }
+    const BudgetCandidate& best = plan.candidates[static_cast<size_t>(plan.chosen)];
+    plan.lights = best.lights;
+    plan.sh_bands = best.sh_bands;
+    plan.projection =
+        proj[static_cast<size_t>(best.lights)][static_cast<size_t>(best.sh_bands - 1)];
+    for (int j = 0; j < plan.lights; ++j) {
+        const DirectionalLight& l = lights[static_cast<size_t>(j)];
+        if (!l.flux_is_lower_bound) continue;
+        double theta, phi;
+        spherical_from_direction(l.direction, theta, phi);
+        log::warn(str(env.source, ": light ", j + 1, " (theta ", theta * 180 / kPi, " deg, phi ",
+                      phi * 180 / kPi, " deg) has luminance flux ", luminance_flux(l),
+                      " as a lower bound: ",
+                      l.saturated_samples > 0 ? str(l.saturated_samples, " clipped pixels carry ",
+                                                    100 * l.saturated_flux_fraction, "% of it")
+                                              : std::string("it touches the edge of the field")));
+    }
+    plan.plan_time_s = seconds_since(t_start);
+    return plan;
+}
+
+namespace {
+
+nlohmann::json error_json(const IrradianceError& e) {
+    return {{"abs_over_mean", e.abs_over_mean},
+            {"mean_rel", e.mean_rel},
+            {"max_rel", e.max_rel},
+            {"rms_over_mean", e.rms_over_mean}};
+}
+
+nlohmann::json cost_json(const ShaderCost& c) {
+    return {{"operations", c.operations},
+            {"lighting_floats", c.lighting_floats},
+            {"texture_fetches", c.texture_fetches},
+            {"specular_bands", c.specular_bands},
+            {"coefficients", sh::count(c.sh_bands)}};
+}
+
+}  // namespace
+
+nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
+    nlohmann::json cands = nlohmann::json::array();
+    for (const auto& c : plan.candidates) {
+        nlohmann::json j = {{"lights", c.lights},
+                            {"sh_bands", c.sh_bands},
+                            {"irradiance", error_json(c.irradiance)},
+                            {"error", c.error},
+                            {"meets", c.meets},
+                            {"cost", cost_json(c.cost)}};
+        if (c.has_radiance) j["radiance"] = error_json(c.radiance);
+        cands.push_back(j);
+    }
+    nlohmann::json lights = nlohmann::json::array();
+    for (const auto& l : plan.extraction.lights) lights.push_back(to_json(l));
+    const BudgetCandidate& best = plan.candidates[static_cast<size_t>(plan.chosen)];
+    return {{"metric", to_string(options.metric)},
+            {"max_error", options.max_error},
+            {"met", plan.met},
+            {"chosen",
+             {{"sh_bands", plan.sh_bands},
+              {"lights", plan.lights},
+              {"error", best.error},
+              {"cost", cost_json(best.cost)}}},
+            {"lights_found", lights},
+            {"median_luminance", plan.extraction.median_luminance},
+            {"regions_examined", plan.extraction.regions_examined},
+            {"normals", plan.normals},
+            {"radiance_normals", plan.radiance_normals},
+            {"reference_time_s", plan.reference_time_s},
+            {"plan_time_s", plan.plan_time_s},
+            {"candidates", cands}};
+}
+
+}  // namespace inlight::envmap

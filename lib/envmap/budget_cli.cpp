@@ -1,0 +1,58 @@
+#include "envmap/budget_cli.h"
+
+#include "brdf/table.h"
+#include "core/error.h"
+#include "core/validators.h"
+
+namespace inlight::envmap {
+
+void add_budget_options(CLI::App& app, BudgetArgs& a) {
+    auto* max_error =
+        app.add_option(
+               "--max-error", a.max_error,
+               "Error budget: choose the SH band count and the number of extracted dominant lights "
+               "with the least shader cost whose error (--error-metric, irradiance and, with "
+               "--brdf-table, outgoing radiance) is at most this; exit 3 if none is (0 = off: "
+               "plain "
+               "--sh-bands projection)")
+            ->check(app::finite_range(0.0, 10.0));
+    app.add_option("--error-metric", a.metric,
+                   "Budget metric: abs-over-mean (mean |E - E_ref| / mean E_ref) or mean-rel "
+                   "(mean of per-normal relative errors, inflated by dark normals)")
+        ->check(CLI::IsMember({"abs-over-mean", "mean-rel"}))
+        ->capture_default_str();
+    app.add_option("--max-lights", a.max_lights,
+                   "Budget: dominant lights (sun, window, lamp) that may be extracted and shaded "
+                   "analytically (0 = pure SH)")
+        ->check(CLI::Range(0, 8))
+        ->capture_default_str();
+    app.add_option("--budget-max-bands", a.max_bands, "Budget: largest SH band count considered")
+        ->check(CLI::Range(1, 16))
+        ->capture_default_str();
+    auto* table = app.add_option("--brdf-table", a.brdf_table,
+                                 "Budget: a brdf-sh-bake table (.bin); the outgoing radiance "
+                                 "toward its view must meet the budget too")
+                      ->check(CLI::ExistingFile);
+    auto* material = app.add_option("--material", a.material,
+                                    "Budget: the material file the --brdf-table was baked from")
+                         ->check(CLI::ExistingFile);
+    table->needs(material);
+    material->needs(table);
+    table->needs(max_error);
+}
+
+BudgetSetup::BudgetSetup(const BudgetArgs& a, int validate_normals) {
+    m_options.max_error = a.max_error;
+    m_options.metric = error_metric_from_string(a.metric);
+    m_options.max_bands = a.max_bands;
+    m_options.extract.max_lights = a.max_lights;
+    m_options.validate_normals = validate_normals;
+    if (!a.brdf_table.empty()) {
+        m_radiance = std::make_unique<RadianceCheck>();
+        m_radiance->table = brdf::read_binary(a.brdf_table);
+        m_radiance->material = brdf::load_material(a.material);
+        m_options.radiance = m_radiance.get();
+    }
+}
+
+}  // namespace inlight::envmap

@@ -1,0 +1,223 @@
+// Tests of envmap/budget.h: the cost model's counts, the choice of bands and lights on maps
+// whose answer is known, the two metrics, the radiance check, and the trade-off on real HDRIs.
+#include "envmap/budget.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "brdf/bake.h"
+#include "brdf/grid.h"
+#include "core/conventions.h"
+#include "envmap/envmap_testing.h"
+#include "testing/testing.h"
+
+namespace inlight::envmap {
+namespace {
+
+using testmaps::fisheye_frame;
+using testmaps::latlong;
+
+TEST(ShaderCost, CountsEveryTermOfTheShader) {
+    const CostModel diffuse_only;
+    // 3 bands: basis 3 x 9 + irradiance 3 x 9 (A_l != 0 for l = 0, 1, 2).
+    EXPECT_EQ(shader_cost(3, 0, diffuse_only).operations, 54);
+    // 4 bands: the basis grows to 16 coefficients, the sum does not (A_3 = 0).
+    EXPECT_EQ(shader_cost(4, 0, diffuse_only).operations, 3 * 16 + 3 * 9);
+    // 1 band: the constant Y_00 needs no basis.
+    EXPECT_EQ(shader_cost(1, 0, diffuse_only).operations, 3);
+    EXPECT_EQ(shader_cost(3, 2, diffuse_only).operations,
+              54 + 2 * (kLightIrradianceOps + kLightDiffuseOps));
+    EXPECT_EQ(shader_cost(3, 2, diffuse_only).lighting_floats, 27 + 14);
+    // With a 1-channel 5-band table: specular at min(3, 5) = 3 bands, 3 texels per corner.
+    CostModel table{5, 1};
+    const ShaderCost c = shader_cost(3, 1, table);
+    EXPECT_EQ(c.specular_bands, 3);
+    EXPECT_EQ(c.texture_fetches, 4 * 3);
+    EXPECT_EQ(c.operations, 54 + kTableCoordOps + 10 * 9 + 3 * 9 + kLightIrradianceOps +
+                                kLightDiffuseOps + kLightSpecularOps);
+    // A 3-band table caps the specular bands (and their cost) whatever the lighting's bands.
+    EXPECT_EQ(shader_cost(7, 0, CostModel{3, 3}).specular_bands, 3);
+    EXPECT_EQ(shader_cost(7, 0, CostModel{3, 3}).texture_fetches, 4 * 3 * 3);
+}
+
+// A map whose SH has l <= 2 only: 3 bands are exact.
+Eigen::Vector3d band_limited(const Eigen::Vector3d& d) {
+    const double v = 1.0 + 0.4 * d.z() + 0.2 * d.x() + 0.3 * (d.x() * d.x() - d.y() * d.y());
+    return {v, 0.9 * v, 0.8 * v};
+}
+
+TEST(PlanBudget, BandLimitedMapNeedsThreeBandsAndNoLight) {
+    BudgetOptions o;
+    o.max_error = 1e-3;  // the pixel-centre reference resolves ~1e-4 at 256 x 128
+    o.validate_normals = 64;
+    const BudgetPlan p = plan_budget(latlong(256, 128, band_limited), o);
+    EXPECT_TRUE(p.met);
+    EXPECT_EQ(p.lights, 0);
+    EXPECT_EQ(p.sh_bands, 3);
+    EXPECT_TRUE(p.extraction.lights.empty());
+    EXPECT_EQ(p.candidates.size(), 9u);  // no light found: pure SH only
+}
+
+TEST(PlanBudget, SunThirtyThousandTimesTheSkyIsOneLightOverOneBand) {
+    const Eigen::Vector3d sun = direction_from_spherical(50 * kPi / 180, 30 * kPi / 180);
+    const Environment env = latlong(256, 128, [&](const Eigen::Vector3d& d) {
+        return Eigen::Vector3d::Constant(d.dot(sun) > std::cos(1.5 * kPi / 180) ? 3e4 : 1.0);
+    });
+    BudgetOptions o;
+    o.max_error = 1e-3;
+    o.validate_normals = 64;
+    const BudgetPlan p = plan_budget(env, o);
+    // The residual is the uniform sky (1 band exact) and the light's model is exact for every
+    // normal that sees the whole sun: only normals within its radius of the terminator differ.
+    ASSERT_TRUE(p.met);
+    EXPECT_EQ(p.lights, 1);
+    EXPECT_EQ(p.sh_bands, 1);
+    EXPECT_LT(p.candidates[static_cast<size_t>(p.chosen)].irradiance.abs_over_mean, 1e-4);
+    // Pure SH cannot meet it at 9 bands: the sun's clamped cosine rings.
+    EXPECT_GT(p.candidates[8].irradiance.abs_over_mean, 1e-2);
+    EXPECT_LT(p.candidates[static_cast<size_t>(p.chosen)].cost.operations,
+              shader_cost(3, 0, {}).operations);
+}
+
+// The CIE standard overcast sky over albedo-0.3 ground (as in lights_test.cpp).
+Eigen::Vector3d overcast(const Eigen::Vector3d& d) {
+    return Eigen::Vector3d::Constant(d.z() > 0 ? (1 + 2 * d.z()) / 3 : 0.3 * 7 / 9.0);
+}
+
+TEST(PlanBudget, OvercastSkyFindsNoLightAndPaysForNone) {
+    BudgetOptions o;
+    o.max_error = 0.01;
+    o.validate_normals = 64;
+    const BudgetPlan p = plan_budget(latlong(256, 128, overcast), o);
+    EXPECT_TRUE(p.extraction.lights.empty());
+    EXPECT_EQ(p.lights, 0);
+    for (const auto& c : p.candidates) EXPECT_EQ(c.lights, 0);
+    EXPECT_EQ(p.candidates[static_cast<size_t>(p.chosen)].cost.operations,
+              shader_cost(p.sh_bands, 0, {}).operations);
+}
+
+TEST(PlanBudget, MeanRelativeErrorExplodesOnDarkNormals) {
+    // A sky with a bright 10-degree patch over ground of radiance g. As the ground darkens, the
+    // normals facing it receive less light while the patch's SH ringing stays the same in
+    // absolute terms: their relative errors, and mean_rel, grow; abs_over_mean hardly moves.
+    const Eigen::Vector3d patch = direction_from_spherical(0.6, 0.3);
+    BudgetOptions o;
+    o.max_error = 0.01;
+    o.extract.max_lights = 0;
+    o.validate_normals = 128;
+    std::map<double, IrradianceError> at3;
+    std::map<double, int> bands;
+    for (double g : {0.3, 1e-3}) {
+        const Environment env = latlong(256, 128, [&](const Eigen::Vector3d& d) {
+            if (d.z() <= 0) return Eigen::Vector3d::Constant(g);
+            return Eigen::Vector3d::Constant(d.dot(patch) > std::cos(0.17) ? 20.0 : 1.0);
+        });
+        o.metric = ErrorMetric::kAbsOverMean;
+        at3[g] = plan_budget(env, o).candidates[2].irradiance;
+        o.metric = ErrorMetric::kMeanRel;
+        bands[g] = plan_budget(env, o).sh_bands;
+        std::printf(
+            "ground %.0e, 3 bands: mean_rel %.4f, abs_over_mean %.4f; mean-rel budget "
+            "needs %d bands\n",
+            g, at3[g].mean_rel, at3[g].abs_over_mean, bands[g]);
+    }
+    EXPECT_GT(at3[1e-3].mean_rel, 3 * at3[0.3].mean_rel);
+    EXPECT_NEAR(at3[1e-3].abs_over_mean, at3[0.3].abs_over_mean, 0.3 * at3[0.3].abs_over_mean);
+    EXPECT_GT(bands[1e-3], bands[0.3]);
+}
+
+TEST(PlanBudget, UnreachableBudgetKeepsTheLeastError) {
+    BudgetOptions o;
+    o.max_error = 1e-9;
+    o.max_bands = 4;
+    o.validate_normals = 32;
+    const BudgetPlan p = plan_budget(latlong(128, 64, overcast), o);
+    EXPECT_FALSE(p.met);
+    for (const auto& c : p.candidates)
+        EXPECT_GE(c.error, p.candidates[static_cast<size_t>(p.chosen)].error);
+    o.max_error = std::nan("");
+    EXPECT_THROW(plan_budget(latlong(128, 64, overcast), o), UsageError);
+}
+
+TEST(PlanBudget, FisheyeFrameFitsEveryBandCountAndExtractsTheLamp) {
+    // A 165-degree frame of a room with a lamp at 35 deg: the fit of the residual per band
+    // count, the lamp shaded analytically, checked on the screen's normals (within 60 deg).
+    const Eigen::Vector3d lamp = direction_from_spherical(35 * kPi / 180, 2.0);
+    const Environment fe = fisheye_frame(200, 82.5 * kPi / 180, [&](const Eigen::Vector3d& d) {
+        const double l = d.dot(lamp) > std::cos(2 * kPi / 180) ? 3e3 : 0.0;
+        return Eigen::Vector3d(0.5 + 0.2 * d.x() + l, 0.5 + l, 0.4 + l);
+    });
+    BudgetOptions o;
+    o.max_error = 0.01;
+    o.max_bands = 5;
+    o.validate_normals = 128;
+    const BudgetPlan p = plan_budget(fe, o);
+    for (const auto& c : p.candidates)
+        std::printf("fisheye: %d lights %d bands: abs_over_mean %.4f mean_rel %.4f\n", c.lights,
+                    c.sh_bands, c.irradiance.abs_over_mean, c.irradiance.mean_rel);
+    ASSERT_EQ(p.extraction.lights.size(), 1u);
+    EXPECT_FALSE(p.extraction.lights[0].at_field_edge);
+    EXPECT_TRUE(p.met);
+    EXPECT_EQ(p.lights, 1);
+    EXPECT_TRUE(p.projection.fitted);
+    // At 3 bands the lamp as a light beats the lamp in the fit by far.
+    const auto& pure3 = p.candidates[2];
+    const auto& lit3 = p.candidates[static_cast<size_t>(o.max_bands + 2)];
+    ASSERT_EQ(lit3.lights, 1);
+    EXPECT_LT(lit3.irradiance.abs_over_mean, 0.2 * pure3.irradiance.abs_over_mean);
+}
+
+TEST(BruteForceRadiance, LambertUnderAConstantSkyIsTheAlbedo) {
+    RadianceCheck check;
+    check.material.specular = brdf::Model::kLambert;
+    check.material.albedo = {0.2, 0.5, 0.8};
+    check.table.view = {0, 0, 1};
+    const Environment env = latlong(256, 128, testmaps::constant(1.0));
+    std::vector<Eigen::Vector3d> normals;
+    for (const auto& n : validation_normals(40))
+        if (n.z() > 0) normals.push_back(n);
+    const Eigen::MatrixXd l = brute_force_radiance(env, check, normals);
+    // The pixel-centre rule's own error on the cosine lobe (brute_force_self_error).
+    const double self = brute_force_self_error(env, normals);
+    for (size_t i = 0; i < normals.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(l(static_cast<Eigen::Index>(i), c), check.material.albedo[c], self + 1e-12);
+}
+
+TEST(ModelRadiance, SunLightsSpecularMatchesTheBruteForceLobe) {
+    // A small sun on a black sky, GGX: the model's radiance is the light alone (the residual is
+    // black); it differs from the per-pixel sum by the lobe's curvature over the sun's pixels,
+    // second order in (pixel 0.7 deg / lobe width ~alpha rad): (0.012 / 0.25)^2 = 2.3e-3.
+    constexpr double kCurvatureRel = 1e-2;
+    const Eigen::Vector3d sun = direction_from_spherical(30 * kPi / 180, 1.0);
+    const Environment env = latlong(512, 256, [&](const Eigen::Vector3d& d) {
+        return Eigen::Vector3d::Constant(d.dot(sun) > std::cos(0.8 * kPi / 180) ? 1e4 : 0.0);
+    });
+    RadianceCheck check;
+    check.material.specular = brdf::Model::kGgx;
+    check.material.alpha = 0.25;
+    check.material.albedo = {0.3, 0.3, 0.3};
+    check.table.sh_bands = 1;
+    check.table.grid = brdf::parse_grid("octa:5");
+    check.table.view = {0, 0, 1};
+    check.table.resize();
+    const Extraction ex = extract_lights(env);
+    ASSERT_EQ(ex.lights.size(), 1u);
+    std::vector<Eigen::Vector3d> normals;  // around the mirror direction of the sun
+    for (const auto& n : validation_normals(400))
+        if (n.dot((sun + check.table.view).normalized()) > std::cos(0.3)) normals.push_back(n);
+    ASSERT_GT(normals.size(), 5u);
+    const Eigen::MatrixXd ref = brute_force_radiance(env, check, normals);
+    const Eigen::MatrixXd model =
+        model_radiance(Eigen::MatrixXd::Zero(1, 3), 1, ex.lights, check, normals);
+    for (size_t i = 0; i < normals.size(); ++i)
+        EXPECT_NEAR(model(static_cast<Eigen::Index>(i), 1), ref(static_cast<Eigen::Index>(i), 1),
+                    kCurvatureRel * ref(static_cast<Eigen::Index>(i), 1));
+}
+
+}  // namespace
+}  // namespace inlight::envmap
