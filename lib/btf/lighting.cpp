@@ -1,0 +1,110 @@
+#include "btf/lighting.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/conventions.h"
+#include "core/error.h"
+#include "core/parallel.h"
+
+namespace inlight::btf {
+
+int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d) {
+    int best = 0;
+    double best_cos = -2;
+    for (size_t k = 0; k < light_vectors.size(); ++k) {
+        const double c = light_vectors[k].dot(d);
+        if (c > best_cos) {
+            best_cos = c;
+            best = static_cast<int>(k);
+        }
+    }
+    return best;
+}
+
+DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector<Direction>& lights,
+                                  const DomeLightingOptions& options) {
+    if (latlong.height < 1 || latlong.width != 2 * latlong.height) {
+        throw Error(str("dome lighting: expected a 2:1 lat-long map, got ", latlong.width, "x",
+                        latlong.height));
+    }
+    if (latlong.channels < 3) {
+        throw Error(str("dome lighting: expected >= 3 channels, got ", latlong.channels));
+    }
+    if (latlong.color_space != image::ColorSpace::kLinearSrgb) {
+        throw Error(str("dome lighting: expected linear_srgb radiance, got ",
+                        image::to_string(latlong.color_space)));
+    }
+    if (lights.empty()) throw Error("dome lighting: no light directions");
+    if (options.subsamples < 1 || options.subsamples > 64) {
+        throw Error(str("dome lighting: subsamples must be in [1, 64], got ", options.subsamples));
+    }
+    if (std::abs(options.sample_from_env.determinant() - 1.0) > 1e-9 ||
+        !(options.sample_from_env * options.sample_from_env.transpose())
+             .isApprox(Eigen::Matrix3d::Identity(), 1e-9)) {
+        throw Error("dome lighting: sample_from_env is not a rotation");
+    }
+    for (float v : latlong.pixels) {
+        if (!std::isfinite(v)) throw Error("dome lighting: the map holds NaN or Inf");
+    }
+    std::vector<Eigen::Vector3d> lv;
+    for (const Direction& d : lights) lv.push_back(d.vector());
+
+    const int w = latlong.width, h = latlong.height, s = options.subsamples;
+    const size_t n = lights.size();
+    // Per row: the weights, solid angles and below-horizon sum; combined in row order.
+    struct Partial {
+        std::vector<Eigen::Vector3d> weight;
+        std::vector<double> omega;
+        Eigen::Vector3d below = Eigen::Vector3d::Zero();
+    };
+    Partial identity{std::vector<Eigen::Vector3d>(n, Eigen::Vector3d::Zero()),
+                     std::vector<double>(n, 0.0), Eigen::Vector3d::Zero()};
+    const Partial total = parallel::reduce(
+        h, 1, identity,
+        [&](int64_t r0, int64_t r1) {
+            Partial p = identity;
+            for (int64_t row = r0; row < r1; ++row) {
+                const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
+                const double sub_omega = (z0 - z1) / s * (2 * kPi / w) / s;
+                for (int col = 0; col < w; ++col) {
+                    const Eigen::Vector3d l(latlong.at(col, static_cast<int>(row), 0),
+                                            latlong.at(col, static_cast<int>(row), 1),
+                                            latlong.at(col, static_cast<int>(row), 2));
+                    for (int a = 0; a < s; ++a) {
+                        const double z = z0 + (a + 0.5) / s * (z1 - z0);
+                        const double rr = std::sqrt(std::max(0.0, 1 - z * z));
+                        for (int b = 0; b < s; ++b) {
+                            const double phi = kPi * (1.0 - 2.0 * (col + (b + 0.5) / s) / w);
+                            const Eigen::Vector3d d =
+                                options.sample_from_env *
+                                Eigen::Vector3d(rr * std::cos(phi), rr * std::sin(phi), z);
+                            if (d.z() <= 0) {
+                                p.below += l * sub_omega;
+                                continue;
+                            }
+                            const auto k = static_cast<size_t>(nearest_light(lv, d));
+                            p.weight[k] += l * sub_omega;
+                            p.omega[k] += sub_omega;
+                        }
+                    }
+                }
+            }
+            return p;
+        },
+        [](Partial a, const Partial& b) {
+            for (size_t k = 0; k < a.weight.size(); ++k) {
+                a.weight[k] += b.weight[k];
+                a.omega[k] += b.omega[k];
+            }
+            a.below += b.below;
+            return a;
+        });
+    DomeLighting out;
+    out.weight = total.weight;
+    out.solid_angle_sr = total.omega;
+    out.below_horizon = total.below;
+    return out;
+}
+
+}  // namespace inlight::btf

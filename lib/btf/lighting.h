@@ -1,0 +1,59 @@
+// btf/lighting.h: a lat-long environment turned into the weights of a BTF's light directions:
+// each light direction owns a cell of the hemisphere (the directions nearer to it than to any
+// other light, a spherical Voronoi cell) and its weight is the environment's radiance
+// integrated over that cell.
+//
+// Why this weight: a BTF image of light l is the reflected radiance divided by the irradiance
+// E_perp that the distant light delivers perpendicular to its own direction, so it already
+// holds the cosine, shadowing and inter-reflection: btf(x, l, v) = L_r / E_perp (1/sr). Under
+// an environment L_env the reflected radiance is the integral over the hemisphere of
+// btf(x, l, v) L_env(l) dl, which the BTF's light set turns into the sum
+//   L_r(x, v) ~= sum_k btf(x, l_k, v) W_k,   W_k = integral over cell k of L_env(l) dl,
+// i.e. btf is taken constant over each cell (the thesis' discrete rendering equation, section
+// 2; Sattler, Sarlette and Klein 2003 shade BTFs under environments this way). Light arriving
+// from below the sample's plane (z <= 0 in the sample frame) reaches no light direction and is
+// dropped (reported in below_horizon).
+//
+// Frames: the map follows Blender/Cycles (core/conventions.h), in its own frame; `sample_from_env`
+// turns those directions into the BTF sample frame (docs/conventions.md, +z the sample normal).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "btf/dome.h"
+#include "image/image.h"
+
+namespace inlight::btf {
+
+struct DomeLightingOptions {
+    /// Each map pixel is split into subsamples x subsamples directions, uniform in solid angle
+    /// over the pixel (uniform in cos theta over the row's band and in phi over the column),
+    /// each assigned whole to its nearest light direction. 1..64.
+    int subsamples = 4;
+    /// Rotation from the map's frame into the sample frame (determinant 1, checked).
+    Eigen::Matrix3d sample_from_env = Eigen::Matrix3d::Identity();
+};
+
+/// The environment seen through a BTF's light set.
+struct DomeLighting {
+    /// Per light direction: the integral of the map's radiance over its cell, W m^-2 per
+    /// linear_srgb channel (radiance x sr). Multiplies btf = L_r / E_perp (1/sr).
+    std::vector<Eigen::Vector3d> weight;
+    /// Per light direction: the solid angle of its cell, sr (they sum to 2 pi).
+    std::vector<double> solid_angle_sr;
+    /// The integral over the lower hemisphere (sample frame z <= 0), which no light sees.
+    Eigen::Vector3d below_horizon = Eigen::Vector3d::Zero();
+};
+
+/// Integrates `latlong` (2:1, >= 3 channels, linear_srgb radiance, finite: checked, Error) over
+/// each light direction's cell. `lights` must be non-empty (Error) and in the upper hemisphere.
+/// Deterministic for any thread count (rows are summed in a fixed order).
+DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector<Direction>& lights,
+                                  const DomeLightingOptions& options = {});
+
+/// Index of the light direction whose cell holds unit vector `d` (largest cosine; ties go to the
+/// lowest index). `light_vectors` are unit vectors in the sample frame.
+int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d);
+
+}  // namespace inlight::btf
