@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <sstream>
 
-namespace inlight::brdf {
-namespace {
+#include "core/check.h"
 
-// Prints a float so that it parses back to the same float (9 significant digits).
-std::string f32(float f) {
+namespace inlight::brdf {
+
+std::string glsl_float(float f) {
     char buf[32];
     std::snprintf(buf, sizeof(buf), "%.9g", static_cast<double>(f));
     std::string s = buf;
@@ -15,7 +15,87 @@ std::string f32(float f) {
     return s;
 }
 
-}  // namespace
+std::string glsl_grid_coord_source(const Grid& g, int glsl_version) {
+    INLIGHT_CHECK(glsl_version == 100 || glsl_version == 300) << "GLSL ES version " << glsl_version;
+    std::ostringstream o;
+    o << "// Cell (r0, r1, c0, c1) and fractions (toward r1, toward c1) of normal n.\n"
+      << "void brdf_grid_coord(vec3 n, out ivec4 cell, out vec2 f) {\n"
+      << "    vec3 m = normalize(n);\n";
+    const std::string last_r = glsl_float(static_cast<float>(g.rows - 1));
+    const std::string last_c = glsl_float(static_cast<float>(g.cols - 1));
+    bool wrap = false;
+    switch (g.kind) {
+        case GridKind::kReport5x5:
+            o << "    // The report's signed-theta grid; atan(y, x) keeps the quadrant, and phi "
+                 "outside\n"
+              << "    // [-pi/2, pi/2] folds to phi -+ pi with theta negated (the same normal).\n"
+              << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
+              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
+                 "atan(0,0) is undefined\n"
+              << "    if (phi > " << glsl_float(1.57079633f) << ") { phi -= " << glsl_float(3.14159265f)
+              << "; theta = -theta; }\n"
+              << "    else if (phi < -" << glsl_float(1.57079633f) << ") { phi += " << glsl_float(3.14159265f)
+              << "; theta = -theta; }\n"
+              << "    float r = clamp(theta * " << glsl_float(1.27323954f) << " + 2.0, 0.0, 4.0);\n"
+              << "    float c = clamp(phi * " << glsl_float(1.27323954f) << " + 2.0, 0.0, 4.0);\n";
+            break;
+        case GridKind::kThetaPhi:
+            wrap = true;
+            o << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
+              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
+                 "atan(0,0) is undefined\n"
+              << "    if (phi < 0.0) phi += " << glsl_float(6.28318531f) << ";\n"
+              << "    float r = clamp(theta * "
+              << glsl_float(static_cast<float>(g.rows - 1) / static_cast<float>(g.theta_max)) << ", 0.0, "
+              << last_r << ");\n"
+              << "    float c = phi * " << glsl_float(static_cast<float>(g.cols) / 6.28318531f) << ";\n";
+            break;
+        case GridKind::kOcta:
+            o << "    float z = max(m.z, 0.0);\n"
+              << "    float d = max(abs(m.x) + abs(m.y) + z, 1e-20);\n"
+              << "    float px = m.x / d;\n    float py = m.y / d;\n"
+              << "    float u = px + py;\n    float v = px - py;\n"
+              << "    float c = clamp((u * 0.5 + 0.5) * " << last_c << ", 0.0, " << last_c << ");\n"
+              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r
+              << ");\n";
+            break;
+        case GridKind::kDisk:
+            o << "    float u = m.x;\n    float v = m.y;\n"
+              << "    if (m.z < 0.0) {  // below the horizon: the horizon normal of the same "
+                 "azimuth\n"
+              << "        float q = max(sqrt(m.x * m.x + m.y * m.y), 1e-20);\n"
+              << "        u = m.x / q;\n        v = m.y / q;\n    }\n"
+              << "    float c = clamp((u * 0.5 + 0.5) * " << last_c << ", 0.0, " << last_c << ");\n"
+              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r
+              << ");\n";
+            break;
+    }
+    o << "    float rf = floor(r);\n    float cf = floor(c);\n    int r0 = int(rf);\n";
+    if (glsl_version == 100) {
+        // GLSL ES 1.00 has neither integer % nor integer min(); cf >= 0 and small, so float
+        // mod of an integral value is exact.
+        o << "    int r1 = r0 + 1 < BRDF_ROWS ? r0 + 1 : BRDF_ROWS - 1;\n";
+        if (wrap) {
+            o << "    int c0 = int(mod(cf, float(BRDF_COLS)));  // phi is periodic: the last "
+                 "column wraps to 0\n"
+              << "    int c1 = c0 + 1 == BRDF_COLS ? 0 : c0 + 1;\n";
+        } else {
+            o << "    int c0 = int(cf);\n    int c1 = c0 + 1 < BRDF_COLS ? c0 + 1 : BRDF_COLS - 1;\n";
+        }
+    } else {
+        o << "    int r1 = min(r0 + 1, BRDF_ROWS - 1);\n";
+        if (wrap) {
+            o << "    int c0 = int(cf) % BRDF_COLS;  // phi is periodic: the last column wraps to "
+                 "0\n"
+              << "    int c1 = (c0 + 1) % BRDF_COLS;\n";
+        } else {
+            o << "    int c0 = int(cf);\n    int c1 = min(c0 + 1, BRDF_COLS - 1);\n";
+        }
+    }
+    o << "    cell = ivec4(r0, r1, c0, c1);\n    f = vec2(r - rf, c - cf);\n}\n";
+
+    return o.str();
+}
 
 std::string glsl_lookup_source(const Table& t) {
     const Grid& g = t.grid;
@@ -47,67 +127,7 @@ std::string glsl_lookup_source(const Table& t) {
          "k];\n}\n"
       << "#endif\n\n";
 
-    o << "// Cell (r0, r1, c0, c1) and fractions (toward r1, toward c1) of normal n.\n"
-      << "void brdf_grid_coord(vec3 n, out ivec4 cell, out vec2 f) {\n"
-      << "    vec3 m = normalize(n);\n";
-    const std::string last_r = f32(static_cast<float>(g.rows - 1));
-    const std::string last_c = f32(static_cast<float>(g.cols - 1));
-    bool wrap = false;
-    switch (g.kind) {
-        case GridKind::kReport5x5:
-            o << "    // The report's signed-theta grid; atan(y, x) keeps the quadrant, and phi "
-                 "outside\n"
-              << "    // [-pi/2, pi/2] folds to phi -+ pi with theta negated (the same normal).\n"
-              << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
-              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
-                 "atan(0,0) is undefined\n"
-              << "    if (phi > " << f32(1.57079633f) << ") { phi -= " << f32(3.14159265f)
-              << "; theta = -theta; }\n"
-              << "    else if (phi < -" << f32(1.57079633f) << ") { phi += " << f32(3.14159265f)
-              << "; theta = -theta; }\n"
-              << "    float r = clamp(theta * " << f32(1.27323954f) << " + 2.0, 0.0, 4.0);\n"
-              << "    float c = clamp(phi * " << f32(1.27323954f) << " + 2.0, 0.0, 4.0);\n";
-            break;
-        case GridKind::kThetaPhi:
-            wrap = true;
-            o << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
-              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
-                 "atan(0,0) is undefined\n"
-              << "    if (phi < 0.0) phi += " << f32(6.28318531f) << ";\n"
-              << "    float r = clamp(theta * "
-              << f32(static_cast<float>(g.rows - 1) / static_cast<float>(g.theta_max)) << ", 0.0, "
-              << last_r << ");\n"
-              << "    float c = phi * " << f32(static_cast<float>(g.cols) / 6.28318531f) << ";\n";
-            break;
-        case GridKind::kOcta:
-            o << "    float z = max(m.z, 0.0);\n"
-              << "    float d = max(abs(m.x) + abs(m.y) + z, 1e-20);\n"
-              << "    float px = m.x / d;\n    float py = m.y / d;\n"
-              << "    float u = px + py;\n    float v = px - py;\n"
-              << "    float c = clamp((u * 0.5 + 0.5) * " << last_c << ", 0.0, " << last_c << ");\n"
-              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r
-              << ");\n";
-            break;
-        case GridKind::kDisk:
-            o << "    float u = m.x;\n    float v = m.y;\n"
-              << "    if (m.z < 0.0) {  // below the horizon: the horizon normal of the same "
-                 "azimuth\n"
-              << "        float q = max(sqrt(m.x * m.x + m.y * m.y), 1e-20);\n"
-              << "        u = m.x / q;\n        v = m.y / q;\n    }\n"
-              << "    float c = clamp((u * 0.5 + 0.5) * " << last_c << ", 0.0, " << last_c << ");\n"
-              << "    float r = clamp((v * 0.5 + 0.5) * " << last_r << ", 0.0, " << last_r
-              << ");\n";
-            break;
-    }
-    o << "    float rf = floor(r);\n    float cf = floor(c);\n"
-      << "    int r0 = int(rf);\n    int r1 = min(r0 + 1, BRDF_ROWS - 1);\n";
-    if (wrap) {
-        o << "    int c0 = int(cf) % BRDF_COLS;  // phi is periodic: the last column wraps to 0\n"
-          << "    int c1 = (c0 + 1) % BRDF_COLS;\n";
-    } else {
-        o << "    int c0 = int(cf);\n    int c1 = min(c0 + 1, BRDF_COLS - 1);\n";
-    }
-    o << "    cell = ivec4(r0, r1, c0, c1);\n    f = vec2(r - rf, c - cf);\n}\n\n";
+    o << glsl_grid_coord_source(g, 300) << "\n";
 
     o << "// Bilinearly interpolated SH coefficients of the cosine-weighted lobe at normal n.\n"
       << "void brdf_sh_lookup(vec3 n, int ch, out float coeffs[BRDF_NCOEFFS]) {\n"

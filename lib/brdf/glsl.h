@@ -18,4 +18,15 @@ namespace inlight::brdf {
 /// per element: tables over ~200 floats need the texture path.
 std::string glsl_lookup_source(const Table& table);
 
+/// A float literal that parses back to the same float (9 significant digits, always with a
+/// point or exponent), as every emitted shader prints its constants.
+std::string glsl_float(float f);
+
+/// GLSL ES source of  void brdf_grid_coord(vec3 n, out ivec4 cell, out vec2 f)  for `grid`
+/// (cell = (r0, r1, c0, c1), f = fractions toward r1 and c1): grid_coord() in GLSL. It uses the
+/// constants BRDF_ROWS and BRDF_COLS, which the caller declares. glsl_version is 300 (GLSL ES
+/// 3.00) or 100 (GLSL ES 1.00, which has no integer % or min: the same values through float
+/// mod and a comparison).
+std::string glsl_grid_coord_source(const Grid& grid, int glsl_version);
+
 }  // namespace inlight::brdf

@@ -1,0 +1,654 @@
+#include "gles/export.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <regex>
+#include <sstream>
+
+#include "brdf/bake.h"
+#include "brdf/glsl.h"
+#include "core/conventions.h"
+#include "core/error.h"
+#include "sh/sh.h"
+
+namespace inlight::gles {
+
+GlslVersion glsl_version_from_string(const std::string& name) {
+    if (name == "100") return GlslVersion::kEs100;
+    if (name == "300") return GlslVersion::kEs300;
+    throw UsageError(str("GLSL ES version '", name, "': expected '100' or '300'"));
+}
+ShaderMode shader_mode_from_string(const std::string& name) {
+    if (name == "consistent") return ShaderMode::kConsistent;
+    if (name == "seed") return ShaderMode::kSeed;
+    throw UsageError(str("shader mode '", name, "': expected 'consistent' or 'seed'"));
+}
+Precision precision_from_string(const std::string& name) {
+    if (name == "highp") return Precision::kHighp;
+    if (name == "mediump") return Precision::kMediump;
+    throw UsageError(str("precision '", name, "': expected 'highp' or 'mediump'"));
+}
+std::string to_string(GlslVersion v) { return v == GlslVersion::kEs100 ? "100" : "300"; }
+std::string to_string(ShaderMode m) { return m == ShaderMode::kConsistent ? "consistent" : "seed"; }
+std::string to_string(Precision p) { return p == Precision::kHighp ? "highp" : "mediump"; }
+std::string to_string(TableLayout l) {
+    switch (l) {
+        case TableLayout::kNone: return "none";
+        case TableLayout::kUniformArray: return "uniform_array";
+        case TableLayout::kFloatTexture: return "rgba32f_texture";
+        case TableLayout::kRgba8Texture: return "rgba8_texture";
+    }
+    return "?";
+}
+
+Limits Limits::minimum(GlslVersion version) {
+    Limits l;
+    if (version == GlslVersion::kEs100) {
+        l.max_fragment_uniform_vectors = 16;
+        l.max_texture_size = 64;
+        l.max_texture_image_units = 8;
+    }
+    return l;
+}
+
+namespace {
+
+std::string lit(double v) { return brdf::glsl_float(static_cast<float>(v)); }
+
+/// (2l+1)/(4 pi) (l-m)!/(l+m)!, square-rooted: the real SH normalisation K_lm.
+double sh_norm(int l, int m) {
+    double ratio = 1.0;
+    for (int i = l - m + 1; i <= l + m; ++i) ratio /= i;
+    return std::sqrt((2 * l + 1) / (4 * kPi) * ratio);
+}
+
+/// Everything the generator decides before printing.
+struct Plan {
+    const Variant* v = nullptr;
+    const MaterialInputs* mat = nullptr;
+    const brdf::Table* table = nullptr;  ///< the bound table (bands = variant bands) or null
+    TableLayout layout = TableLayout::kNone;
+    int texels_per_node = 0;
+    bool es3() const { return v->version == GlslVersion::kEs300; }
+    int channels() const { return table ? table->channels : 0; }
+};
+
+/// "b<t>.x" for 1 channel, "vec3(b<t>_0.x, b<t>_1.x, b<t>_2.x)" for 3: coefficient k of the
+/// interpolated table per channel, as a float or a vec3.
+std::string coeff_expr(const Plan& p, int k) {
+    const int t = k / 4;
+    const char comp = "xyzw"[k % 4];
+    if (p.channels() == 1) return str("b", t, ".", comp);
+    return str("vec3(b", t, "_0.", comp, ", b", t, "_1.", comp, ", b", t, "_2.", comp, ")");
+}
+
+std::string vertex_source(const Plan& p, const std::string& name) {
+    const bool es3 = p.es3();
+    const bool uv = p.mat->has_albedo_texture() || p.mat->has_normal_texture();
+    const char* in = es3 ? "in" : "attribute";
+    const char* out = es3 ? "out" : "varying";
+    std::ostringstream o;
+    o << (es3 ? "#version 300 es\n" : "#version 100\n")
+      << "// " << name << ": vertex shader (inlight GLES export; bindings in " << name
+      << ".json). Device frame.\n"
+      << "uniform mat4 u_clip_from_object;\n";
+    if (uv) o << "uniform vec2 u_uv_scale;\n";
+    o << in << " vec3 a_position;\n" << in << " vec3 a_normal;\n";
+    if (p.mat->has_normal_texture()) o << in << " vec3 a_tangent;\n";
+    if (uv) o << in << " vec2 a_uv;\n";
+    o << out << " vec3 v_normal;\n";
+    if (p.mat->has_normal_texture()) o << out << " vec3 v_tangent;\n";
+    if (uv) o << out << " vec2 v_uv;\n";
+    o << "void main() {\n    v_normal = a_normal;\n";
+    if (p.mat->has_normal_texture()) o << "    v_tangent = a_tangent;\n";
+    if (uv) o << "    v_uv = a_uv * u_uv_scale;  // tiles: the fragment shader wraps\n";
+    o << "    gl_Position = u_clip_from_object * vec4(a_position, 1.0);\n}\n";
+    return o.str();
+}
+
+/// texture_bilinear[_srgb](sampler, size, uv): bilinear between texel centres with wrap, as
+/// render::sample_texture; `decode` = sRGB-decode each texel in the shader (ES 1.00 albedo).
+std::string bilinear_function(const Plan& p, bool decode) {
+    std::ostringstream o;
+    const std::string fname = decode ? "texture_bilinear_srgb" : "texture_bilinear";
+    o << "// Bilinear between texel centres, wrapping (render::sample_texture), from 4 texels"
+      << (decode ? ",\n// each sRGB-decoded before filtering as on the CPU.\n" : ".\n")
+      << "vec3 " << fname << "(" << (p.es3() ? "highp " : "") << "sampler2D tex, vec2 size, vec2 uv) {\n"
+      << "    vec2 q = uv * size - 0.5;\n    vec2 f = floor(q);\n    vec2 a = q - f;\n"
+      << "    vec2 i0 = f - size * floor((f + 0.5) / size);\n"
+      << "    vec2 i1 = i0 + 1.0 - size * step(size - 0.5, i0 + 1.0);\n";
+    auto fetch = [&](const std::string& x, const std::string& y) {
+        std::string e = p.es3() ? str("texelFetch(tex, ivec2(int(", x, "), int(", y, ")), 0).rgb")
+                                : str("texture2D(tex, (vec2(", x, ", ", y, ") + 0.5) / size).rgb");
+        return decode ? "srgb_decode(" + e + ")" : e;
+    };
+    o << "    vec3 t00 = " << fetch("i0.x", "i0.y") << ";\n"
+      << "    vec3 t10 = " << fetch("i1.x", "i0.y") << ";\n"
+      << "    vec3 t01 = " << fetch("i0.x", "i1.y") << ";\n"
+      << "    vec3 t11 = " << fetch("i1.x", "i1.y") << ";\n"
+      << "    return mix(mix(t00, t10, a.x), mix(t01, t11, a.x), a.y);\n}\n";
+    return o.str();
+}
+
+std::string size_literal(const Eigen::Vector2i& px) {
+    return str("vec2(", lit(px.x()), ", ", lit(px.y()), ")");
+}
+
+/// The irradiance matrix entries M_ij (R&H eq. 12, sh::irradiance_matrix) as vec3 expressions
+/// over u_sh, i <= j; "" where the entry is 0.
+std::string matrix_entry(int i, int j) {
+    std::string e;
+    for (int k = 0; k < 9; ++k) {
+        double unit[9] = {};
+        unit[k] = 1.0;
+        const double c = sh::irradiance_matrix(unit)(i, j);
+        if (c == 0.0) continue;
+        e += str(e.empty() ? "" : " + ", lit(c), " * u_sh[", k, "]");
+    }
+    return e;
+}
+
+std::string monomial(int i, int j) {
+    static const char* kAxis[4] = {"x", "y", "z", ""};
+    std::string m;
+    for (int a : {i, j}) {
+        if (a == 3) continue;
+        m += str(m.empty() ? "" : " * ", kAxis[a]);
+    }
+    return m;
+}
+
+/// The fragment's lighting: declares vec3 radiance.
+std::string shading_source(const Plan& p) {
+    std::ostringstream o;
+    const int bands = p.v->sh_bands;
+    const bool seed = p.v->mode == ShaderMode::kSeed;
+    o << "    float x = n.x;\n    float y = n.y;\n    float z = n.z;\n";
+    if (bands == 3) {
+        o << "    // Irradiance matrix M per channel (Ramamoorthi and Hanrahan 2001, eq. 12), E = "
+             "(n, 1)^T M (n, 1).\n";
+        for (int i = 0; i < 4; ++i) {
+            for (int j = i; j < 4; ++j) {
+                const std::string e = matrix_entry(i, j);
+                if (!e.empty()) o << "    vec3 m" << i << j << " = " << e << ";\n";
+            }
+        }
+        std::string sum;
+        for (int i = 0; i < 4; ++i) {
+            for (int j = i; j < 4; ++j) {
+                if (matrix_entry(i, j).empty()) continue;
+                const std::string mono = monomial(i, j);
+                sum += str(sum.empty() ? "" : "\n        + ", i == j ? "" : "2.0 * ", "m", i, j,
+                           mono.empty() ? "" : " * (" + mono + ")");
+            }
+        }
+        o << "    vec3 e = " << sum << ";\n";
+    } else {
+        // E = sum_lm A_l L_lm Y_lm(n) over the bands where A_l != 0 (l = 0, 1 and even l).
+        const int lmax = bands - 1;
+        const int luse = (lmax % 2 == 0 || lmax < 2) ? lmax : lmax - 1;
+        o << "    // Irradiance E = sum A_l L_lm Y_lm(n) (R&H eq. 7-8); A_l = 0 for odd l > 1.\n"
+          << "    // Y_lm = K_lm P~_l^m(z) Re/Im (x + iy)^m, P~ by the Legendre recurrence in z.\n";
+        for (int m = 1; m <= luse; ++m) {
+            if (m == 1) {
+                o << "    float cs1 = x;\n    float sn1 = y;\n";
+            } else {
+                o << "    float cs" << m << " = x * cs" << m - 1 << " - y * sn" << m - 1 << ";\n"
+                  << "    float sn" << m << " = x * sn" << m - 1 << " + y * cs" << m - 1 << ";\n";
+            }
+        }
+        o << "    vec3 e = vec3(0.0);\n";
+        for (int m = 0; m <= luse; ++m) {
+            double pmm = 1.0;  // (2m - 1)!!
+            for (int i = 1; i <= 2 * m - 1; i += 2) pmm *= i;
+            for (int l = m; l <= luse; ++l) {
+                const std::string pv = str("p", l, "_", m);
+                if (l == m) {
+                    o << "    float " << pv << " = " << lit(pmm) << ";\n";
+                } else if (l == m + 1) {
+                    o << "    float " << pv << " = " << lit(2 * m + 1) << " * z * p" << m << "_"
+                      << m << ";\n";
+                } else {
+                    o << "    float " << pv << " = " << lit((2.0 * l - 1) / (l - m)) << " * z * p"
+                      << l - 1 << "_" << m << " - " << lit((l + m - 1.0) / (l - m)) << " * p"
+                      << l - 2 << "_" << m << ";\n";
+                }
+                if (l > 1 && l % 2 == 1) continue;  // A_l = 0: an intermediate only
+                const double a = sh::cosine_zonal(l);
+                if (m == 0) {
+                    o << "    e += (" << lit(a * sh_norm(l, 0)) << " * " << pv << ") * u_sh["
+                      << sh::index(l, 0) << "];\n";
+                } else {
+                    const double c = a * std::sqrt(2.0) * sh_norm(l, m);
+                    o << "    e += (" << lit(c) << " * " << pv << " * cs" << m << ") * u_sh["
+                      << sh::index(l, m) << "];\n"
+                      << "    e += (" << lit(c) << " * " << pv << " * sn" << m << ") * u_sh["
+                      << sh::index(l, -m) << "];\n";
+                }
+            }
+        }
+    }
+    if (seed) {
+        o << "    // The report's shader (section 2.6): each M entry times the BRDF coefficient "
+             "of\n"
+          << "    // that entry (the cosine lobe applied twice), its constants 0.743125 and "
+             "0.247708.\n"
+          << "    vec3 spec = vec3(0.0);\n";
+        if (p.table) {
+            static constexpr int kIndex[4][4] = {
+                {8, 4, 7, 3}, {4, 8, 5, 1}, {7, 5, 6, 2}, {3, 1, 2, -1}};
+            o << "    vec3 c5l20 = (m22 / 0.743125) * 0.247708;\n"
+              << "    vec3 c4l00 = m33 + c5l20;\n"
+              << "    spec = c4l00 * " << coeff_expr(p, 0) << " - c5l20 * " << coeff_expr(p, 6);
+            for (int i = 0; i < 3; ++i) {
+                for (int j = i; j < 4; ++j) {
+                    const std::string mono = monomial(i, j);
+                    o << "\n        + " << (i == j ? "" : "2.0 * ") << "m" << i << j << " * "
+                      << coeff_expr(p, kIndex[i][j]) << " * (" << mono << ")";
+                }
+            }
+            o << ";\n";
+        }
+        o << "    vec3 radiance = albedo * ((e.x + e.y + e.z) / 3.0 * 0.3) + spec * 0.05;\n";
+    } else {
+        o << "    vec3 radiance = albedo * " << lit(kInvPi) << " * e;\n";
+        if (p.table) {
+            o << "    // Specular: sum_k L_k B_k(n) (brdf/table.h).\n";
+            for (int k = 0; k < sh::count(bands); ++k) {
+                o << "    radiance += u_sh[" << k << "] * " << coeff_expr(p, k) << ";\n";
+            }
+        }
+    }
+    return o.str();
+}
+
+std::string fragment_source(const Plan& p, const std::string& name) {
+    const bool es3 = p.es3();
+    const MaterialInputs& mat = *p.mat;
+    const bool uv = mat.has_albedo_texture() || mat.has_normal_texture();
+    const std::string prec = to_string(p.v->precision);
+    // Samplers: ES 3.00 guarantees highp in fragment shaders; ES 1.00 only with
+    // GL_FRAGMENT_PRECISION_HIGH, which the highp variants require anyway.
+    const std::string sampler = str(es3 ? "highp" : prec, " sampler2D");
+    const int k_count = sh::count(p.v->sh_bands);
+    const int t_count = p.texels_per_node;
+    std::ostringstream o;
+    o << (es3 ? "#version 300 es\n" : "#version 100\n")
+      << "// " << name << ": fragment shader (inlight GLES export; bindings in " << name
+      << ".json).\n"
+      << "// Linear_srgb radiance of the " << to_string(p.v->mode) << " real-time model "
+      << "(render/realtime.h), " << p.v->sh_bands << " SH bands, device frame.\n"
+      << "precision " << prec << " float;\nprecision " << prec << " int;\n";
+    if (es3) o << "out vec4 o_radiance;\n";
+    const char* in = es3 ? "in" : "varying";
+    o << in << " vec3 v_normal;\n";
+    if (mat.has_normal_texture()) o << in << " vec3 v_tangent;\n";
+    if (uv) o << in << " vec2 v_uv;\n";
+    o << "uniform vec3 u_sh[" << k_count << "];  // lighting L_lm, radiance, linear_srgb\n"
+      << "uniform vec3 u_albedo;  // linear_srgb\n";
+    if (mat.has_normal_texture()) {
+        const Eigen::Vector3d view = p.table ? p.table->view : Eigen::Vector3d::UnitZ();
+        o << "const vec3 VIEW = vec3(" << lit(view.x()) << ", " << lit(view.y()) << ", "
+          << lit(view.z()) << ");  // the table's view, toward the viewer\n";
+    }
+    if (mat.has_albedo_texture()) o << "uniform " << sampler << " u_albedo_texture;\n";
+    if (mat.has_normal_texture()) o << "uniform " << sampler << " u_normal_texture;\n";
+    if (p.table) {
+        const brdf::Table& t = *p.table;
+        o << "const int BRDF_ROWS = " << t.grid.rows << ";\n"
+          << "const int BRDF_COLS = " << t.grid.cols << ";\n";
+        switch (p.layout) {
+            case TableLayout::kUniformArray:
+                o << "uniform vec4 u_brdf[" << t.channels * t.grid.node_count() * t_count
+                  << "];  // texel ((ch * ROWS + i1) * COLS + i2) * " << t_count << " + t\n"
+                  << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
+                  << "    return u_brdf[((ch * BRDF_ROWS + i1) * BRDF_COLS + i2) * " << t_count
+                  << " + t];\n}\n";
+                break;
+            case TableLayout::kFloatTexture:
+                o << "uniform " << sampler << " u_brdf_texture;  // RGBA32F, NEAREST\n"
+                  << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
+                  << "    return texelFetch(u_brdf_texture, ivec2(i2 * " << t_count
+                  << " + t, ch * BRDF_ROWS + i1), 0);\n}\n";
+                break;
+            case TableLayout::kRgba8Texture:
+                o << "uniform " << sampler << " u_brdf_texture;  // RGBA8, NEAREST\n"
+                  << "uniform vec4 u_brdf_scale[" << t_count << "];\n"
+                  << "uniform vec4 u_brdf_offset[" << t_count << "];\n"
+                  << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
+                  << "    return texture2D(u_brdf_texture, (vec2(float(i2 * " << t_count
+                  << " + t), float(ch * BRDF_ROWS + i1)) + 0.5) / "
+                  << size_literal({t.grid.cols * t_count, t.channels * t.grid.rows}) << ");\n}\n";
+                break;
+            case TableLayout::kNone:
+                break;
+        }
+        o << "// Bilinear over the cell: mix(mix(c00, c01, f.y), mix(c10, c11, f.y), f.x).\n"
+          << "vec4 brdf_lerp(ivec4 cell, vec2 f, int ch, int t) {\n"
+          << "    return mix(mix(brdf_texel(ch, cell.x, cell.z, t), brdf_texel(ch, cell.x, "
+             "cell.w, t), f.y),\n"
+          << "               mix(brdf_texel(ch, cell.y, cell.z, t), brdf_texel(ch, cell.y, "
+             "cell.w, t), f.y), f.x);\n}\n"
+          << brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100);
+    }
+    if (!es3 && mat.has_albedo_texture()) {
+        o << "vec3 srgb_decode(vec3 c) {\n"
+          << "    return mix(pow((c + 0.055) / 1.055, vec3(2.4)), c / 12.92, step(c, "
+             "vec3(0.04045)));\n}\n"
+          << bilinear_function(p, true);
+    }
+    if (mat.has_normal_texture() || (es3 && mat.has_albedo_texture())) {
+        o << bilinear_function(p, false);
+    }
+
+    o << "void main() {\n";
+    if (mat.has_albedo_texture()) {
+        o << "    vec3 albedo = u_albedo * "
+          << (es3 ? "texture_bilinear(" : "texture_bilinear_srgb(") << "u_albedo_texture, "
+          << size_literal(mat.albedo_texture_px) << ", v_uv);\n";
+    } else {
+        o << "    vec3 albedo = u_albedo;\n";
+    }
+    o << "    vec3 n = normalize(v_normal);\n";
+    if (mat.has_normal_texture()) {
+        o << "    // Normal map: data, 2 rgb - 1 in the frame (t, n x t, n) (render/material.h).\n"
+          << "    vec3 c = texture_bilinear(u_normal_texture, " << size_literal(mat.normal_texture_px)
+          << ", v_uv) * 2.0 - 1.0;\n"
+          << "    vec3 mapped = v_tangent * c.x + cross(n, v_tangent) * c.y + n * c.z;\n"
+          << "    vec3 ng = n;\n"
+          << "    if (dot(mapped, mapped) > 1e-12) n = normalize(mapped);\n"
+          << "    if (dot(n, VIEW) <= 0.0) n = ng;\n";
+    }
+    if (p.table) {
+        o << "    ivec4 cell;\n    vec2 f;\n    brdf_grid_coord(n, cell, f);\n";
+        for (int t = 0; t < t_count; ++t) {
+            for (int ch = 0; ch < p.channels(); ++ch) {
+                const std::string var = p.channels() == 1 ? str("b", t) : str("b", t, "_", ch);
+                const std::string lerp = str("brdf_lerp(cell, f, ", ch, ", ", t, ")");
+                if (p.layout == TableLayout::kRgba8Texture) {
+                    o << "    vec4 " << var << " = u_brdf_offset[" << t << "] + u_brdf_scale[" << t
+                      << "] * " << lerp << ";\n";
+                } else {
+                    o << "    vec4 " << var << " = " << lerp << ";\n";
+                }
+            }
+        }
+    }
+    o << shading_source(p);
+    o << (es3 ? "    o_radiance" : "    gl_FragColor") << " = vec4(radiance, 1.0);\n}\n";
+    return o.str();
+}
+
+
+nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limits) {
+    using nlohmann::json;
+    const MaterialInputs& mat = *p.mat;
+    const bool es3 = p.es3();
+    const bool uv = mat.has_albedo_texture() || mat.has_normal_texture();
+    json m;
+    m["format"] = "inlight_gles_export";
+    m["version"] = 1;
+    m["name"] = e.name;
+    m["variant"] = {{"glsl_version", es3 ? "300 es" : "100"},
+                    {"mode", to_string(p.v->mode)},
+                    {"sh_bands", p.v->sh_bands},
+                    {"precision", to_string(p.v->precision)},
+                    {"material", mat.name}};
+    m["files"] = {{"vertex", e.name + ".vert"},
+                  {"fragment", e.name + ".frag"},
+                  {"brdf_data", p.table ? json(e.name + ".brdf.bin") : json(nullptr)}};
+    m["frame"] = "device: +z out of the screen toward the viewer (docs/conventions.md)";
+    json attrs = json::array();
+    attrs.push_back({{"name", "a_position"}, {"type", "vec3"}, {"meaning", "position, device frame"}});
+    attrs.push_back({{"name", "a_normal"}, {"type", "vec3"}, {"meaning", "unit geometric normal, device frame, facing the viewer"}});
+    if (mat.has_normal_texture()) {
+        attrs.push_back({{"name", "a_tangent"}, {"type", "vec3"}, {"meaning", "dp/du, device frame (normal-map x axis)"}});
+    }
+    if (uv) attrs.push_back({{"name", "a_uv"}, {"type", "vec2"}, {"meaning", "texture uv, v down (1 = one tile)"}});
+    m["attributes"] = attrs;
+    json uniforms = json::array();
+    uniforms.push_back({{"name", "u_clip_from_object"}, {"type", "mat4"}, {"count", 1}, {"stage", "vertex"}, {"meaning", "clip from device frame"}});
+    if (uv) uniforms.push_back({{"name", "u_uv_scale"}, {"type", "vec2"}, {"count", 1}, {"stage", "vertex"}, {"meaning", "tiles per unit of a_uv"}});
+    uniforms.push_back({{"name", "u_sh"}, {"type", "vec3"}, {"count", sh::count(p.v->sh_bands)}, {"stage", "fragment"},
+                        {"meaning", "lighting SH coefficients L_lm (R, G, B), device frame, real SH without Condon-Shortley phase, index l(l+1)+m"},
+                        {"units", "radiance (linear_srgb, the environment's units)"}});
+    uniforms.push_back({{"name", "u_albedo"}, {"type", "vec3"}, {"count", 1}, {"stage", "fragment"}, {"meaning", "material albedo, linear_srgb"}, {"range", {0.0, 1.0}}});
+    json textures = json::array();
+    int unit = 0;
+    if (mat.has_albedo_texture()) {
+        textures.push_back({{"uniform", "u_albedo_texture"}, {"unit", unit++},
+                            {"internal_format", es3 ? "SRGB8_ALPHA8" : "RGBA"}, {"format", "RGBA"}, {"type", "UNSIGNED_BYTE"},
+                            {"width", mat.albedo_texture_px.x()}, {"height", mat.albedo_texture_px.y()},
+                            {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "srgb"},
+                            {"meaning", es3 ? "albedo texture; the GL decodes sRGB per texel, the shader filters"
+                                            : "albedo texture, sRGB bytes; the shader decodes each texel, then filters"},
+                            {"range", {0.0, 1.0}}});
+    }
+    if (mat.has_normal_texture()) {
+        textures.push_back({{"uniform", "u_normal_texture"}, {"unit", unit++}, {"internal_format", "RGBA8"}, {"format", "RGBA"},
+                            {"type", "UNSIGNED_BYTE"}, {"width", mat.normal_texture_px.x()}, {"height", mat.normal_texture_px.y()},
+                            {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "data"},
+                            {"meaning", "tangent-space normal map, n = 2 rgb - 1"}, {"range", {0.0, 1.0}}});
+    }
+    if (p.table) {
+        const brdf::Table& t = *p.table;
+        float lo = 0, hi = 0;
+        if (!e.table_texels.empty()) {
+            lo = *std::min_element(e.table_texels.begin(), e.table_texels.end());
+            hi = *std::max_element(e.table_texels.begin(), e.table_texels.end());
+        }
+        json table = {{"grid", brdf::to_string(t.grid)}, {"layout", to_string(p.layout)},
+                      {"sh_bands", t.sh_bands}, {"coeff_count", t.coeff_count()}, {"channels", t.channels},
+                      {"texels_per_node", p.texels_per_node},
+                      {"view", {t.view.x(), t.view.y(), t.view.z()}},
+                      {"texel_of", "x = i2 * texels_per_node + k / 4, y = channel * rows + i1, component k % 4"},
+                      {"units", "dimensionless (reflected radiance per unit lighting coefficient)"},
+                      {"value_range", {lo, hi}}};
+        if (p.layout == TableLayout::kUniformArray) {
+            uniforms.push_back({{"name", "u_brdf"}, {"type", "vec4"}, {"count", e.data_width}, {"stage", "fragment"},
+                                {"meaning", "BRDF SH table, texel y * width + x of the texture layout"}, {"file", e.name + ".brdf.bin"},
+                                {"range", {lo, hi}}});
+        } else {
+            const bool rgba8 = p.layout == TableLayout::kRgba8Texture;
+            textures.push_back({{"uniform", "u_brdf_texture"}, {"unit", unit++},
+                                {"internal_format", rgba8 ? "RGBA" : "RGBA32F"}, {"format", "RGBA"},
+                                {"type", rgba8 ? "UNSIGNED_BYTE" : "FLOAT"}, {"width", e.data_width}, {"height", e.data_height},
+                                {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "data"},
+                                {"file", e.name + ".brdf.bin"}, {"meaning", "BRDF SH table"},
+                                {"range", rgba8 ? json({0.0, 1.0}) : json({lo, hi})}});
+        }
+        if (p.layout == TableLayout::kRgba8Texture) {
+            const int slots = 4 * p.texels_per_node;
+            uniforms.push_back({{"name", "u_brdf_scale"}, {"type", "vec4"}, {"count", p.texels_per_node}, {"stage", "fragment"},
+                                {"meaning", "per coefficient k (component k of the array): value = offset + scale * texel"},
+                                {"values", e.table_scale}});
+            uniforms.push_back({{"name", "u_brdf_offset"}, {"type", "vec4"}, {"count", p.texels_per_node}, {"stage", "fragment"},
+                                {"values", e.table_offset}});
+            double err = 0;
+            for (int s = 0; s < slots; ++s) err = std::max(err, e.table_scale[s] / 510.0);
+            table["quantization_max_abs_error"] = err;
+        }
+        m["brdf_table"] = table;
+    }
+    m["uniforms"] = uniforms;
+    m["textures"] = textures;
+    int max_side = std::max(mat.albedo_texture_px.maxCoeff(), mat.normal_texture_px.maxCoeff());
+    if (p.table && p.layout != TableLayout::kUniformArray) max_side = std::max({max_side, e.data_width, e.data_height});
+    json ext = json::array();
+    if (!es3 && p.v->precision == Precision::kHighp) ext.push_back("GL_FRAGMENT_PRECISION_HIGH (highp in fragment shaders)");
+    m["gl_limits_needed"] = {{"context", es3 ? "OpenGL ES 3.0" : "OpenGL ES 2.0"},
+                             {"max_fragment_uniform_vectors", e.fragment_uniform_vectors},
+                             {"max_texture_image_units", unit},
+                             {"max_texture_size", max_side},
+                             {"requires", ext},
+                             {"limits_given", {{"max_fragment_uniform_vectors", limits.max_fragment_uniform_vectors},
+                                               {"max_texture_size", limits.max_texture_size},
+                                               {"max_texture_image_units", limits.max_texture_image_units}}}};
+    m["output"] = {{"variable", es3 ? "o_radiance" : "gl_FragColor"}, {"quantity", "radiance (rgb; alpha 1)"},
+                   {"color_space", "linear_srgb"}, {"clamped", false},
+                   {"framebuffer", "RGBA32F (EXT_color_buffer_float) keeps HDR radiance; an 8-bit target clamps to [0, 1]"}};
+    m["precision"] = {{"declared", to_string(p.v->precision)}, {"safe", "highp"},
+                      {"mediump", "unsafe for float output: mediump guarantees a 10-bit mantissa (relative step 2^-10 = 9.8e-4, "
+                                  "the whole 1e-3 budget before any arithmetic) and magnitudes below 2^14; the SH sums cancel "
+                                  "terms of either sign, so their error is a multiple of that step (measured in docs/gles.md)"}};
+    return m;
+}
+
+}  // namespace
+
+Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& v,
+                      const Limits& limits) {
+    if (!std::regex_match(mat.name, std::regex("[A-Za-z0-9_.-]+"))) {
+        throw UsageError(str("GLES export: material name '", mat.name,
+                             "' must be letters, digits, '_', '.' or '-'"));
+    }
+    Export e;
+    e.name = str(mat.name, "-es", to_string(v.version), "-", to_string(v.mode), "-b", v.sh_bands,
+                 "-", to_string(v.precision));
+    const int max_bands = table ? table->sh_bands : brdf::kMaxBakeBands;
+    if (v.sh_bands < 3 || v.sh_bands > max_bands) {
+        throw UsageError(str("GLES export ", e.name, ": bands must be in 3 .. ", max_bands,
+                             table ? " (the table's bands)" : "", ", got ", v.sh_bands));
+    }
+    if (v.mode == ShaderMode::kSeed && v.sh_bands != 3) {
+        throw UsageError(str("GLES export ", e.name, ": the seed mode exists for 3 bands only"));
+    }
+    Plan p;
+    p.v = &v;
+    p.mat = &mat;
+    const int k_count = sh::count(v.sh_bands);
+    int vectors = k_count + 1;  // u_sh, u_albedo
+    int units = (mat.has_albedo_texture() ? 1 : 0) + (mat.has_normal_texture() ? 1 : 0);
+    if (table) {
+        brdf::Table bound;
+        bound.grid = table->grid;
+        bound.sh_bands = v.sh_bands;
+        bound.channels = table->channels;
+        bound.view = table->view;
+        bound.resize();
+        for (int ch = 0; ch < table->channels; ++ch) {
+            for (int i1 = 0; i1 < table->grid.rows; ++i1) {
+                for (int i2 = 0; i2 < table->grid.cols; ++i2) {
+                    for (int k = 0; k < k_count; ++k) {
+                        bound.coeffs[bound.index(ch, i1, i2, k)] = table->at(ch, i1, i2, k);
+                    }
+                }
+            }
+        }
+        p.texels_per_node = (k_count + 3) / 4;
+        const Eigen::Vector2i size = brdf::texture_size(bound);
+        e.data_width = size.x();
+        e.data_height = size.y();
+        const int table_vectors = size.x() * size.y();
+        if (v.version == GlslVersion::kEs100) {
+            p.layout = TableLayout::kRgba8Texture;
+            vectors += 2 * p.texels_per_node;
+        } else if (vectors + table_vectors <= limits.max_fragment_uniform_vectors) {
+            p.layout = TableLayout::kUniformArray;
+            vectors += table_vectors;
+        } else {
+            p.layout = TableLayout::kFloatTexture;
+        }
+        if (p.layout != TableLayout::kUniformArray) {
+            ++units;
+            if (std::max(size.x(), size.y()) > limits.max_texture_size) {
+                throw Error(str("GLES export ", e.name, ": the BRDF table texture is ", size.x(),
+                                "x", size.y(), " texels, GL_MAX_TEXTURE_SIZE is ",
+                                limits.max_texture_size));
+            }
+        }
+        e.table_texels = brdf::texture_texels(bound);
+        if (p.layout == TableLayout::kUniformArray) {
+            e.data_width = table_vectors;
+            e.data_height = 1;
+        }
+        if (p.layout == TableLayout::kRgba8Texture) {
+            // Per coefficient k (texel component): value = offset_k + scale_k * byte / 255.
+            const int slots = 4 * p.texels_per_node;
+            std::vector<float> lo(slots, 0.0f), hi(slots, 0.0f);
+            std::vector<bool> seen(slots, false);
+            for (size_t i = 0; i < e.table_texels.size(); ++i) {
+                const int s = static_cast<int>(i % static_cast<size_t>(slots));
+                const float val = e.table_texels[i];
+                lo[s] = seen[s] ? std::min(lo[s], val) : val;
+                hi[s] = seen[s] ? std::max(hi[s], val) : val;
+                seen[s] = true;
+            }
+            e.table_scale.resize(slots);
+            e.table_offset = lo;
+            for (int s = 0; s < slots; ++s) e.table_scale[s] = hi[s] - lo[s];
+            e.table_bytes.resize(e.table_texels.size());
+            for (size_t i = 0; i < e.table_texels.size(); ++i) {
+                const int s = static_cast<int>(i % static_cast<size_t>(slots));
+                const float q = e.table_scale[s] > 0
+                                    ? (e.table_texels[i] - lo[s]) / e.table_scale[s] * 255.0f
+                                    : 0.0f;
+                e.table_bytes[i] = static_cast<uint8_t>(std::clamp(std::lround(q), 0L, 255L));
+            }
+            // The table as the shader sees it.
+            const int tn = p.texels_per_node;
+            for (int ch = 0; ch < bound.channels; ++ch) {
+                for (int i1 = 0; i1 < bound.grid.rows; ++i1) {
+                    for (int i2 = 0; i2 < bound.grid.cols; ++i2) {
+                        for (int k = 0; k < k_count; ++k) {
+                            const size_t texel =
+                                static_cast<size_t>(ch * bound.grid.rows + i1) * e.data_width +
+                                i2 * tn + k / 4;
+                            const float b = e.table_bytes[texel * 4 + k % 4] / 255.0f;
+                            bound.coeffs[bound.index(ch, i1, i2, k)] =
+                                e.table_offset[k] + e.table_scale[k] * b;
+                        }
+                    }
+                }
+            }
+        }
+        e.table_as_bound = std::move(bound);
+        p.table = &*e.table_as_bound;
+    }
+    e.table_layout = p.layout;
+    e.fragment_uniform_vectors = vectors;
+    for (const Eigen::Vector2i& px : {mat.albedo_texture_px, mat.normal_texture_px}) {
+        if (px.maxCoeff() > limits.max_texture_size) {
+            throw Error(str("GLES export ", e.name, ": a material texture is ", px.x(), "x",
+                            px.y(), ", GL_MAX_TEXTURE_SIZE is ", limits.max_texture_size));
+        }
+    }
+    if (vectors > limits.max_fragment_uniform_vectors) {
+        throw Error(str("GLES export ", e.name, ": needs ", vectors,
+                        " fragment uniform vectors (", k_count, " lighting coefficients",
+                        p.layout == TableLayout::kRgba8Texture ? ", the table's scale and offset"
+                                                               : "",
+                        "), GL_MAX_FRAGMENT_UNIFORM_VECTORS is ",
+                        limits.max_fragment_uniform_vectors,
+                        "; use fewer bands or a device with more"));
+    }
+    if (units > limits.max_texture_image_units) {
+        throw Error(str("GLES export ", e.name, ": needs ", units,
+                        " texture units, GL_MAX_TEXTURE_IMAGE_UNITS is ",
+                        limits.max_texture_image_units));
+    }
+    e.vertex_source = vertex_source(p, e.name);
+    e.fragment_source = fragment_source(p, e.name);
+    e.manifest = make_manifest(e, p, limits);
+    return e;
+}
+
+std::vector<std::pair<std::string, std::string>> export_files(const Export& e) {
+    std::vector<std::pair<std::string, std::string>> files;
+    files.emplace_back(e.name + ".vert", e.vertex_source);
+    files.emplace_back(e.name + ".frag", e.fragment_source);
+    files.emplace_back(e.name + ".json", e.manifest.dump(2) + "\n");
+    if (e.table_layout == TableLayout::kRgba8Texture) {
+        files.emplace_back(e.name + ".brdf.bin",
+                           std::string(e.table_bytes.begin(), e.table_bytes.end()));
+    } else if (e.table_layout != TableLayout::kNone) {
+        // Little-endian float32, as brdf/table.h's binary (the build targets are little-endian).
+        std::string bytes(e.table_texels.size() * sizeof(float), '\0');
+        std::memcpy(bytes.data(), e.table_texels.data(), bytes.size());
+        files.emplace_back(e.name + ".brdf.bin", std::move(bytes));
+    }
+    return files;
+}
+
+}  // namespace inlight::gles

@@ -1,0 +1,115 @@
+// gles/export.h: complete OpenGL ES shaders for the app's real-time shading, generated per
+// material and variant, with a JSON manifest of everything the app must bind. The fragment
+// shader computes term for term what render/realtime.h computes on the CPU (that model is the
+// specification; gles_test.cpp runs both on the same inputs through gles/harness.h).
+//
+// A variant = GLSL ES version (1.00, the inlight report's OpenGL ES 2.0 target, or 3.00) x mode
+// (consistent | seed, as RealtimeMode) x lighting bands (3 .. the table's bands; seed: 3) x
+// float precision (highp | mediump). The source holds only the code that variant runs: no
+// #ifdef, no unused uniform, no unused function.
+//
+// Frames and units (docs/gles.md): positions, normals and tangents in the device frame (+z out
+// of the screen toward the viewer, core/conventions.h); lighting SH coefficients u_sh[k]
+// (radiance, linear_srgb, device frame, real SH without Condon-Shortley phase, index
+// l(l+1)+m, sh/sh.h); the fragment output is linear_srgb radiance (not clamped, not encoded).
+// The app rotates the coefficients on the CPU (sh/rotation.h) when the device turns: the BRDF
+// table is tabulated in the device frame, so a rotation uniform could not serve its lookup.
+//
+// Per fragment (render/material.cpp shade() and render/realtime.cpp):
+//   uv      = v_uv (the vertex shader multiplies a_uv by u_uv_scale; tiles wrap)
+//   albedo  = u_albedo x albedo texture (sRGB decoded BEFORE bilinear filtering: ES 3.00 binds
+//             GL_SRGB8_ALPHA8 and filters 4 texelFetch()es in the shader; ES 1.00 decodes each
+//             of 4 nearest texels in the shader), as the CPU model decodes then filters
+//   n       = normalize(v_normal), then the normal map (data, 2 rgb - 1, tangent frame (t,
+//             n x t, n), bilinear in the shader), falling back to v_normal when it faces away
+//             from the table's view (a constant: the table is baked for one view)
+//   radiance: consistent = albedo / pi E(n) + sum_k L_k B_k(n); seed = the report's shader.
+// Data layouts (chosen from the Limits given; an export that does not fit is an Error naming
+// what it needs, never a truncated table):
+//   BRDF table  ES 3.00: uniform vec4 array (4 coefficients per vector) when it fits, else an
+//               RGBA32F texture (brdf/table.h texture_texels(), read with texelFetch).
+//               ES 1.00: always an RGBA8 texture (fragment uniform arrays may only be indexed
+//               by constants in ES 1.00, and float textures are an extension), value =
+//               offset_k + scale_k x texel, scale/offset per coefficient in uniforms.
+//   Lighting    uniform vec3 u_sh[count(bands)].
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "brdf/table.h"
+
+namespace inlight::gles {
+
+enum class GlslVersion { kEs100, kEs300 };
+enum class ShaderMode { kConsistent, kSeed };
+enum class Precision { kHighp, kMediump };
+enum class TableLayout { kNone, kUniformArray, kFloatTexture, kRgba8Texture };
+
+/// "100" | "300"; "consistent" | "seed"; "highp" | "mediump". Throw UsageError otherwise.
+GlslVersion glsl_version_from_string(const std::string& name);
+ShaderMode shader_mode_from_string(const std::string& name);
+Precision precision_from_string(const std::string& name);
+std::string to_string(GlslVersion v);
+std::string to_string(ShaderMode m);
+std::string to_string(Precision p);
+std::string to_string(TableLayout l);
+
+/// The GL limits an export must fit (glGetIntegerv names in comments).
+struct Limits {
+    int max_fragment_uniform_vectors = 224;  ///< GL_MAX_FRAGMENT_UNIFORM_VECTORS
+    int max_texture_size = 2048;             ///< GL_MAX_TEXTURE_SIZE (texels per side)
+    int max_texture_image_units = 16;        ///< GL_MAX_TEXTURE_IMAGE_UNITS (fragment)
+    /// The minimum every conforming implementation offers: ES 2.0 (16, 64, 8) for GLSL ES 1.00,
+    /// ES 3.0 (224, 2048, 16) for GLSL ES 3.00.
+    static Limits minimum(GlslVersion version);
+};
+
+/// What the exporter must know about the material besides its BRDF table.
+struct MaterialInputs {
+    std::string name = "material";           ///< [A-Za-z0-9_.-]+, used in file names
+    Eigen::Vector2i albedo_texture_px{0, 0};  ///< width, height; 0 x 0 = no albedo texture
+    Eigen::Vector2i normal_texture_px{0, 0};  ///< width, height; 0 x 0 = no normal map
+    bool has_albedo_texture() const { return albedo_texture_px.x() > 0; }
+    bool has_normal_texture() const { return normal_texture_px.x() > 0; }
+};
+
+struct Variant {
+    GlslVersion version = GlslVersion::kEs300;
+    ShaderMode mode = ShaderMode::kConsistent;
+    int sh_bands = 3;  ///< lighting bands, 3 .. table bands (kMaxBakeBands without a table)
+    Precision precision = Precision::kHighp;
+};
+
+/// One exported variant: sources, manifest and the BRDF data exactly as the app binds it.
+struct Export {
+    std::string name;  ///< "<material>-es300-consistent-b3-highp"
+    std::string vertex_source, fragment_source;
+    nlohmann::json manifest;
+    TableLayout table_layout = TableLayout::kNone;
+    int data_width = 0, data_height = 0;  ///< texels of the table data (uniform: count x 1)
+    std::vector<float> table_texels;      ///< RGBA float texels (uniform and float layouts)
+    std::vector<uint8_t> table_bytes;     ///< RGBA8 texels (RGBA8 layout)
+    std::vector<float> table_scale, table_offset;  ///< per coefficient (RGBA8 layout, 4 per texel)
+    /// The table the shader sees: truncated to the variant's bands and, for RGBA8, dequantized
+    /// (offset + scale x byte / 255 in float). Give this to the CPU model to compare.
+    std::optional<brdf::Table> table_as_bound;
+    int fragment_uniform_vectors = 0;  ///< as counted by the GLSL ES packing of its declarations
+};
+
+/// Generates a variant. `table` may be null (a Lambert material: no specular term). Throws
+/// UsageError on an impossible variant (bands outside 3 .. table bands, seed with bands != 3,
+/// a table with fewer than 3 bands) and Error when it does not fit `limits`, naming the
+/// variant, the resource and both numbers.
+Export export_variant(const brdf::Table* table, const MaterialInputs& material,
+                      const Variant& variant, const Limits& limits);
+
+/// The files of an export, name -> bytes: <name>.vert, <name>.frag, <name>.json (manifest)
+/// and <name>.brdf.bin (the table data, raw little-endian texels as the manifest describes;
+/// absent without a table).
+std::vector<std::pair<std::string, std::string>> export_files(const Export& e);
+
+}  // namespace inlight::gles

@@ -1,0 +1,214 @@
+// Tests of the GLES exporter without a GPU: every variant passes the Khronos reference compiler
+// (glslangValidator) for its GLSL ES version, declares nothing it does not use, picks its data
+// layout from the limits given and refuses what does not fit.
+#include "gles/export.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <set>
+
+#include "gles/gles_testing.h"
+#include "testing/testing.h"
+
+namespace inlight::gles {
+namespace {
+
+using testing::all_variants;
+using testing::random_table;
+using testing::roomy_limits;
+
+struct Case {
+    std::string grid;
+    int bands;
+    int channels;
+    MaterialInputs mat;
+};
+
+std::vector<Case> cases() {
+    MaterialInputs plain;
+    plain.name = "plain";
+    MaterialInputs textured;
+    textured.name = "textured";
+    textured.albedo_texture_px = {16, 8};
+    textured.normal_texture_px = {8, 8};
+    MaterialInputs albedo_only;
+    albedo_only.name = "albedo";
+    albedo_only.albedo_texture_px = {5, 3};
+    return {{"thetaphi:5x8", 4, 1, plain},
+            {"octa:5", 4, 3, textured},
+            {"report5x5", 3, 1, albedo_only},
+            {"disk:4", 5, 1, textured}};
+}
+
+int run_glslang(const std::string& path, std::string* log) {
+    const std::string out = path + ".log";
+    const int rc = std::system(("glslangValidator '" + path + "' > '" + out + "' 2>&1").c_str());
+    std::ifstream in(out);
+    *log = std::string(std::istreambuf_iterator<char>(in), {});
+    return rc;
+}
+
+TEST(ExportVariant, EveryVariantPassesGlslangValidator) {
+    ASSERT_EQ(std::system("glslangValidator --version > /dev/null 2>&1"), 0)
+        << "glslangValidator (Debian glslang-tools, in make deps) is required";
+    const std::string dir = inlight::testing::temp_dir("gles_glslang");
+    int checked = 0;
+    const std::vector<Case> all = cases();
+    for (const Case& c : all) {
+        const brdf::Table table = random_table(c.grid, c.bands, c.channels, 1);
+        for (const Variant& v : all_variants(c.bands)) {
+            // Lambert (no table) for the first case only: its code is a subset of the others'.
+            std::vector<const brdf::Table*> tables = {&table};
+            if (&c == &all.front()) tables.push_back(nullptr);
+            for (const brdf::Table* t : tables) {
+                const Export e = export_variant(t, c.mat, v, roomy_limits());
+                for (const auto& [name, bytes] : export_files(e)) {
+                    if (name.find(".vert") == std::string::npos &&
+                        name.find(".frag") == std::string::npos) {
+                        continue;
+                    }
+                    const std::string path = dir + "/" + (t ? "" : "lambert-") + name;
+                    std::ofstream(path) << bytes;
+                    std::string log;
+                    EXPECT_EQ(run_glslang(path, &log), 0) << path << "\n" << log << "\n" << bytes;
+                    ++checked;
+                }
+            }
+        }
+    }
+    EXPECT_GE(checked, 100);
+}
+
+// Every uniform, varying, constant and function the fragment shader declares is used.
+TEST(ExportVariant, NoDeadDeclarations) {
+    const std::regex decl(
+        R"(\n(?:uniform|in|varying|attribute|const)\s+(?:highp\s+|mediump\s+)?\w+\s+(\w+)|\n\w+\s+(\w+)\()");
+    for (const Case& c : cases()) {
+        const brdf::Table table = random_table(c.grid, c.bands, c.channels, 2);
+        for (const Variant& v : all_variants(c.bands)) {
+            const Export e = export_variant(&table, c.mat, v, roomy_limits());
+            for (const std::string* src : {&e.vertex_source, &e.fragment_source}) {
+                for (auto it = std::sregex_iterator(src->begin(), src->end(), decl);
+                     it != std::sregex_iterator(); ++it) {
+                    const std::string name = (*it)[1].matched ? (*it)[1] : (*it)[2];
+                    if (name == "main") continue;
+                    const std::regex use("\\b" + name + "\\b");
+                    const auto uses = std::distance(
+                        std::sregex_iterator(src->begin(), src->end(), use), std::sregex_iterator());
+                    EXPECT_GE(uses, 2) << e.name << ": '" << name << "' declared, never used\n"
+                                       << *src;
+                }
+            }
+        }
+    }
+}
+
+TEST(ExportVariant, LayoutFollowsTheLimits) {
+    const brdf::Table table = random_table("octa:9", 3, 1, 3);  // 81 nodes x 3 texels
+    MaterialInputs mat;
+    Variant es3;
+    // ES 3.0's minimum 224 vectors cannot hold 243 texels: a float texture.
+    const Export small = export_variant(&table, mat, es3, Limits::minimum(GlslVersion::kEs300));
+    EXPECT_EQ(small.table_layout, TableLayout::kFloatTexture);
+    EXPECT_EQ(small.fragment_uniform_vectors, 10);  // u_sh[9], u_albedo
+    const Export big = export_variant(&table, mat, es3, roomy_limits());
+    EXPECT_EQ(big.table_layout, TableLayout::kUniformArray);
+    EXPECT_EQ(big.fragment_uniform_vectors, 10 + 243);
+    EXPECT_EQ(big.manifest["gl_limits_needed"]["max_fragment_uniform_vectors"], 253);
+    // ES 1.00: always RGBA8, and the 3-band variants fit the ES 2.0 minimum of 16 vectors:
+    // u_sh[9] + u_albedo + 3 scales + 3 offsets.
+    Variant es1;
+    es1.version = GlslVersion::kEs100;
+    for (ShaderMode mode : {ShaderMode::kConsistent, ShaderMode::kSeed}) {
+        es1.mode = mode;
+        const Export e = export_variant(&table, mat, es1, Limits::minimum(GlslVersion::kEs100));
+        EXPECT_EQ(e.table_layout, TableLayout::kRgba8Texture);
+        EXPECT_EQ(e.fragment_uniform_vectors, 16);
+    }
+}
+
+TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
+    const brdf::Table table = random_table("octa:9", 4, 1, 4);
+    MaterialInputs mat;
+    Variant v;
+    v.version = GlslVersion::kEs100;
+    v.sh_bands = 4;  // u_sh[16] alone is 16 vectors
+    const std::string msg = inlight::testing::error_of(
+        [&] { export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs100)); });
+    EXPECT_NE(msg.find("material-es100-consistent-b4-highp"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("needs 25 fragment uniform vectors"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("GL_MAX_FRAGMENT_UNIFORM_VECTORS is 16"), std::string::npos) << msg;
+    // A texture wider than GL_MAX_TEXTURE_SIZE.
+    const brdf::Table wide = random_table("thetaphi:5x40", 3, 1, 5);  // 120 texels wide
+    v.sh_bands = 3;
+    const std::string msg2 = inlight::testing::error_of(
+        [&] { export_variant(&wide, mat, v, Limits::minimum(GlslVersion::kEs100)); });
+    EXPECT_NE(msg2.find("120x5 texels, GL_MAX_TEXTURE_SIZE is 64"), std::string::npos) << msg2;
+    // Impossible variants are usage errors.
+    v.mode = ShaderMode::kSeed;
+    v.sh_bands = 4;
+    EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
+    v.mode = ShaderMode::kConsistent;
+    v.sh_bands = 5;
+    EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
+    mat.name = "bad name";
+    v.sh_bands = 3;
+    EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
+}
+
+// RGBA8: every coefficient is offset + scale x byte / 255 within half a step of the float
+// table, and table_as_bound is exactly what those bytes decode to.
+TEST(ExportVariant, Rgba8QuantisationWithinHalfAStep) {
+    const brdf::Table table = random_table("thetaphi:5x8", 3, 3, 6);
+    MaterialInputs mat;
+    Variant v;
+    v.version = GlslVersion::kEs100;
+    const Export e = export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs100));
+    ASSERT_TRUE(e.table_as_bound);
+    double worst = 0;
+    for (int ch = 0; ch < 3; ++ch) {
+        for (int i1 = 0; i1 < 5; ++i1) {
+            for (int i2 = 0; i2 < 8; ++i2) {
+                for (int k = 0; k < 9; ++k) {
+                    const double step = e.table_scale[k] / 255.0;
+                    const double err =
+                        std::abs(e.table_as_bound->at(ch, i1, i2, k) - table.at(ch, i1, i2, k));
+                    // Half a step, plus float rounding of offset + scale * b (~1e-7 relative).
+                    EXPECT_LE(err, 0.5 * step + 1e-6) << ch << " " << i1 << " " << i2 << " " << k;
+                    worst = std::max(worst, err);
+                }
+            }
+        }
+    }
+    EXPECT_LE(worst, e.manifest["brdf_table"]["quantization_max_abs_error"].get<double>() + 1e-6);
+}
+
+TEST(ExportVariant, ManifestListsEveryBinding) {
+    const brdf::Table table = random_table("octa:5", 3, 1, 7);
+    MaterialInputs mat;
+    mat.name = "velvet";
+    mat.albedo_texture_px = {4, 4};
+    mat.normal_texture_px = {4, 4};
+    const Export e = export_variant(&table, mat, Variant{}, Limits::minimum(GlslVersion::kEs300));
+    std::set<std::string> names;
+    for (const auto& u : e.manifest["uniforms"]) names.insert(u["name"]);
+    for (const auto& t : e.manifest["textures"]) names.insert(t["uniform"]);
+    for (const auto& a : e.manifest["attributes"]) names.insert(a["name"]);
+    const std::regex decl(R"(\n(?:uniform|in)\s+(?:highp\s+)?\w+\s+(\w+))");
+    for (const std::string* src : {&e.vertex_source, &e.fragment_source}) {
+        for (auto it = std::sregex_iterator(src->begin(), src->end(), decl);
+             it != std::sregex_iterator(); ++it) {
+            const std::string n = (*it)[1];
+            if (n.rfind("v_", 0) == 0) continue;  // varyings are internal
+            EXPECT_TRUE(names.count(n)) << n << " is not in the manifest";
+        }
+    }
+    EXPECT_EQ(e.manifest["textures"][0]["internal_format"], "SRGB8_ALPHA8");
+    EXPECT_EQ(e.manifest["precision"]["safe"], "highp");
+}
+
+}  // namespace
+}  // namespace inlight::gles
