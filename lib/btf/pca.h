@@ -1,0 +1,117 @@
+// btf/pca.h: PCA compression of a BTF per group of k neighbouring view directions (the BTF
+// thesis, section 4.3: k = 1 is PCA RF, k = n_views one PCA for the whole BTF).
+//
+// A group's matrix A (P pixels x N = 3 * n_lights * views columns, layout in btf/dataset.h) is
+// mean-centred per pixel, A = m 1^T + A_c, and A_c is approximated by its C leading principal
+// components: A ~ L R with L = [m | U Sigma] (P x (C + 1)) and R = [1; V^T] ((C + 1) x N), the
+// thesis' equation for L and R (section 4.3.2). U Sigma is computed as A_c V, the projection of
+// the data on the chosen right singular vectors, so the residual of any C is exactly
+// ||A_c||^2 - ||A_c V_C||^2 (V orthonormal), whatever method found V.
+//
+// Methods (PcaMethod): the eigendecomposition of the Gram matrix of the short side in double
+// (A_c^T A_c when N <= P, A_c A_c^T otherwise) when that side is at most gram_max_side; above,
+// the randomized SVD of Halko, Martinsson and Tropp (2011, Algorithms 4.4 and 5.1: Gaussian
+// test matrix, q power iterations re-orthonormalised by QR, SVD of the small B = Q^T A_c).
+// A full SVD (Eigen BDCSVD) is the accuracy oracle of the tests and the benchmark baseline.
+//
+// Products run over fixed row chunks combined in a fixed order, so results are bit-identical
+// for any thread count. Values are linear float (linear_srgb); sums are in double.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "btf/dataset.h"
+
+namespace inlight::btf {
+
+enum class PcaMethod {
+    kAuto,        ///< kGram when the short side <= gram_max_side, else kRandomized
+    kGram,        ///< eigendecomposition of the short side's Gram matrix (double)
+    kRandomized,  ///< Halko-Martinsson-Tropp randomized SVD
+    kFullSvd,     ///< Eigen::BDCSVD of the whole centred matrix (double): oracle and baseline
+};
+std::string to_string(PcaMethod m);
+/// "auto", "gram", "randomized", "full-svd". Throws UsageError naming the value otherwise.
+PcaMethod pca_method_from_string(const std::string& name);
+
+struct PcaOptions {
+    int view_group_size = 3;  ///< k: neighbouring views per group (>= 1)
+    int components = 8;       ///< C, or the most components the error budget may choose (>= 1)
+    /// Error budget: the RMS error of the unquantised reconstruction per sample (linear_srgb
+    /// units, over all pixels, lights, views and channels of a group); each group keeps the
+    /// fewest components, at most `components`, that meet it. < 0: off (every group keeps
+    /// `components`).
+    double max_rmse = -1;
+    PcaMethod method = PcaMethod::kAuto;
+    int gram_max_side = 2048;  ///< kAuto: the largest short side solved through its Gram matrix
+    int oversampling = 10;     ///< randomized: extra test vectors p (HMT section 4.2)
+    int power_iterations = 2;  ///< randomized: q (HMT Algorithm 4.4)
+    uint64_t seed = 1;         ///< randomized: test matrices (each group mixes in its index)
+};
+
+/// The PCA of one view group.
+struct GroupPca {
+    std::vector<int> views;  ///< the group's view indices, sorted
+    PcaMethod method = PcaMethod::kGram;  ///< the method that ran (kAuto resolved)
+    int pixels = 0;                       ///< P
+    int columns = 0;                      ///< N = 3 * n_lights * views.size()
+    Eigen::VectorXf mean;                 ///< m: per-pixel mean over the group's columns, P
+    Eigen::MatrixXf basis;                ///< U Sigma = A_c V, P x C (the images of L after m)
+    Eigen::MatrixXf weights;              ///< V, N x C (R's rows after the first are V^T)
+    double total_energy = 0;  ///< ||A_c||_F^2 (squared linear units)
+    /// residual_energy[c] = ||A_c - (U Sigma)_c V_c^T||_F^2 after the first c components,
+    /// c = 0..C (residual_energy[0] = total_energy). Non-increasing; >= 0.
+    std::vector<double> residual_energy;
+
+    int components() const { return static_cast<int>(basis.cols()); }
+    /// Energy ||(U Sigma)_c||^2 = sigma_c^2 that component c (0-based) removes.
+    double component_energy(int c) const { return residual_energy[c] - residual_energy[c + 1]; }
+    /// RMS error per sample of the unquantised reconstruction with c components.
+    double rmse(int c) const;
+    /// m 1^T + (U Sigma)_c V_c^T with the first c components (P x N).
+    /// Precondition: 0 <= c <= components() (checked).
+    Eigen::MatrixXf reconstruct(int c) const;
+};
+
+/// Fits the PCA of one group's matrix `a` (P x N, from BtfSource::read_group), centring `a` in
+/// place (on return a = A_c). C is min(options.components, P, N), then cut by the error budget.
+/// `group_seed` seeds the randomized method's test matrix. Components beyond the data's rank
+/// come out as zero columns of `basis` (never NaN). Throws Error if `a` holds NaN or Inf.
+/// Precondition: options in range (checked).
+GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaOptions& options,
+                   uint64_t group_seed);
+
+/// What compress_btf hands to its sink for each group, then frees.
+struct GroupFit {
+    int index = 0;           ///< group number, in view_groups() order
+    int count = 0;           ///< number of groups
+    GroupPca pca;            ///< the fit
+    Eigen::MatrixXf centred; ///< A_c = A - m 1^T, P x N (the original is centred + mean)
+};
+
+/// Totals of a compress_btf run.
+struct CompressStats {
+    int groups = 0;
+    int64_t components = 0;       ///< sum of C over groups
+    double total_energy = 0;      ///< sum over groups of ||A_c||^2
+    double residual_energy = 0;   ///< sum over groups of the unquantised residual
+    double read_time_s = 0;       ///< reading and decoding images
+    double fit_time_s = 0;        ///< PCA
+    uint64_t peak_rss_bytes = 0;  ///< the process's peak resident memory after the run
+};
+
+/// Compresses `source` view group by view group (view_groups(views, k)): reads one group,
+/// fits it, calls sink(fit) and frees it before reading the next, so memory holds one group
+/// (plus what the sink keeps). Groups run in order; the sink runs on the calling thread.
+/// Throws Error from reading (naming the file) or fitting.
+CompressStats compress_btf(const BtfSource& source, const PcaOptions& options,
+                           const std::function<void(GroupFit&)>& sink);
+
+/// A^T A (N x N, double) of a float matrix, summed over fixed row chunks in a fixed order.
+Eigen::MatrixXd gram_of_columns(const Eigen::MatrixXf& a);
+
+}  // namespace inlight::btf

@@ -1,0 +1,294 @@
+#include "btf/pca.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/QR>
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "btf/synthetic.h"
+#include "core/parallel.h"
+#include "testing/testing.h"
+
+namespace inlight::btf {
+namespace {
+
+/// Energies are sums of squares of float32 data: each sample carries a relative rounding of
+/// 2^-24, and `total - captured` cancels, so energies agree to ~1e-6 of the total energy.
+constexpr double kEnergyTol = 1e-6;
+/// Reconstructed values are float32 sums of at most a few dozen products of magnitude <= 1.
+constexpr double kValueTol = 1e-5;
+
+const PcaMethod kMethods[] = {PcaMethod::kGram, PcaMethod::kRandomized, PcaMethod::kFullSvd};
+
+/// Columns orthonormal and orthogonal to the all-ones vector (so they have zero mean).
+Eigen::MatrixXd random_orthonormal(int rows, int cols, std::mt19937_64& rng, bool zero_mean) {
+    std::normal_distribution<double> normal;
+    Eigen::MatrixXd x(rows, cols);
+    for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = normal(rng);
+    if (zero_mean) x.rowwise() -= x.colwise().mean();
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr(x);
+    return qr.householderQ() * Eigen::MatrixXd::Identity(rows, cols);
+}
+
+/// A = m 1^T + U diag(sigma) V^T with V's columns of zero mean: the centred matrix's singular
+/// values are exactly sigma and its row means are m.
+struct Spectrum {
+    Eigen::MatrixXf a;
+    Eigen::VectorXd mean;
+    std::vector<double> sigma;
+    /// sum_{i >= c} sigma_i^2: the optimal residual of c components (Eckart-Young).
+    double optimal_residual(int c) const {
+        double s = 0;
+        for (size_t i = static_cast<size_t>(c); i < sigma.size(); ++i) s += sigma[i] * sigma[i];
+        return s;
+    }
+};
+
+Spectrum make_spectrum(int p, int n, std::vector<double> sigma, uint64_t seed = 7) {
+    std::mt19937_64 rng(seed);
+    const int r = static_cast<int>(sigma.size());
+    const Eigen::MatrixXd u = random_orthonormal(p, r, rng, false);
+    const Eigen::MatrixXd v = random_orthonormal(n, r, rng, true);
+    Spectrum s;
+    s.sigma = std::move(sigma);
+    s.mean = Eigen::VectorXd::LinSpaced(p, 0.2, 0.6);
+    Eigen::MatrixXd a = u * Eigen::Map<const Eigen::VectorXd>(s.sigma.data(), r).asDiagonal() * v.transpose();
+    a.colwise() += s.mean;
+    s.a = a.cast<float>();
+    return s;
+}
+
+std::vector<double> geometric(int r, double first, double ratio) {
+    std::vector<double> s;
+    for (int i = 0; i < r; ++i) s.push_back(first * std::pow(ratio, i));
+    return s;
+}
+
+PcaOptions options(PcaMethod m, int components) {
+    PcaOptions o;
+    o.method = m;
+    o.components = components;
+    return o;
+}
+
+double max_abs(const Eigen::MatrixXf& x, const Eigen::MatrixXf& y) {
+    return (x - y).cwiseAbs().maxCoeff();
+}
+
+// Every method, on both shapes (short side = columns, short side = pixels), finds the optimal
+// residual of each C on a matrix of known spectrum, and the mean.
+TEST(FitGroup, EveryMethodReachesTheKnownSpectrum) {
+    for (auto [p, n] : {std::pair{300, 120}, std::pair{60, 400}}) {
+        const Spectrum s = make_spectrum(p, n, geometric(20, 10.0, 0.6));
+        for (PcaMethod m : kMethods) {
+            SCOPED_TRACE(to_string(m) + " " + std::to_string(p) + "x" + std::to_string(n));
+            Eigen::MatrixXf a = s.a;
+            const GroupPca g = fit_group(a, {0}, options(m, 8), 1);
+            ASSERT_EQ(g.components(), 8);
+            EXPECT_EQ(g.method, m);
+            EXPECT_LT((g.mean.cast<double>() - s.mean).cwiseAbs().maxCoeff(), kValueTol);
+            const double total = s.optimal_residual(0);
+            EXPECT_NEAR(g.total_energy, total, kEnergyTol * total);
+            for (int c = 0; c <= 8; ++c)
+                EXPECT_NEAR(g.residual_energy[c], s.optimal_residual(c), kEnergyTol * total) << c;
+            // V orthonormal; reconstruction equals the residual it claims
+            const Eigen::MatrixXf vtv = g.weights.transpose() * g.weights;
+            EXPECT_LT(max_abs(vtv, Eigen::MatrixXf::Identity(8, 8)), kValueTol);
+            const double err = (g.reconstruct(8) - s.a).cast<double>().squaredNorm();
+            EXPECT_NEAR(err, s.optimal_residual(8), kEnergyTol * total);
+        }
+    }
+}
+
+TEST(FitGroup, AutoPicksGramUpToTheLimitThenRandomized) {
+    const Spectrum s = make_spectrum(200, 90, geometric(10, 1.0, 0.5));
+    PcaOptions o = options(PcaMethod::kAuto, 4);
+    o.gram_max_side = 90;
+    Eigen::MatrixXf a = s.a;
+    EXPECT_EQ(fit_group(a, {0}, o, 1).method, PcaMethod::kGram);
+    o.gram_max_side = 89;
+    a = s.a;
+    EXPECT_EQ(fit_group(a, {0}, o, 1).method, PcaMethod::kRandomized);
+}
+
+// The analytic BTF of rank 4: mean-centring keeps the rank <= 4, so 4 components reproduce
+// every image; the Gram path sees only float rounding beyond that.
+TEST(FitGroup, LowRankBtfIsReproducedByItsRank) {
+    AnalyticBtfOptions bo;
+    bo.width = 16;
+    bo.height = 16;
+    bo.rank = 4;
+    const AnalyticBtf btf(bo);
+    for (std::vector<int> views : {std::vector<int>{40}, std::vector<int>{0, 1, 2}}) {
+        Eigen::MatrixXf a, original;
+        btf.read_group(views, original);
+        a = original;
+        const GroupPca g = fit_group(a, views, options(PcaMethod::kAuto, 6), 1);
+        EXPECT_LT(g.residual_energy[4], 1e-10 * g.total_energy);  // float rounding only
+        EXPECT_LT(max_abs(g.reconstruct(4), original), kValueTol);
+    }
+}
+
+TEST(FitGroup, ConstantDataGivesZeroComponentsAndNoNaN) {
+    for (PcaMethod m : kMethods) {
+        SCOPED_TRACE(to_string(m));
+        Eigen::MatrixXf a = Eigen::MatrixXf::Constant(50, 30, 0.37f);
+        const GroupPca g = fit_group(a, {0}, options(m, 4), 1);
+        EXPECT_EQ(g.total_energy, 0.0);
+        for (double r : g.residual_energy) EXPECT_EQ(r, 0.0);
+        EXPECT_TRUE(g.basis.allFinite() && g.weights.allFinite());
+        EXPECT_EQ(g.basis.cwiseAbs().maxCoeff(), 0.0f);
+        EXPECT_LT(max_abs(g.reconstruct(4), Eigen::MatrixXf::Constant(50, 30, 0.37f)), 1e-7);
+    }
+}
+
+// More components than the rank (3) and than the short side allows: C is clamped to the short
+// side, the extra components are (numerically) zero and finite, the fit is exact.
+TEST(FitGroup, MoreComponentsThanRankOrSide) {
+    for (auto [p, n] : {std::pair{40, 12}, std::pair{12, 40}}) {
+        const Spectrum s = make_spectrum(p, n, {2.0, 1.0, 0.5});
+        for (PcaMethod m : kMethods) {
+            SCOPED_TRACE(to_string(m) + " " + std::to_string(p) + "x" + std::to_string(n));
+            Eigen::MatrixXf a = s.a;
+            const GroupPca g = fit_group(a, {0}, options(m, 64), 1);
+            EXPECT_EQ(g.components(), 12);
+            EXPECT_TRUE(g.basis.allFinite() && g.weights.allFinite());
+            EXPECT_LT(g.residual_energy[3], kEnergyTol * g.total_energy);
+            for (int c = 3; c < 12; ++c)
+                EXPECT_LT(g.basis.col(c).norm(), 1e-3 * g.basis.col(0).norm()) << c;
+            EXPECT_LT(max_abs(g.reconstruct(12), s.a), kValueTol);
+        }
+    }
+}
+
+// The budget keeps the fewest components that meet it: with sigma_i = 0.5^i the residual after
+// c components is known, and a budget between those of 4 and 5 components must give 5.
+TEST(FitGroup, ErrorBudgetKeepsTheFewestComponentsThatMeetIt) {
+    const Spectrum s = make_spectrum(120, 80, geometric(16, 1.0, 0.5));
+    const double samples = 120.0 * 80.0;
+    const double between = std::sqrt(0.5 * (s.optimal_residual(4) + s.optimal_residual(5)) / samples);
+    for (PcaMethod m : kMethods) {
+        SCOPED_TRACE(to_string(m));
+        PcaOptions o = options(m, 12);
+        o.max_rmse = between;
+        Eigen::MatrixXf a = s.a;
+        GroupPca g = fit_group(a, {0}, o, 1);
+        EXPECT_EQ(g.components(), 5);
+        EXPECT_LE(g.rmse(5), between);
+        o.max_rmse = 0;  // unreachable: all 12
+        a = s.a;
+        EXPECT_EQ(fit_group(a, {0}, o, 1).components(), 12);
+        o.max_rmse = 10;  // the mean alone meets it
+        a = s.a;
+        g = fit_group(a, {0}, o, 1);
+        EXPECT_EQ(g.components(), 0);
+        EXPECT_LT((g.reconstruct(0).col(3).cast<double>() - s.mean).cwiseAbs().maxCoeff(), kValueTol);
+    }
+}
+
+TEST(FitGroup, NonFiniteDataIsAnError) {
+    Eigen::MatrixXf a = Eigen::MatrixXf::Constant(8, 6, 0.5f);
+    a(3, 2) = std::nanf("");
+    EXPECT_NE(testing::error_of([&] { fit_group(a, {0}, PcaOptions{}, 1); }).find("NaN"),
+              std::string::npos);
+}
+
+TEST(FitGroup, SameBitsForAnyThreadCount) {
+    const Spectrum s = make_spectrum(9000, 50, geometric(30, 1.0, 0.8));
+    for (PcaMethod m : {PcaMethod::kGram, PcaMethod::kRandomized}) {
+        parallel::set_thread_count(1);
+        Eigen::MatrixXf a = s.a;
+        const GroupPca one = fit_group(a, {0}, options(m, 6), 3);
+        parallel::set_thread_count(2);
+        a = s.a;
+        const GroupPca two = fit_group(a, {0}, options(m, 6), 3);
+        EXPECT_TRUE(one.basis == two.basis && one.weights == two.weights && one.mean == two.mean);
+        EXPECT_EQ(one.residual_energy, two.residual_energy);
+    }
+    parallel::set_thread_count(0);
+}
+
+// Streaming: one sink call per view group in order, each fit equal to fitting that group alone;
+// 4 views in groups of 3 leave a group of one view (243 columns), fitted like any other.
+TEST(CompressBtf, StreamsGroupsIncludingASingleView) {
+    AnalyticBtfOptions bo;
+    bo.width = 12;
+    bo.height = 10;
+    bo.rank = 3;
+    bo.views = {{0, 0}, {15, 0}, {15, 60}, {60, 180}};
+    const AnalyticBtf btf(bo);
+    PcaOptions o = options(PcaMethod::kAuto, 5);
+    o.view_group_size = 3;
+    const auto groups = view_groups(bo.views, 3);
+    ASSERT_EQ(groups.size(), 2u);
+    int calls = 0;
+    const CompressStats stats = compress_btf(btf, o, [&](GroupFit& fit) {
+        EXPECT_EQ(fit.index, calls++);
+        EXPECT_EQ(fit.count, 2);
+        EXPECT_EQ(fit.pca.views, groups[static_cast<size_t>(fit.index)]);
+        Eigen::MatrixXf a, original;
+        btf.read_group(fit.pca.views, original);
+        a = original;
+        const GroupPca alone = fit_group(a, fit.pca.views, o, static_cast<uint64_t>(fit.index));
+        EXPECT_TRUE(alone.basis == fit.pca.basis && alone.weights == fit.pca.weights);
+        EXPECT_EQ(fit.centred.cols(), 243 * static_cast<int>(fit.pca.views.size()));
+        EXPECT_LT(max_abs(fit.pca.reconstruct(3), original), kValueTol);  // rank 3
+    });
+    EXPECT_EQ(calls, 2);
+    EXPECT_EQ(stats.groups, 2);
+    EXPECT_EQ(stats.components, 10);
+    EXPECT_GT(stats.peak_rss_bytes, 0u);
+}
+
+// 8-bit saturation: highlights pushed past 1 clip in the PNG files, so the data read back is
+// no longer of rank 4. The fit stays optimal (equal to the full-SVD oracle) and the budget
+// takes more components than the unclipped BTF needs.
+TEST(CompressBtf, EightBitSaturationStaysOptimalAndNeedsMoreComponents) {
+    AnalyticBtfOptions bo;
+    bo.width = 10;
+    bo.height = 8;
+    bo.rank = 4;
+    bo.scale = 4.0;
+    bo.lights = {{0, 0}, {15, 0}, {15, 120}, {30, 60}, {30, 240}, {45, 0}, {60, 90}, {75, 300}};
+    bo.views = {{0, 0}, {30, 0}, {45, 180}};
+    const AnalyticBtf btf(bo);
+    const std::string dir = testing::temp_dir("btf_pca_saturation");
+    UboWriteOptions wo;
+    write_ubo2003(btf, dir + "/btf", wo);
+    const std::string lights = dir + "/lights.txt", views = dir + "/views.txt";
+    {
+        std::ofstream l(lights), v(views);
+        for (const auto& d : bo.lights) l << d.theta_deg << " " << d.phi_deg << "\n";
+        for (const auto& d : bo.views) v << d.theta_deg << " " << d.phi_deg << "\n";
+    }
+    OpenOptions open;
+    open.light_directions = lights;
+    open.view_directions = views;
+    const auto folder = FolderBtf::open(dir + "/btf", open);
+    Eigen::MatrixXf clipped, exact;
+    folder->read_group({0, 1, 2}, clipped);
+    btf.read_group({0, 1, 2}, exact);
+    ASSERT_EQ(clipped.maxCoeff(), 1.0f);  // saturated samples exist
+    ASSERT_GT(exact.maxCoeff(), 1.1f);
+
+    PcaOptions o = options(PcaMethod::kGram, 20);
+    // above 8-bit rounding noise (~1e-3 rms in linear units), below what 4 components leave of the
+    // clipped data (0.02 rms here)
+    o.max_rmse = 1e-2;
+    Eigen::MatrixXf a = exact;
+    const int unclipped_c = fit_group(a, {0, 1, 2}, o, 1).components();
+    a = clipped;
+    const GroupPca g = fit_group(a, {0, 1, 2}, o, 1);
+    EXPECT_LE(unclipped_c, 4);
+    EXPECT_GT(g.components(), 4);  // more than the unclipped rank
+    EXPECT_LE(g.rmse(g.components()), o.max_rmse);
+    a = clipped;
+    const GroupPca oracle = fit_group(a, {0, 1, 2}, options(PcaMethod::kFullSvd, 20), 1);
+    for (int c = 0; c <= g.components(); ++c)
+        EXPECT_NEAR(g.residual_energy[c], oracle.residual_energy[c], kEnergyTol * g.total_energy);
+}
+
+}  // namespace
+}  // namespace inlight::btf
