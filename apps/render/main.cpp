@@ -9,6 +9,7 @@
 #include "brdf/grid.h"
 #include "image/image.h"
 #include "render/compare.h"
+#include "render/compare_lights.h"
 #include "render/path_tracer.h"
 #include "render/scene.h"
 
@@ -17,7 +18,7 @@ using namespace inlight;
 namespace {
 
 struct Args {
-    std::string scene, output, stderr_output, strategy = "mis";
+    std::string scene, output, stderr_output, strategy = "mis", rt_lighting;
     int width_px = 0, height_px = 0, convergence_ref_spp = 0;
     double max_rel_error = 0;
     bool no_jitter = false, compare = false;
@@ -88,6 +89,13 @@ int main(int argc, char** argv) {
         "Also run the real-time model (consistent and seed modes, bands 1..--rt-max-bands) "
         "and compare it with the path tracer: <output>_rt_*, _compare_*.png, _relerr_*, "
         "_de2000_*, metrics.realtime in the report");
+    app.add_option("--rt-lighting", a.rt_lighting,
+                   "With --compare: also run the model lit by this envmap-project JSON (SH of "
+                   "the residual + extracted lights, from --max-error) beside pure SH at its "
+                   "band count: <output>_rt_lights.exr, _compare_lights.png, "
+                   "metrics.realtime.lighting_file")
+        ->check(CLI::ExistingFile)
+        ->needs("--compare");
     app.add_option("--exposure", cmp.exposure,
                    "Linear scale before dE2000 and the PNG panels (0 = 0.18 / mean luminance)")
         ->check(app::finite_non_negative())
@@ -121,6 +129,13 @@ int main(int argc, char** argv) {
         report.add_input(a.scene);
         fs::declare_output(a.output, "-o");
         fs::declare_output(a.stderr_output, "--stderr-output");
+        std::unique_ptr<render::LightingFile> lighting;  // read before any rendering
+        if (!a.rt_lighting.empty()) {
+            fs::declare_input(a.rt_lighting, "--rt-lighting");
+            lighting = std::make_unique<render::LightingFile>(
+                render::read_lighting_file(a.rt_lighting));
+            report.add_input(a.rt_lighting);
+        }
         std::unique_ptr<render::Scene> scene;
         {
             ScopedStage stage(report, "load scene");
@@ -166,6 +181,9 @@ int main(int argc, char** argv) {
             const std::filesystem::path p(a.output);
             m["realtime"] = render::compare_realtime(*scene, r, cmp,
                                                      (p.parent_path() / p.stem()).string(), files);
+            if (lighting)
+                m["realtime"]["lighting_file"] = render::compare_lighting_file(
+                    *scene, r, cmp, *lighting, (p.parent_path() / p.stem()).string(), files);
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
         }
         if (a.max_rel_error > 0 && !(r.rel_error <= a.max_rel_error)) {

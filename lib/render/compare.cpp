@@ -46,8 +46,6 @@ Comparison compare_images(const image::Image& truth, const image::Image& test, d
     return c;
 }
 
-namespace {
-
 nlohmann::json metrics_json(const image::Metrics& m) {
     return {{"mae", m.mae},
             {"rmse", m.rmse},
@@ -58,6 +56,8 @@ nlohmann::json metrics_json(const image::Metrics& m) {
             {"mean_de2000", m.mean_de2000},
             {"max_de2000", m.max_de2000}};
 }
+
+namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

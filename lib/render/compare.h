@@ -38,6 +38,9 @@ struct Comparison {
 Comparison compare_images(const image::Image& truth, const image::Image& test, double exposure,
                           const CompareOptions& options);
 
+/// Report form of image::Metrics (PSNR null when infinite).
+nlohmann::json metrics_json(const image::Metrics& m);
+
 /// The exposure CompareOptions::exposure = 0 stands for: 0.18 / mean luminance (1 if black).
 double auto_exposure(const image::Image& truth);
 

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "envmap/project.h"
+#include "render/realtime_lights.h"
 #include "sh/sh.h"
 
 namespace inlight::render {
@@ -145,6 +146,8 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
             str("real-time model: the seed (report) mode exists for 3 bands only, got ",
                 options.sh_bands));
     }
+    if (options.mode == RealtimeMode::kSeed && !lighting.lights.empty())
+        throw UsageError("real-time model: the seed (report) mode has no analytic lights");
     if (options.supersample < 1) throw UsageError("real-time model: supersample must be >= 1");
     const Camera& cam = scene.camera();
     const int w = cam.width_px, h = cam.height_px, ss = options.supersample;
@@ -168,9 +171,13 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                         const auto mi = static_cast<size_t>(scene.material_index(hit.shape));
                         const brdf::Table* table =
                             mi < lighting.tables.size() ? &lighting.tables[mi] : nullptr;
-                        sum += shade_fragment(sp.world_from_local.col(2), sp.brdf.albedo,
-                                              sp.brdf.specular != brdf::Model::kLambert, uniforms,
-                                              table, options);
+                        const Eigen::Vector3d n = sp.world_from_local.col(2);
+                        const bool has_specular = sp.brdf.specular != brdf::Model::kLambert;
+                        sum += shade_fragment(n, sp.brdf.albedo, has_specular, uniforms, table,
+                                              options);
+                        if (!lighting.lights.empty())
+                            sum += shade_lights(lighting.lights, n, sp.brdf,
+                                                has_specular && table ? &table->view : nullptr);
                     }
                 }
                 sum /= static_cast<double>(ss * ss);

@@ -26,6 +26,7 @@
 #include <string>
 
 #include "brdf/table.h"
+#include "envmap/lights.h"
 #include "image/image.h"
 #include "render/scene.h"
 
@@ -46,6 +47,9 @@ struct RealtimeOptions {
 struct RealtimeLighting {
     Eigen::MatrixXd coeffs;           ///< count(bands) x 3 lighting coefficients, world frame
     std::vector<brdf::Table> tables;  ///< one per scene material (same order), may be empty
+    /// Extracted lights shaded analytically (render/realtime_lights.h; consistent mode only),
+    /// world frame; `coeffs` then hold the residual map's SH.
+    std::vector<envmap::DirectionalLight> lights;
 };
 
 /// Lighting coefficients of the scene's environment (as the path tracer sees it: the same
@@ -60,7 +64,8 @@ Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& 
 
 /// Renders the scene's camera view with the real-time model. Rays that miss show the
 /// environment (nearest pixel, as the path tracer). Parallel and deterministic.
-/// Throws UsageError when options ask for more bands than `lighting` has, or kSeed without 3.
+/// Throws UsageError when options ask for more bands than `lighting` has, or kSeed without 3
+/// bands or with lights (the report's shader has none).
 image::Image render_realtime(const Scene& scene, const RealtimeLighting& lighting,
                              const RealtimeOptions& options);
 

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "envmap/project.h"
 #include "render/path_tracer.h"
+#include "render/render_testing.h"
 #include "sh/sh.h"
 #include "testing/testing.h"
 
@@ -39,17 +40,7 @@ image::Image band_limited_sky(int w, int h) {
     return img;
 }
 
-SceneDesc patch_scene(const SurfaceMaterial& m, int px) {
-    SceneDesc d;
-    d.camera.width_px = d.camera.height_px = px;
-    d.camera.ortho_height = 0.8;  // inside the 1x1 patch
-    d.materials.push_back(m);
-    ObjectSpec o;
-    o.shape.kind = ShapeKind::kPatch;
-    o.material = m.name;
-    d.objects.push_back(o);
-    return d;
-}
+using testscenes::patch_scene;
 
 SurfaceMaterial lambert(const Eigen::Vector3d& albedo) {
     SurfaceMaterial m;
@@ -150,11 +141,7 @@ TEST(Realtime, ConsistentModeEqualsPathTracerForBandLimitedLighting) {
     po.jitter = false;
     const RenderResult gt = render(scene, po);
 
-    RealtimeLighting lighting;
-    lighting.coeffs = project_environment(scene.environment(), 3);
-    brdf::BakeOptions bo;
-    bo.sh_bands = 3;
-    lighting.tables.push_back(brdf::bake(m.brdf, brdf::parse_grid("octa:9"), bo));
+    const RealtimeLighting lighting = testscenes::one_material_lighting(scene, 3, "octa:9", 4096);
     RealtimeOptions ro;
     ro.supersample = 1;
     const image::Image rt = render_realtime(scene, lighting, ro);

@@ -1,0 +1,41 @@
+// render/render_testing.h: scenes shared by the render tests (header-only, tests only).
+#pragma once
+
+#include <string>
+
+#include "brdf/bake.h"
+#include "brdf/grid.h"
+#include "render/realtime.h"
+#include "render/scene.h"
+
+namespace inlight::render::testscenes {
+
+/// The app's case in miniature: a 1x1 patch at z = 0 facing +z in material m, seen by the
+/// default orthographic camera (px x px pixels, 0.8 wide: every pixel on the patch).
+inline SceneDesc patch_scene(const SurfaceMaterial& m, int px) {
+    SceneDesc d;
+    d.camera.width_px = d.camera.height_px = px;
+    d.camera.ortho_height = 0.8;  // inside the 1x1 patch
+    d.materials.push_back(m);
+    ObjectSpec o;
+    o.shape.kind = ShapeKind::kPatch;
+    o.material = m.name;
+    d.objects.push_back(o);
+    return d;
+}
+
+/// The real-time model's inputs for a one-material scene: the environment's SH at `bands` and
+/// the material's table (gauss-legendre, `samples` per normal) on `grid`, default view.
+inline RealtimeLighting one_material_lighting(const Scene& scene, int bands,
+                                              const std::string& grid, int samples) {
+    RealtimeLighting lighting;
+    lighting.coeffs = project_environment(scene.environment(), bands);
+    brdf::BakeOptions bo;
+    bo.sh_bands = bands;
+    bo.samples = samples;
+    lighting.tables.push_back(
+        brdf::bake(scene.desc().materials.at(0).brdf, brdf::parse_grid(grid), bo));
+    return lighting;
+}
+
+}  // namespace inlight::render::testscenes
