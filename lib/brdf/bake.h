@@ -8,8 +8,9 @@
 // model) evaluated in n's local frame (world_from_local(n), Duff et al. 2017), and Y_lm real SH
 // in the DEVICE frame (sh/sh.h), so that sum_lm L_lm B_lm(n) is the reflected radiance toward
 // v for lighting coefficients L_lm projected in the device frame. B = 0 where n.v < 0 (the
-// viewer sees the back of the facet); at |n.v| < 1e-7 (normals exactly edge-on, such as the
-// horizon row of thetaphi under the default view) B is the limit from the visible side.
+// viewer sees the back of the facet); at |n.v| < kEdgeOnCos (normals exactly edge-on, such as
+// the horizon row of thetaphi under the default view) B is the limit n.v -> 0+, computed
+// exactly from the lobe's edge-on limit (brdf.h) except for Charlie (see kCharlieEdgeOnCos).
 //
 // Integrators (per normal; all sums in double, in a fixed order):
 //  - stratified-mc: the report's Snippet 1: sqrt(N) x sqrt(N) jittered strata uniform over the
@@ -66,6 +67,29 @@ Eigen::Vector3d parse_view_deg(const std::string& theta_phi_deg);
 /// View at polar angle theta_deg from +z toward azimuth phi_deg (from +x toward +y).
 Eigen::Vector3d view_from_deg(double theta_deg, double phi_deg);
 
+/// |n.v| below this makes a facet edge-on (the horizon row of thetaphi or report5x5 under the
+/// default view): B is then the limit n.v -> 0+ from the visible side, not the 0 of a
+/// back-facing facet, so interpolation toward the horizon stays continuous.
+inline constexpr double kEdgeOnCos = 1e-7;
+/// The n.v that stands in for n.v -> 0 for Charlie, whose lobe has no finite edge-on limit
+/// (brdf.h); its B there grows like 1 / n.v, so this value is a choice, not a limit.
+inline constexpr double kCharlieEdgeOnCos = 1e-6;
+
+/// The view in a facet's local frame (world_from_local(n), Duff et al. 2017).
+struct FacetView {
+    Eigen::Vector3d wo = Eigen::Vector3d::UnitZ();  ///< unit; wo.z < 0: back-facing (B = 0)
+    bool edge_on = false;  ///< wo.z = 0 and the lobe is its exact edge-on limit (brdf.h)
+    /// True unless the facet faces away from the viewer.
+    bool visible() const { return edge_on || wo.z() > 0; }
+    /// f_r(wo, wi) wi.z of the baked lobe (1/sr per channel), or its edge-on limit.
+    Eigen::Vector3d lobe_cos(const Material& material, const Eigen::Vector3d& wi) const;
+};
+/// The facet view of normal n for device-frame view `view`: |n.v| < kEdgeOnCos is edge-on
+/// (the exact limit where baked_lobe_has_edge_on_limit(), else wo.z = kCharlieEdgeOnCos).
+/// Precondition: n and view unit length.
+FacetView facet_view(const Material& material, const Eigen::Vector3d& n,
+                     const Eigen::Vector3d& view);
+
 /// B_lm(n) for one normal: 3 (linear_srgb channels) x count(sh_bands), double.
 /// Precondition: n unit length (checked in Debug), 1 <= sh_bands <= sh::kMaxBands.
 Eigen::MatrixXd project_normal(const Material& material, const Eigen::Vector3d& n,
@@ -79,6 +103,7 @@ Table bake(const Material& material, const Grid& grid, const BakeOptions& option
 struct TestLighting {
     std::string name;
     std::function<double(const Eigen::Vector3d&)> radiance;
+    Eigen::Vector3d peak = Eigen::Vector3d::Zero();  ///< unit direction of a peak, or zero
 };
 /// The fixed set used for radiance errors: "uniform" (1), "front_gradient" (1 + w.z),
 /// "key_vmf10" (exp(10 (mu.w - 1)), mu at theta 35 deg toward +y) and "window_vmf50"
@@ -90,9 +115,17 @@ std::vector<Eigen::VectorXd> test_lighting_coeffs(int sh_bands);
 
 /// Options of validate().
 struct ValidateOptions {
-    int reference_gl_n = 96;  ///< reference: gauss-legendre with n x 2n nodes, 8 bands
-    int max_nodes = 64;       ///< grid nodes checked (evenly strided); 0 = all
-    int test_normals = 64;    ///< off-grid normals (spherical Fibonacci inside the grid)
+    /// Reference: adaptive cubature (brdf/cubature.h) at each checked grid node to this error
+    /// estimate relative to that node's largest coefficient (8 bands), within this many
+    /// evaluations; the estimate is pessimistic (the embedded degree-5 rule's error), so
+    /// integration errors down to about this size are resolved.
+    double reference_rel_tol = 1e-7;
+    int64_t reference_max_evals = 400'000;
+    /// The same at the off-grid normals and the other nodes their lookup reads, which serve
+    /// the interpolation, truncation and total errors (1e-4 and larger for useful grids).
+    double off_grid_rel_tol = 1e-5;
+    int max_nodes = 64;     ///< grid nodes checked (evenly strided); 0 = all
+    int test_normals = 64;  ///< off-grid normals (spherical Fibonacci inside the grid)
 };
 
 /// Errors of a bake (see docs/brdf.md). "rel" errors of radiance are relative to the largest
@@ -113,8 +146,10 @@ struct Validation {
     std::vector<double> truncation_radiance_max_rel_by_bands;  ///< [b-1] for b = 1 .. 8
     // Total: lookup in the baked table vs the exact integral at off-grid normals.
     double total_radiance_max_rel = 0;
-    // The reference against itself at 2n: evidence that it has converged.
-    double reference_self_coeff_max_rel = 0;
+    // The reference's own error estimate (cubature), max over normals, relative to the
+    // largest reference coefficient: what the errors above can resolve.
+    double reference_error_max_rel = 0;
+    int64_t reference_evals = 0;  ///< integrand evaluations of the whole reference
     int nodes_checked = 0;
     int test_normals = 0;
     nlohmann::json per_lighting = nlohmann::json::object();
@@ -126,7 +161,15 @@ struct Validation {
 struct ReferenceNormal {
     Eigen::MatrixXd coeffs;  ///< 3 x count(kMaxBakeBands)
     Eigen::MatrixXd exact;   ///< 3 x test lightings: integral of L f cos over the sphere
+    double error = 0;        ///< the cubature's error estimate (absolute, max component)
+    int64_t evals = 0;       ///< integrand evaluations
+    bool converged = true;   ///< false if the evaluation budget ran out first
 };
+/// The reference at one normal by hemisphere_cubature() of f_r cos Y_lm and L f_r cos
+/// (FacetView::lobe_cos, so edge-on normals take the same limit as the bake), with the
+/// mirror direction of the view and the test lightings' peaks as initial breaks.
+ReferenceNormal reference_normal(const Material& material, const Eigen::Vector3d& n,
+                                 const Eigen::Vector3d& view, const ValidateOptions& vopt = {});
 
 /// The converged reference at the grid nodes and off-grid normals validate() checks (the
 /// expensive part, independent of the bake being checked, so one set serves every band count).
@@ -136,7 +179,8 @@ struct ReferenceSet {
     std::vector<Eigen::Vector3d> normals;    ///< off-grid test normals
     std::map<int, ReferenceNormal> at_node;  ///< checked nodes and the corners of each normal
     std::vector<ReferenceNormal> at_normal;  ///< per test normal
-    double self_coeff_max_rel = 0;           ///< reference at gl_n vs 2 gl_n, up to 4 nodes
+    double error_max_rel = 0;  ///< max cubature error at checked nodes / largest coefficient
+    int64_t evals = 0;         ///< integrand evaluations, all normals
     double time_s = 0;
 };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
 
@@ -268,6 +269,21 @@ double pdf(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector3d& 
 }
 
 namespace {
+// A sample in direction wi (unnormalised) with its pdf and value; invalid below the horizon or
+// where the pdf is 0.
+template <typename Pdf, typename Eval>
+Sample finish_sample(Eigen::Vector3d wi, Pdf&& pdf_of, Eval&& eval_of) {
+    Sample s;
+    if (!above(wi)) return s;
+    wi.normalize();
+    s.wi = wi;
+    s.pdf = pdf_of(wi);
+    if (!(s.pdf > 0)) return s;
+    s.value = eval_of(wi);
+    s.valid = true;
+    return s;
+}
+
 // Half vector for the specular lobe's sampling rule (upper hemisphere).
 Eigen::Vector3d sample_specular_h(const Material& m, const Eigen::Vector3d& wo,
                                   const Eigen::Vector2d& u) {
@@ -303,14 +319,9 @@ Sample sample(const Material& m, const Eigen::Vector3d& wo, const Eigen::Vector2
     } else {
         wi = cosine_hemisphere(u);
     }
-    if (!above(wi)) return s;
-    wi.normalize();
-    s.wi = wi;
-    s.pdf = pdf(m, wo, wi);
-    if (!(s.pdf > 0)) return s;
-    s.value = eval(m, wo, wi);
-    s.valid = true;
-    return s;
+    return finish_sample(
+        wi, [&](const Eigen::Vector3d& w) { return pdf(m, wo, w); },
+        [&](const Eigen::Vector3d& w) { return eval(m, wo, w); });
 }
 
 Eigen::Vector3d eval_baked_lobe(const Material& m, const Eigen::Vector3d& wo,
@@ -335,14 +346,9 @@ Sample sample_baked_lobe(const Material& m, const Eigen::Vector3d& wo, const Eig
         if (wo.dot(h) <= 0) return s;
         wi = reflect(wo, h);
     }
-    if (!above(wi)) return s;
-    wi.normalize();
-    s.wi = wi;
-    s.pdf = pdf_baked_lobe(m, wo, wi);
-    if (!(s.pdf > 0)) return s;
-    s.value = eval_baked_lobe(m, wo, wi);
-    s.valid = true;
-    return s;
+    return finish_sample(
+        wi, [&](const Eigen::Vector3d& w) { return pdf_baked_lobe(m, wo, w); },
+        [&](const Eigen::Vector3d& w) { return eval_baked_lobe(m, wo, w); });
 }
 
 bool baked_lobe_is_achromatic(const Material& m) {
@@ -358,6 +364,75 @@ bool baked_lobe_is_achromatic(const Material& m) {
             return flat(m.sheen_color);
     }
     return false;
+}
+
+// --- The edge-on limit ---
+
+bool baked_lobe_has_edge_on_limit(const Material& m) { return m.specular != Model::kCharlie; }
+
+namespace {
+// The horizontal view of an edge-on facet (its azimuth); checks the preconditions.
+Eigen::Vector3d edge_on_view(const Material& m, const Eigen::Vector3d& wo) {
+    INLIGHT_CHECK(baked_lobe_has_edge_on_limit(m))
+        << to_string(m.specular) << " has no finite edge-on limit";
+    INLIGHT_CHECK(std::abs(wo.z()) < 1e-7) << "wo.z = " << wo.z() << " is not edge-on";
+    return Eigen::Vector3d(wo.x(), wo.y(), 0.0).normalized();
+}
+}  // namespace
+
+Eigen::Vector3d eval_baked_lobe_edge_on(const Material& m, const Eigen::Vector3d& wo_in,
+                                        const Eigen::Vector3d& wi) {
+    const Eigen::Vector3d wo = edge_on_view(m, wo_in);
+    if (!above(wi)) return Eigen::Vector3d::Zero();
+    if (m.specular == Model::kLambert) return m.albedo * kInvPi;
+    if (!has_specular(m)) return Eigen::Vector3d::Zero();
+    const Eigen::Vector3d h = half_vector(wo, wi);
+    const double vh = std::clamp(wo.dot(h), 0.0, 1.0);
+    if (!(vh > 0)) return Eigen::Vector3d::Zero();
+    if (m.specular == Model::kCookTorranceReport) {
+        const double k =
+            schlick(m.report_f, vh) * report_d(m.report_r, h.z()) * h.z() / (2.0 * vh * wi.z());
+        return Eigen::Vector3d::Constant(m.specular_scale * k);
+    }
+    const double a = clamp_alpha(m.alpha);
+    const double d = ggx_d(a, h.z()) / (2.0 * a * wi.z());
+    Eigen::Vector3d out;
+    for (int c = 0; c < 3; ++c) out[c] = schlick(m.f0[c], vh) * d;
+    return m.specular_scale * out;
+}
+
+double pdf_baked_lobe_edge_on(const Material& m, const Eigen::Vector3d& wo_in,
+                              const Eigen::Vector3d& wi) {
+    const Eigen::Vector3d wo = edge_on_view(m, wo_in);
+    if (!above(wi)) return 0;
+    if (m.specular == Model::kLambert) return wi.z() * kInvPi;
+    const Eigen::Vector3d h = half_vector(wo, wi);
+    const double vh = wo.dot(h);
+    if (!(vh > 0)) return 0;
+    if (m.specular == Model::kGgx) {
+        const double a = clamp_alpha(m.alpha);
+        return ggx_d(a, h.z()) / (2.0 * a);
+    }
+    return pdf_specular(m, wo, wi);  // the report's rule does not depend on wo.z
+}
+
+Sample sample_baked_lobe_edge_on(const Material& m, const Eigen::Vector3d& wo_in,
+                                 const Eigen::Vector2d& u) {
+    const Eigen::Vector3d wo = edge_on_view(m, wo_in);
+    Sample s;
+    Eigen::Vector3d wi;
+    if (m.specular == Model::kLambert) {
+        wi = cosine_hemisphere(u);
+    } else {
+        const Eigen::Vector3d h = m.specular == Model::kGgx
+                                      ? sample_ggx_vndf(clamp_alpha(m.alpha), wo, u)
+                                      : sample_specular_h(m, wo, u);
+        if (wo.dot(h) <= 0) return s;
+        wi = reflect(wo, h);
+    }
+    return finish_sample(
+        wi, [&](const Eigen::Vector3d& w) { return pdf_baked_lobe_edge_on(m, wo, w); },
+        [&](const Eigen::Vector3d& w) { return eval_baked_lobe_edge_on(m, wo, w); });
 }
 
 }  // namespace inlight::brdf

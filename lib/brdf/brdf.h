@@ -150,6 +150,35 @@ double pdf_baked_lobe(const Material& material, const Eigen::Vector3d& wo,
 /// True if the baked lobe has the same value in every channel (then one table channel).
 bool baked_lobe_is_achromatic(const Material& material);
 
+// --- The edge-on limit of the baked lobe (docs/brdf.md, "Edge-on normals") ---
+// A grid normal exactly perpendicular to the view (wo.z = 0) takes the limit wo.z -> 0+ of the
+// lobe with wo's azimuth held. For Lambert, the report's model and GGX, f_r(wo, wi) wi.z has a
+// finite limit for every wi.z > 0: the masking of wo falls like wo.z and cancels the
+// 1 / (4 wo.z) of the microfacet form. Charlie has none: its fitted Lambda stays finite at
+// grazing (exp(L(0))), so f_r cos grows like 1 / (4 wo.z).
+
+/// True for Lambert, the report's model and GGX; false for Charlie.
+bool baked_lobe_has_edge_on_limit(const Material& material);
+/// lim_{t -> 0+} eval_baked_lobe(material, normalise(wo.x, wo.y, t), wi) for a horizontal unit
+/// wo (|wo.z| < 1e-7, treated as 0) and wi.z > 0, 1/sr per channel; with h = normalise(wo +
+/// wi) and F = Schlick at wo.h:
+///   Lambert: albedo / pi;
+///   report: F D_report(h.z) h.z / (2 (wo.h) wi.z)   (G -> 2 (N.H)(N.V) / (V.H));
+///   GGX: F D(h.z) / (2 alpha wi.z)                  (G2 -> 2 (N.V) / alpha: Lambda(wo) ~
+///        alpha / (2 N.V), Heitz 2014 eq. 72);
+/// times specular_scale; 0 if wi.z <= 0. Precondition: baked_lobe_has_edge_on_limit (checked).
+Eigen::Vector3d eval_baked_lobe_edge_on(const Material& material, const Eigen::Vector3d& wo,
+                                        const Eigen::Vector3d& wi);
+/// Samples wi for the edge-on limit, wo as above: GGX by its visible normals at grazing (Heitz
+/// 2018, whose density tends to (2 / alpha) D(h) (wo.h)), so pdf(wi) = D(h.z) / (2 alpha);
+/// the report's lobe and Lambert as sample_baked_lobe() does (their rules do not depend on wo).
+/// value = eval_baked_lobe_edge_on(wo, wi), pdf = pdf_baked_lobe_edge_on(wo, wi).
+Sample sample_baked_lobe_edge_on(const Material& material, const Eigen::Vector3d& wo,
+                                 const Eigen::Vector2d& u);
+/// pdf (1/sr) of sample_baked_lobe_edge_on; 0 if wi.z <= 0 or wo.h <= 0.
+double pdf_baked_lobe_edge_on(const Material& material, const Eigen::Vector3d& wo,
+                              const Eigen::Vector3d& wi);
+
 // --- Model terms, exposed for tests and docs (all in the local frame, c = cosine to +z) ---
 
 /// The report's D_report(c) = r^2 / (pi (c^2 r^2 + 1)^2), 1/sr; r clamped to kMinAlpha.

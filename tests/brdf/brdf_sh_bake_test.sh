@@ -43,7 +43,7 @@ for key in tool version status exit_code argv config seed threads wall_time_s in
 done
 pass "report has every required key"
 for key in integration_coeff_max_rel interpolation_radiance_max_rel truncation_radiance_max_rel \
-           total_radiance_max_rel reference_self_coeff_max_rel bake_time_s coeff_count; do
+           total_radiance_max_rel reference_error_max_rel bake_time_s coeff_count; do
     jq -e ".metrics | has(\"$key\")" "$WORK/run.json" >/dev/null || fail "metrics lack $key"
 done
 pass "metrics have the error and time fields"
