@@ -83,6 +83,57 @@ TEST(PlanBudget, SunThirtyThousandTimesTheSkyIsOneLightOverOneBand) {
               shader_cost(3, 0, {}).operations);
 }
 
+TEST(PlanBudget, TwoSunsAreTwoLightsOverOneBand) {
+    // Two suns on a uniform sky: the residual is uniform (1 band exact) once both are lights;
+    // one light leaves the other sun in the SH, which 9 bands cannot hold to 1e-3.
+    const Eigen::Vector3d a = direction_from_spherical(40 * kPi / 180, -60 * kPi / 180);
+    const Eigen::Vector3d b = direction_from_spherical(70 * kPi / 180, 100 * kPi / 180);
+    const Environment env = latlong(256, 128, [&](const Eigen::Vector3d& d) {
+        if (d.dot(a) > std::cos(1.5 * kPi / 180)) return Eigen::Vector3d::Constant(3e4);
+        if (d.dot(b) > std::cos(2.5 * kPi / 180)) return Eigen::Vector3d::Constant(5e3);
+        return Eigen::Vector3d::Constant(1.0);
+    });
+    BudgetOptions o;
+    o.max_error = 1e-3;
+    o.validate_normals = 64;
+    const BudgetPlan p = plan_budget(env, o);
+    ASSERT_EQ(p.extraction.lights.size(), 2u);
+    ASSERT_TRUE(p.met);
+    EXPECT_EQ(p.lights, 2);
+    EXPECT_EQ(p.sh_bands, 1);
+    for (const auto& c : p.candidates) {
+        if (c.lights == 1) {
+            EXPECT_FALSE(c.meets) << c.sh_bands << " bands";
+        }
+    }
+}
+
+TEST(PlanBudget, LampCutByTheFisheyeRimIsShadedWithItsFluxStatedAsALowerBound) {
+    // A 165-degree frame, a lamp of radius 4 deg centred at 81 deg (the field ends at 82.5):
+    // the extraction sees part of it; the plan reports the bound and still checks the model
+    // on the directions the camera saw.
+    const Eigen::Vector3d lamp = direction_from_spherical(81 * kPi / 180, 0.7);
+    const Environment fe = fisheye_frame(200, 82.5 * kPi / 180, [&](const Eigen::Vector3d& d) {
+        return Eigen::Vector3d::Constant(d.dot(lamp) > std::cos(4 * kPi / 180) ? 2e3 : 0.5);
+    });
+    BudgetOptions o;
+    o.max_error = 0.01;
+    o.max_bands = 5;
+    o.validate_normals = 128;
+    const BudgetPlan p = plan_budget(fe, o);
+    ASSERT_EQ(p.extraction.lights.size(), 1u);
+    EXPECT_TRUE(p.extraction.lights[0].at_field_edge);
+    EXPECT_TRUE(p.extraction.lights[0].flux_is_lower_bound);
+    const nlohmann::json j = to_json(p, o);
+    EXPECT_TRUE(j["lights_found"][0]["flux_is_lower_bound"].get<bool>());
+    EXPECT_TRUE(j["lights_found"][0]["at_field_edge"].get<bool>());
+    // Against what the camera saw, the lamp as a light beats the lamp in a 3-band fit.
+    const auto& pure3 = p.candidates[2];
+    const auto& lit3 = p.candidates[static_cast<size_t>(o.max_bands + 2)];
+    ASSERT_EQ(lit3.lights, 1);
+    EXPECT_LT(lit3.irradiance.abs_over_mean, pure3.irradiance.abs_over_mean);
+}
+
 // The CIE standard overcast sky over albedo-0.3 ground (as in lights_test.cpp).
 Eigen::Vector3d overcast(const Eigen::Vector3d& d) {
     return Eigen::Vector3d::Constant(d.z() > 0 ? (1 + 2 * d.z()) / 3 : 0.3 * 7 / 9.0);
