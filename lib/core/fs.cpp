@@ -200,11 +200,17 @@ std::string OutputTransaction::stage(const std::string& path) {
     if (const Entry* r = find_same(m_reserved, path)) {
         throw UsageError(str("output '", path, "' is the file of ", shown(r->path, r->what)));
     }
-    for (const Staged& s : m_staged) {
-        if (same_file(s.path, path)) {
-            throw UsageError(str("two outputs of this run are the same file: '", s.path, "' and '",
-                                 path, "'"));
-        }
+    const std::string key = resolved(path).string();
+    struct stat st {};
+    const bool exists = ::stat(path.c_str(), &st) == 0;
+    const std::pair<uint64_t, uint64_t> inode(st.st_dev, st.st_ino);
+    const auto by_path = m_staged_by_path.find(key);
+    const auto by_inode = exists ? m_staged_by_inode.find(inode) : m_staged_by_inode.end();
+    if (by_path != m_staged_by_path.end() || by_inode != m_staged_by_inode.end()) {
+        const std::string& other =
+            by_path != m_staged_by_path.end() ? by_path->second : by_inode->second;
+        throw UsageError(str("two outputs of this run are the same file: '", other, "' and '",
+                             path, "'"));
     }
     {
         std::error_code ec;
@@ -227,6 +233,8 @@ std::string OutputTransaction::stage(const std::string& path) {
         m_created_dirs.push_back(it->string());
     }
     m_staged.push_back({path, temp_sibling(path)});
+    m_staged_by_path.emplace(key, path);
+    if (exists) m_staged_by_inode.emplace(inode, path);
     return m_staged.back().tmp;
 }
 
@@ -237,6 +245,13 @@ void OutputTransaction::unstage(const std::string& path) {
             std::error_code ec;
             stdfs::remove(it->tmp, ec);
             m_staged.erase(it);
+            m_staged_by_path.erase(resolved(path).string());
+            for (auto i = m_staged_by_inode.begin(); i != m_staged_by_inode.end(); ++i) {
+                if (i->second == path) {
+                    m_staged_by_inode.erase(i);
+                    break;
+                }
+            }
             return;
         }
     }

@@ -3,7 +3,9 @@
 // all are renamed together only when the whole run succeeds (OutputTransaction).
 #pragma once
 
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -99,6 +101,11 @@ class OutputTransaction {
     mutable std::mutex m_mutex;
     std::vector<Entry> m_inputs, m_outputs, m_reserved;
     std::vector<Staged> m_staged;
+    /// The staged paths resolved, and the (device, inode) of those that existed when staged:
+    /// stage() checks a new output against them in O(log n), so a run may stage thousands of
+    /// files (a BTF capture writes 6561) without a quadratic scan of the file system.
+    std::map<std::string, std::string> m_staged_by_path;
+    std::map<std::pair<uint64_t, uint64_t>, std::string> m_staged_by_inode;
     std::vector<std::string> m_created_dirs;  ///< deepest last
     bool m_done = false;
 };
