@@ -6,9 +6,11 @@
 #include <limits>
 #include <mutex>
 
+#include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "weave/weave.h"
 
 namespace inlight::render {
 
@@ -16,7 +18,8 @@ ShapeKind shape_from_string(const std::string& name) {
     if (name == "patch") return ShapeKind::kPatch;
     if (name == "sphere") return ShapeKind::kSphere;
     if (name == "mesh") return ShapeKind::kMesh;
-    throw UsageError(str("shape '", name, "': expected 'patch', 'sphere' or 'mesh'"));
+    if (name == "weave") return ShapeKind::kWeave;
+    throw UsageError(str("shape '", name, "': expected 'patch', 'sphere', 'mesh' or 'weave'"));
 }
 
 namespace {
@@ -182,6 +185,31 @@ Accel::Accel(std::vector<Shape> shapes) : m(std::make_unique<Impl>()) {
                 for (int c = 0; c < 3; ++c)
                     idx[3 * k + c] = static_cast<unsigned>(mesh.triangles[k][c]);
             }
+        } else if (s.kind == ShapeKind::kCurves) {
+            if (!s.curves || s.curves->first.empty()) {
+                throw Error(str("shape ", i, ": curves without segments"));
+            }
+            const CurveSet& c = *s.curves;
+            geom = rtcNewGeometry(m->device, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+            auto* v = static_cast<float*>(
+                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                        4 * sizeof(float), c.control_points.size()));
+            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+                geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), c.first.size()));
+            m->throw_if_error("allocating curve buffers");
+            for (size_t k = 0; k < c.control_points.size(); ++k) {
+                const Eigen::Vector4f& q = c.control_points[k];
+                for (int j = 0; j < 4; ++j) v[4 * k + j] = q[j];
+                const Eigen::Vector3d centre = q.head<3>().cast<double>();
+                lo = lo.cwiseMin(centre - Eigen::Vector3d::Constant(q[3]));
+                hi = hi.cwiseMax(centre + Eigen::Vector3d::Constant(q[3]));
+            }
+            for (size_t k = 0; k < c.first.size(); ++k) {
+                INLIGHT_CHECK_LT(c.first[k] + 3, c.control_points.size());
+                idx[k] = c.first[k];
+            }
+        } else if (s.kind == ShapeKind::kWeave) {
+            throw Error(str("shape ", i, ": a weave must be turned into curves first (Scene)"));
         } else {
             if (s.kind == ShapeKind::kSphere && !(s.radius > 0)) {
                 throw Error(str("shape ", i, ": sphere radius must be > 0, got ", s.radius));
@@ -238,6 +266,55 @@ RTCRay to_rtc(const Ray& ray) {
 }
 }  // namespace
 
+namespace {
+
+/// Fills a curve hit: position, normals (the tube's, then the ply-twist relief), the tangent
+/// along the curve and its colour.
+void curve_hit(const CurveSet& c, const Ray& ray, double u, const Eigen::Vector3d& embree_ng,
+               SurfaceHit* hit) {
+    SurfaceHit& h = *hit;
+    const auto seg = static_cast<size_t>(h.prim);
+    const Eigen::Vector4d b = weave::bspline_basis(u), db = weave::bspline_basis_du(u);
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero(), tangent = Eigen::Vector3d::Zero();
+    double radius = 0;
+    for (int j = 0; j < 4; ++j) {
+        const Eigen::Vector4d q = c.control_points[c.first[seg] + static_cast<size_t>(j)].cast<double>();
+        centre += b[j] * q.head<3>();
+        tangent += db[j] * q.head<3>();
+        radius += b[j] * q[3];
+    }
+    h.p = ray.origin + h.t * ray.dir;
+    h.ng = embree_ng.squaredNorm() > 0 ? embree_ng.normalized() : (h.p - centre).normalized();
+    if (!h.ng.allFinite()) h.ng = -ray.dir;
+    const Eigen::Vector3d t_axis =
+        tangent.squaredNorm() > 0 ? tangent.normalized() : any_tangent(h.ng);
+    h.ns = h.ng;
+    h.dpdu = t_axis;
+    const double s = c.s_start[seg] + u * c.ds_du[seg];
+    h.uv = {s, 0};
+    h.has_albedo = true;
+    h.albedo = c.albedo[seg].cast<double>();
+    if (c.plies > 0 && c.depth > 0 && radius > 0) {
+        // Azimuth psi around the axis from the axis-orthogonal direction nearest +z, so the
+        // ridges' phase is a function of the surface point alone (continuous along the yarn).
+        Eigen::Vector3d r = Eigen::Vector3d::UnitZ() - t_axis.z() * t_axis;
+        r = r.squaredNorm() > 1e-12 ? r.normalized() : any_tangent(t_axis);
+        const Eigen::Vector3d bb = t_axis.cross(r);
+        const Eigen::Vector3d n = h.ng;
+        const double psi = std::atan2(n.dot(bb), n.dot(r));
+        // Ridges are the helices psi - s tan(angle) / radius = const; the relief
+        // cos(plies * phase) tilts the normal across them (toward p_dir) by depth sin(...).
+        const double phase = c.plies * (psi - s * std::tan(c.angle) / radius);
+        const Eigen::Vector3d t_psi = t_axis.cross(n);
+        const Eigen::Vector3d p_dir = std::cos(c.angle) * t_psi - std::sin(c.angle) * t_axis;
+        const double delta = c.depth * std::sin(phase);
+        const Eigen::Vector3d ns = std::cos(delta) * n - std::sin(delta) * p_dir;
+        if (ns.dot(n) > 0) h.ns = ns.normalized();
+    }
+}
+
+}  // namespace
+
 bool Accel::intersect(const Ray& ray, SurfaceHit* hit) const {
     QueryContext ctx;
     rtcInitIntersectContext(&ctx.rtc);
@@ -275,6 +352,9 @@ bool Accel::intersect(const Ray& ray, SurfaceHit* hit) const {
         // d/du of the lat-long direction: phi decreases as u grows.
         const Eigen::Vector3d t_u(std::sin(phi), -std::cos(phi), 0.0);
         h.dpdu = t_u.squaredNorm() > 0 ? t_u : any_tangent(n);
+    } else if (s.kind == ShapeKind::kCurves) {
+        curve_hit(*s.curves, ray, rh.hit.u, Eigen::Vector3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z),
+                  &h);
     } else {
         const TriangleMesh& mesh = *s.mesh;
         const Eigen::Vector3i tri = mesh.triangles[static_cast<size_t>(h.prim)];

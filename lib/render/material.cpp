@@ -53,6 +53,7 @@ Eigen::Vector3d sample_texture(const image::Image& img, const Eigen::Vector2d& u
 ShadingPoint shade(const SurfaceMaterial& m, const SurfaceHit& hit, const Eigen::Vector3d& wo) {
     ShadingPoint sp;
     sp.brdf = m.brdf;
+    if (hit.has_albedo) sp.brdf.albedo = hit.albedo;  // a yarn's own colour
     const Eigen::Vector2d uv = hit.uv.cwiseProduct(m.uv_scale);
     if (m.albedo_texture) {
         sp.brdf.albedo = sp.brdf.albedo.cwiseProduct(sample_texture(*m.albedo_texture, uv));

@@ -8,6 +8,7 @@
 #include "core/fs.h"
 #include "core/toml.h"
 #include "render/mesh.h"
+#include "render/weave_geometry.h"
 
 namespace inlight::render {
 namespace {
@@ -137,13 +138,26 @@ void parse_objects(const toml::Document& doc, SceneDesc& scene, const std::strin
         } catch (const Error& e) {
             throw Error(str(r.where("shape"), e.what()));
         }
-        o.material = r.require_string("material");
-        bool found = false;
-        for (const auto& m : scene.materials) found |= m.name == o.material;
-        if (!found) {
-            throw Error(str(r.where("material"), "no [material.", o.material, "] in the scene"));
+        if (o.shape.kind == ShapeKind::kWeave) {
+            if (r.has("material")) {
+                throw Error(str(r.where("material"),
+                                "a weave takes its materials from its fabric file"));
+            }
+        } else {
+            o.material = r.require_string("material");
+            bool found = false;
+            for (const auto& m : scene.materials) found |= m.name == o.material;
+            if (!found) {
+                throw Error(
+                    str(r.where("material"), "no [material.", o.material, "] in the scene"));
+            }
         }
-        if (o.shape.kind == ShapeKind::kPatch) {
+        if (o.shape.kind == ShapeKind::kWeave) {
+            o.fabric_path = resolve(base, r.require_string("fabric"));
+            o.shape.size = r.get_vector("size", 2, o.shape.size, true);
+            r.check_range("size", o.shape.size.minCoeff(), 1e-6, 1e6);
+            o.shape.center = vec3(r, "center", o.shape.center);
+        } else if (o.shape.kind == ShapeKind::kPatch) {
             o.shape.size = r.get_vector("size", 2, o.shape.size, true);
             r.check_range("size", o.shape.size.minCoeff(), 1e-9, 1e9);
             o.shape.center = vec3(r, "center", o.shape.center);
@@ -220,6 +234,28 @@ Scene::Scene(SceneDesc desc) : m_desc(std::move(desc)) {
     if (m_desc.objects.empty()) throw Error(str(ctx, ": the scene has no objects"));
     std::vector<Shape> shapes;
     for (const ObjectSpec& o : m_desc.objects) {
+        if (o.shape.kind == ShapeKind::kWeave) {
+            std::shared_ptr<const weave::Weave> w = o.weave;
+            if (!w) {
+                w = std::make_shared<weave::Weave>(weave::build(weave::load_weave(o.fabric_path)));
+                m_files.push_back(o.fabric_path);
+            }
+            const Eigen::Vector2d half = 0.5 * o.shape.size;
+            const Eigen::Vector2d c = o.shape.center.head<2>();
+            WeaveShapes ws = weave_shapes(*w, c - half, c + half, o.shape.center.z());
+            SurfaceMaterial yarn, backing;
+            yarn.name = o.name + "/yarn";
+            yarn.brdf = ws.yarn_material;
+            backing.name = o.name + "/backing";
+            backing.brdf = ws.backing_material;
+            for (auto* m : {&yarn, &backing}) {
+                m_material_of_shape.push_back(static_cast<int>(m_materials.size()));
+                m_materials.push_back(*m);
+            }
+            shapes.push_back(std::move(ws.yarns));
+            shapes.push_back(std::move(ws.backing));
+            continue;
+        }
         const auto it = material_index.find(o.material);
         if (it == material_index.end()) {
             throw Error(str(ctx, ": object '", o.name, "': unknown material '", o.material, "'"));

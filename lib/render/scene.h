@@ -12,9 +12,13 @@
 //                  ranges): specular, albedo, f0, alpha, report_f, report_r, sheen_color,
 //                  specular_scale; and albedo_texture, normal_texture,
 //                  roughness_texture, uv_scale = [su, sv] (render/material.h)
-//   [[object]]     shape = "patch" | "sphere" | "mesh", material = "<name>", name = "...";
+//   [[object]]     shape = "patch" | "sphere" | "mesh" | "weave", material = "<name>", name = "...";
 //                  patch: size = [w, h], center = [x, y, z] (in the plane z = center.z, facing +z)
 //                  sphere: center, radius; mesh: path (.obj/.ply), scale, rotation, translate
+//                  weave: fabric = "wool.toml" (weave/weave.h; no material key: the fabric
+//                  brings its yarn and backing materials), size = [w, h] and center = [x, y, z]:
+//                  the region the yarns cover, repeated from the tile at the origin, mid-plane
+//                  z = center.z; lengths in mm (render/weave_geometry.h)
 // Relative paths are relative to the scene file's folder. Every key is checked: an unknown key,
 // a wrong type or a value out of range throws Error "<file>:<line>: [<table>] <key>: <what>".
 #pragma once
@@ -29,6 +33,7 @@
 #include "render/camera.h"
 #include "render/environment.h"
 #include "render/material.h"
+#include "weave/weave.h"
 
 namespace inlight::render {
 
@@ -49,7 +54,9 @@ struct ObjectSpec {
     double scale = 1.0;     ///< kMesh: world = translate + rotation * (scale * object)
     std::string rotation = "none";
     Eigen::Vector3d translate = Eigen::Vector3d::Zero();
-    std::string material;  ///< name of a material in SceneDesc::materials
+    std::string material;  ///< name of a material in SceneDesc::materials (not for kWeave)
+    std::string fabric_path;                    ///< kWeave: the fabric file
+    std::shared_ptr<const weave::Weave> weave;  ///< kWeave: built from fabric_path if null
 };
 
 struct SceneDesc {
@@ -79,11 +86,13 @@ class Scene {
     const Camera& camera() const { return m_desc.camera; }
     const EnvironmentLight& environment() const { return *m_environment; }
     const Accel& accel() const { return *m_accel; }
-    /// The material of shape `shape` (index of SceneDesc::objects).
+    /// The material of shape `shape` (index of Accel::shapes(); a weave object adds two shapes,
+    /// its yarns and its backing, so shape indices follow objects only without weaves).
     const SurfaceMaterial& material(int shape) const {
         return m_materials[static_cast<size_t>(m_material_of_shape[static_cast<size_t>(shape)])];
     }
-    /// Index into SceneDesc::materials of shape `shape`'s material.
+    /// Index into the scene's loaded materials (SceneDesc::materials, then two per weave object)
+    /// of shape `shape`'s material.
     int material_index(int shape) const { return m_material_of_shape[static_cast<size_t>(shape)]; }
     /// Every file the scene read (for the run report's inputs).
     const std::vector<std::string>& files() const { return m_files; }

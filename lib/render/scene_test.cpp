@@ -119,6 +119,47 @@ TEST(SceneFile, ErrorsNameFileLineTableAndKey) {
                  "bad.toml:3: [environment] radiance: give either path or radiance");
 }
 
+TEST(SceneFile, WeaveObjectBecomesYarnCurvesAndABacking) {
+    // A weave object: its fabric file brings two materials and two shapes (curves + plate);
+    // a camera ray straight down at a yarn's top finds the yarn with the thread's colour.
+    const std::string dir = testing::temp_dir("scene_weave");
+    std::ofstream(dir + "/f.toml") << "pattern = \"plain\"\nspacing_mm = 1\nyarn_radius_mm = 0.3\n"
+                                      "warp_albedo = [0.9, 0.1, 0.1]\nweft_albedo = 0.5\n";
+    const std::string scene = std::string(R"(
+[environment]
+radiance = 1
+[camera]
+position = [0, 0, 5]
+[[object]]
+shape = "weave"
+fabric = "f.toml"
+size = [4, 4]
+)");
+    std::ofstream(dir + "/s.toml") << scene;
+    const Scene s(load_scene_desc(dir + "/s.toml"));
+    ASSERT_EQ(s.accel().shapes().size(), 2u);
+    EXPECT_EQ(s.accel().shapes()[0].kind, ShapeKind::kCurves);
+    EXPECT_EQ(s.accel().shapes()[1].kind, ShapeKind::kPatch);
+    // Warp 0 at x = 0.5 passes over weft 0 at y = 0.5 (plain: (i + j) even): its top there is
+    // at z = crimp + r = 0.3 + 0.3 (crimp defaults to the mean radius).
+    Ray r;
+    r.origin = {0.5, 0.5, 5};
+    r.dir = {0, 0, -1};
+    SurfaceHit hit;
+    ASSERT_TRUE(s.accel().intersect(r, &hit));
+    EXPECT_EQ(hit.shape, 0);
+    EXPECT_NEAR(hit.p.z(), 0.6, 1e-5);  // Embree's float t: ~1e-6 relative
+    EXPECT_NEAR(hit.ng.z(), 1.0, 1e-5);
+    ASSERT_TRUE(hit.has_albedo);
+    EXPECT_NEAR(hit.albedo.x(), 0.9, 1e-6);  // stored as float
+    EXPECT_EQ(s.material(0).name, "object 0/yarn");
+
+    std::ofstream(dir + "/bad.toml") << scene << "material = \"x\"\n";
+    EXPECT_NE(testing::error_of([&] { load_scene_desc(dir + "/bad.toml"); })
+                  .find("a weave takes its materials from its fabric file"),
+              std::string::npos);
+}
+
 TEST(SceneFile, MissingFilesAreNamed) {
     const std::string text = replace(kScene, "radiance = [0.5, 1, 2]", "path = \"nowhere.exr\"");
     const SceneDesc d = parse_scene(text, "s.toml", "/no/such/dir");
