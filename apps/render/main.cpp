@@ -8,6 +8,7 @@
 #include "core/validators.h"
 #include "brdf/grid.h"
 #include "image/image.h"
+#include "render/capture_cli.h"
 #include "render/compare.h"
 #include "render/compare_lights.h"
 #include "render/path_tracer.h"
@@ -37,10 +38,13 @@ int main(int argc, char** argv) {
     render::RenderOptions opt;
     render::CompareOptions cmp;
     Args a;
-    app.add_option("scene", a.scene, "Scene file (.toml, see docs/render.md)")
+    render::CaptureArgs cap;
+    app.add_option("scene", a.scene,
+                   "Scene file (.toml, see docs/render.md); with --btf-capture a fabric file")
         ->required()
         ->check(CLI::ExistingFile);
-    app.add_option("-o,--output", a.output, "Radiance image (.exr, float, linear_srgb)")
+    app.add_option("-o,--output", a.output,
+                   "Radiance image (.exr, float, linear_srgb); with --btf-capture a folder")
         ->required();
     app.add_option("--stderr-output", a.stderr_output,
                    "Per-pixel standard error of the mean (.exr; default <output>_stderr.exr)");
@@ -116,6 +120,7 @@ int main(int argc, char** argv) {
                    "Real-time fragments per pixel side (box filter like the path tracer)")
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
+    render::add_capture_options(app, cap);
     app::setup(app, common,
                "render configs/scenes/patch_city.toml -o patch.exr --spp 256 --seed 7 "
                "--threads 2 --report patch.json");
@@ -125,6 +130,20 @@ int main(int argc, char** argv) {
         opt.seed = common.seed;
         opt.jitter = !a.no_jitter;
         opt.strategy = render::strategy_from_string(a.strategy);
+        if (cap.enabled) {
+            fs::declare_output(a.output, "-o");
+            render::CaptureOptions co;
+            co.width_px = a.width_px > 0 ? a.width_px : co.width_px;
+            co.height_px = a.height_px > 0 ? a.height_px : co.height_px;
+            co.spp = app.get_option("--spp")->count() > 0 ? opt.spp : cap.default_spp;
+            co.seed = opt.seed;
+            co.max_depth = opt.max_depth;
+            co.rr_depth = opt.rr_depth;
+            co.jitter = opt.jitter;
+            co.tile_px = opt.tile_px;
+            render::run_capture(cap, a.scene, a.output, co, report);
+            return;
+        }
         if (a.stderr_output.empty()) a.stderr_output = default_stderr_path(a.output);
         report.add_input(a.scene);
         fs::declare_output(a.output, "-o");

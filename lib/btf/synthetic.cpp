@@ -128,6 +128,13 @@ image::Image AnalyticBtf::read_image(int light, int view) const {
                   m_shape.views[static_cast<size_t>(view)].vector());
 }
 
+std::string ubo2003_path(const std::string& dir, const Direction& light, const Direction& view,
+                         const UboWriteOptions& options) {
+    std::string path = dir + "/";
+    if (options.per_view_folders) path += ubo2003_view_folder(view) + "/";
+    return path + options.prefix + ubo2003_stem(light, view) + "." + options.extension;
+}
+
 void write_ubo2003(const BtfSource& source, const std::string& dir,
                    const UboWriteOptions& options) {
     const BtfShape& s = source.shape();
@@ -141,10 +148,7 @@ void write_ubo2003(const BtfSource& source, const std::string& dir,
                       l = static_cast<int>(i % s.n_lights());
             const Direction& ld = s.lights[static_cast<size_t>(l)];
             const Direction& vd = s.views[static_cast<size_t>(v)];
-            std::string path = dir + "/";
-            if (options.per_view_folders) path += ubo2003_view_folder(vd) + "/";
-            path += options.prefix + ubo2003_stem(ld, vd) + "." + options.extension;
-            image::write_image(path, source.read_image(l, v), wo);
+            image::write_image(ubo2003_path(dir, ld, vd, options), source.read_image(l, v), wo);
         }
     });
 }

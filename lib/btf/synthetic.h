@@ -57,6 +57,10 @@ struct UboWriteOptions {
     std::string prefix;             ///< put before each stem ("wool " -> "wool tl015 ...png")
 };
 
+/// The path of one image under `dir`: [<view folder>/]<prefix><stem>.<extension>.
+std::string ubo2003_path(const std::string& dir, const Direction& light, const Direction& view,
+                         const UboWriteOptions& options);
+
 /// Writes every image of `source` under `dir` in UBO2003 naming: integer files sRGB-encoded,
 /// EXR linear. Images are written in parallel, each atomically. Throws Error on failure.
 void write_ubo2003(const BtfSource& source, const std::string& dir,

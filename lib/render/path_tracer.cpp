@@ -24,19 +24,6 @@ double power_heuristic(double a, double b) {
     return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0;
 }
 
-/// A ray leaving the surface at `p` in direction `dir`, its origin pushed off the surface along
-/// the geometric normal `ng` (on the side of dir) to avoid self-intersection in float.
-Ray spawn_ray(const Eigen::Vector3d& p, const Eigen::Vector3d& ng, const Eigen::Vector3d& dir,
-              double scene_scale) {
-    // Relative offset: Embree intersects in float (2^-24 = 6e-8 relative); 1e-5 of the scene
-    // size plus the position's magnitude keeps well clear of that and far below a pixel.
-    const double eps = 1e-5 * (scene_scale + p.cwiseAbs().maxCoeff());
-    Ray r;
-    r.origin = p + (ng.dot(dir) >= 0 ? eps : -eps) * ng;
-    r.dir = dir;
-    return r;
-}
-
 struct Welford {
     int64_t n = 0;
     double mean[4] = {0, 0, 0, 0};  // R, G, B, Y
@@ -80,6 +67,27 @@ image::Image mean_image(const std::vector<Welford>& acc, int w, int h) {
 }
 
 }  // namespace
+
+Ray spawn_ray(const Eigen::Vector3d& p, const Eigen::Vector3d& ng, const Eigen::Vector3d& dir,
+              double scene_scale) {
+    // Relative offset: Embree intersects in float (2^-24 = 6e-8 relative); 1e-5 of the scene
+    // size plus the position's magnitude keeps well clear of that and far below a pixel.
+    const double eps = 1e-5 * (scene_scale + p.cwiseAbs().maxCoeff());
+    Ray r;
+    r.origin = p + (ng.dot(dir) >= 0 ? eps : -eps) * ng;
+    r.dir = dir;
+    return r;
+}
+
+bool russian_roulette(Eigen::Vector3d& beta, Rng& rng) {
+    const double q = std::min(1.0, beta.maxCoeff());
+    if (!(q > 0)) return false;
+    if (q < 1.0) {
+        if (rng.uniform() >= q) return false;
+        beta /= q;
+    }
+    return true;
+}
 
 Strategy strategy_from_string(const std::string& name) {
     if (name == "mis") return Strategy::kMis;
@@ -145,14 +153,7 @@ Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Rng& rng,
         if (wi.dot(sp.ng) <= 0) break;  // the shading normal sent it into the surface
         beta = beta.cwiseProduct(bs.value) * (bs.wi.z() / bs.pdf);
         prev_bsdf_pdf = bs.pdf;
-        if (depth + 1 >= options.rr_depth) {
-            const double q = std::min(1.0, beta.maxCoeff());
-            if (!(q > 0)) break;
-            if (q < 1.0) {
-                if (rng.uniform() >= q) break;
-                beta /= q;
-            }
-        }
+        if (depth + 1 >= options.rr_depth && !russian_roulette(beta, rng)) break;
         ray = spawn_ray(hit.p, sp.ng, wi, scale);
     }
     return radiance;

@@ -81,6 +81,16 @@ struct RenderResult {
 RenderResult render(const Scene& scene, const RenderOptions& options,
                     const std::function<void(int)>& progress = {});
 
+/// A ray leaving the surface at `p` in direction `dir`, its origin pushed off the surface along
+/// the geometric normal `ng` (to the side of dir) by 1e-5 (scene_scale + |p|_inf), well clear of
+/// Embree's float precision and far below a pixel.
+Ray spawn_ray(const Eigen::Vector3d& p, const Eigen::Vector3d& ng, const Eigen::Vector3d& dir,
+              double scene_scale);
+
+/// Russian roulette (PBR 3rd ed. sec. 13.7): survives with probability q = min(1, max beta)
+/// and divides beta by q; returns false when the path ends (also for beta <= 0).
+bool russian_roulette(Eigen::Vector3d& beta, Rng& rng);
+
 /// One path's radiance estimate along `ray` (exposed for tests). Adds the rays it traces to
 /// *rays.
 Eigen::Vector3d trace_path(const Scene& scene, const Ray& ray, Rng& rng,

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# render --btf-capture through the tool: the full 81 x 81 UBO2003 layout at a tiny size (one
+# folder per view, 81 PNGs each, capture.json, images_per_s in the report), direction files
+# (off-grid pairs; duplicates, non-unit vectors and NaN are usage errors naming the option and
+# the line), a light at the horizon is black, and 1 and 2 threads write identical files.
+# shellcheck source=tests/cli/lib.sh
+source "$(dirname "$0")/../cli/lib.sh"
+R="$BIN/render"
+FABRICS="${INLIGHT_SOURCE_DIR:?}/configs/fabrics"
+TINY=(--width-px 4 --height-px 4 --spp 1)
+
+expect_exit 0 "full dome at 4x4" -- "$R" "$FABRICS/denim-plain.toml" --btf-capture -o "$WORK/dome" \
+    "${TINY[@]}" --report "$WORK/dome.json"
+expect_true "81 view folders" -- test "$(find "$WORK/dome" -mindepth 1 -maxdepth 1 -type d | wc -l)" -eq 81
+expect_true "6561 PNG images" -- test "$(find "$WORK/dome" -name '*.png' | wc -l)" -eq 6561
+expect_true "UBO2003 names in per-view folders" -- test -s "$WORK/dome/tv075_pv345/tl075 pl345 tv075 pv345.png"
+expect_true "8-bit sRGB PNG" -- bash -c "oiiotool --info -v '$WORK/dome/tv000_pv000/tl000 pl000 tv000 pv000.png' | grep -q uint8"
+expect_true "capture.json states the irradiance" -- jq -e '.irradiance_w_m2 > 3.14 and .images == 6561' "$WORK/dome/capture.json"
+expect_true "report has images_per_s" -- jq -e '.metrics.capture.images_per_s > 0 and .metrics.capture.images == 6561' "$WORK/dome.json"
+
+# Off-grid pairs, EXR, a light at the horizon (black, not noise).
+printf '12.5 10 0 0\n90 0 0 0\n40 200 37.5 95\n' >"$WORK/pairs.txt"
+expect_exit 0 "pairs file, exr" -- "$R" "$FABRICS/satin.toml" --btf-capture -o "$WORK/pairs" \
+    --width-px 8 --height-px 8 --spp 2 --btf-pairs "$WORK/pairs.txt" --btf-format exr --report "$WORK/p.json"
+expect_true "three images" -- test "$(find "$WORK/pairs" -name '*.exr' | wc -l)" -eq 3
+expect_true "off-grid angles in the name" -- test -s "$WORK/pairs/tv037.500_pv095/tl040 pl200 tv037.500 pv095.exr"
+expect_true "light at the horizon is black" -- \
+    bash -c "oiiotool '$WORK/pairs/tv000_pv000/tl090 pl000 tv000 pv000.exr' --printstats | grep -q 'Max: 0.000000 0.000000 0.000000'"
+expect_true "one black image in the report" -- jq -e '.metrics.capture.black_images == 1' "$WORK/p.json"
+
+# Bad direction files: usage errors naming the option, the file and the line.
+printf '0 0\n30 60\n30 60\n' >"$WORK/dup.txt"
+expect_exit 2 "duplicate light" -- "$R" "$FABRICS/satin.toml" --btf-capture -o "$WORK/x" "${TINY[@]}" --btf-lights "$WORK/dup.txt"
+expect_stderr "--btf-lights: .*dup.txt:3" "the duplicate's option, file and line are named"
+printf '0 0 1\n0.5 0 0.5\n' >"$WORK/nonunit.txt"
+expect_exit 2 "non-unit view vector" -- "$R" "$FABRICS/satin.toml" --btf-capture -o "$WORK/x" "${TINY[@]}" --btf-views "$WORK/nonunit.txt"
+expect_stderr "nonunit.txt:2.*not unit length" "the non-unit vector's line is named"
+printf '0 nan\n' >"$WORK/nan.txt"
+expect_exit 2 "NaN direction" -- "$R" "$FABRICS/satin.toml" --btf-capture -o "$WORK/x" "${TINY[@]}" --btf-lights "$WORK/nan.txt"
+printf '90 0\n' >"$WORK/flat.txt"
+expect_exit 2 "view in the sample's plane" -- "$R" "$FABRICS/satin.toml" --btf-capture -o "$WORK/x" "${TINY[@]}" --btf-views "$WORK/flat.txt"
+expect_true "failed runs leave no output folder" -- test ! -e "$WORK/x"
+expect_exit 2 "--btf-pairs excludes --btf-lights" -- "$R" "$FABRICS/satin.toml" --btf-capture -o "$WORK/x" \
+    --btf-pairs "$WORK/pairs.txt" --btf-lights "$WORK/dup.txt"
+expect_exit 2 "--btf-lights needs --btf-capture" -- "$R" "$FABRICS/satin.toml" -o "$WORK/x.exr" --btf-lights "$WORK/dup.txt"
+
+# Same files for any thread count.
+printf '0 0\n45 120\n' >"$WORK/two.txt"
+for t in 1 2; do
+    expect_exit 0 "capture, $t thread(s)" -- "$R" "$FABRICS/wool-twill.toml" --btf-capture -o "$WORK/t$t" \
+        --width-px 8 --height-px 8 --spp 2 --btf-lights "$WORK/two.txt" --btf-views "$WORK/two.txt" --threads "$t" --seed 3
+done
+expect_true "byte-identical PNGs for 1 and 2 threads" -- diff -r "$WORK/t1" "$WORK/t2"
+finish
