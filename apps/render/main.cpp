@@ -121,6 +121,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
     render::add_capture_options(app, cap);
+    render::ShadeArgs shade;
+    render::add_shade_options(app, shade);
     app::setup(app, common,
                "render configs/scenes/patch_city.toml -o patch.exr --spp 256 --seed 7 "
                "--threads 2 --report patch.json");
@@ -130,8 +132,8 @@ int main(int argc, char** argv) {
         opt.seed = common.seed;
         opt.jitter = !a.no_jitter;
         opt.strategy = render::strategy_from_string(a.strategy);
-        if (cap.enabled) {
-            fs::declare_output(a.output, "-o");
+        if (cap.enabled || !shade.btf.empty()) {
+            if (cap.enabled) fs::declare_output(a.output, "-o");
             render::CaptureOptions co;
             co.width_px = a.width_px > 0 ? a.width_px : co.width_px;
             co.height_px = a.height_px > 0 ? a.height_px : co.height_px;
@@ -141,7 +143,11 @@ int main(int argc, char** argv) {
             co.rr_depth = opt.rr_depth;
             co.jitter = opt.jitter;
             co.tile_px = opt.tile_px;
-            render::run_capture(cap, a.scene, a.output, co, report);
+            if (!shade.btf.empty()) {
+                render::run_shade(shade, a.scene, a.output, co, cmp, report);
+            } else {
+                render::run_capture(cap, a.scene, a.output, co, report);
+            }
             return;
         }
         if (a.stderr_output.empty()) a.stderr_output = default_stderr_path(a.output);

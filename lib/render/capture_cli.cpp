@@ -6,7 +6,11 @@
 #include "core/fs.h"
 #include "core/log.h"
 #include "core/validators.h"
+#include "render/btf_shade.h"
 #include "render/weave_geometry.h"
+
+#include <filesystem>
+#include <numeric>
 
 namespace inlight::render {
 namespace {
@@ -134,6 +138,136 @@ void run_capture(const CaptureArgs& a, const std::string& fabric, const std::str
     m["capture"]["period_mm"] = {w.period_x_mm, w.period_y_mm};
     log::info(str("capture: ", r.images, " images in ", r.wall_time_s, " s (", r.images_per_s,
                   " images/s), rel_error median ", r.rel_error_median, ", p90 ", r.rel_error_p90));
+}
+
+void add_shade_options(CLI::App& app, ShadeArgs& a) {
+    auto* shade = app.add_option(
+                          "--btf-shade", a.btf,
+                          "Shade a raw captured BTF (a --btf-capture folder of the positional "
+                          "fabric) under each --environment and compare it with the path-traced "
+                          "truth of the same geometry; -o is a file prefix (docs/btf.md)")
+                      ->check(CLI::ExistingDirectory)
+                      ->excludes("--btf-capture");
+    app.add_option("--environment", a.environments,
+                   "BTF shading: lat-long environment (EXR/HDR, +z the fabric normal); repeatable")
+        ->check(CLI::ExistingFile)
+        ->needs(shade);
+    app.add_option("--shade-views", a.views,
+                   "BTF shading: view directions file (default (0,0), (45,40), (75,0) deg)")
+        ->check(CLI::ExistingFile)
+        ->needs(shade);
+    app.add_option("--view-neighbours", a.view_neighbours,
+                   "BTF shading: BTF views blended per view (1 nearest, 3 by inverse angle)")
+        ->check(CLI::IsMember({1, 3}))
+        ->capture_default_str()
+        ->needs(shade);
+    app.add_option("--cell-subsamples", a.subsamples,
+                   "BTF shading: directions per map pixel side when integrating light cells")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str()
+        ->needs(shade);
+    shade->needs(app.get_option("--environment"));
+}
+
+void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string& prefix,
+               const CaptureOptions& truth_options, const CompareOptions& compare,
+               Report& report) {
+    std::vector<btf::Direction> views = {{0, 0}, {45, 40}, {75, 0}};
+    if (!a.views.empty()) {
+        report.add_input(a.views);
+        views = read_option_file("--shade-views", a.views, btf::read_directions);
+    }
+    const std::string meta_path = a.btf + "/capture.json";
+    nlohmann::json meta;
+    try {
+        meta = nlohmann::json::parse(fs::read_file(meta_path));
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(str(meta_path, ": not a capture description: ", e.what()));
+    }
+    report.add_input(meta_path);
+    report.add_input(fabric);
+    const double irradiance = meta.value("irradiance_w_m2", 0.0);
+    const auto window = meta.value("window_mm", std::vector<double>{});
+    if (!(irradiance > 0) || window.size() != 4) {
+        throw Error(str(meta_path, ": needs irradiance_w_m2 > 0 and window_mm [x, y, w, h]"));
+    }
+    std::unique_ptr<btf::FolderBtf> btf;
+    {
+        ScopedStage stage(report, "open BTF");
+        btf = btf::FolderBtf::open(a.btf);
+    }
+    auto weave = std::make_shared<weave::Weave>(weave::build(weave::load_weave(fabric)));
+    if (std::abs(weave->period_x_mm - window[2]) > 1e-9 ||
+        std::abs(weave->period_y_mm - window[3]) > 1e-9) {
+        throw UsageError(str("--btf-shade: ", a.btf, " was captured from a ", window[2], " x ",
+                             window[3], " mm repeat, not ", fabric, "'s ", weave->period_x_mm,
+                             " x ", weave->period_y_mm, " mm"));
+    }
+    CaptureOptions topt = truth_options;
+    topt.width_px = btf->shape().width;
+    topt.height_px = btf->shape().height;
+    topt.origin_mm = {window[0], window[1]};
+    nlohmann::json results = nlohmann::json::array();
+    for (const std::string& env_path : a.environments) {
+        report.add_input(env_path);
+        EnvironmentSpec env;
+        env.image = load_latlong(env_path);
+        btf::DomeLightingOptions lo;
+        lo.subsamples = a.subsamples;
+        const btf::DomeLighting lighting =
+            btf::integrate_dome_cells(env.image, btf->shape().lights, lo);
+        const std::string stem = std::filesystem::path(env_path).stem().string();
+        for (const btf::Direction& view : views) {
+            ScopedStage stage(report, str("shade ", stem, " ", btf::ubo2003_view_folder(view)));
+            const ViewBlend blend = select_views(btf->shape().views, view, a.view_neighbours);
+            const image::Image shaded = shade_btf(*btf, lighting, blend, irradiance);
+            double truth_noise = 0;
+            const image::Image truth =
+                truth_under_environment(weave, topt, env, view, &truth_noise);
+            const double exposure = compare.exposure > 0 ? compare.exposure : auto_exposure(truth);
+            const Comparison c = compare_images(truth, shaded, exposure, compare);
+            const std::string base = str(prefix, "_", stem, "_", btf::ubo2003_view_folder(view));
+            image::WriteOptions exr;
+            image::write_image(base + "_btf.exr", shaded, exr);
+            image::write_image(base + "_truth.exr", truth, exr);
+            image::write_image(base + "_relerr.exr", c.rel_error, exr);
+            image::write_image(base + "_compare.png", c.side_by_side);
+            report.add_output(base + "_btf.exr", "radiance", "linear_srgb");
+            report.add_output(base + "_truth.exr", "radiance", "linear_srgb");
+            report.add_output(base + "_relerr.exr", "relative_error", "data");
+            report.add_output(base + "_compare.png", "comparison", "srgb");
+            auto mean_y = [](const image::Image& img) {
+                double s = 0;
+                for (size_t i = 0; i < img.pixel_count(); ++i)
+                    s += 0.2126 * img.pixels[3 * i] + 0.7152 * img.pixels[3 * i + 1] +
+                         0.0722 * img.pixels[3 * i + 2];
+                return s / static_cast<double>(img.pixel_count());
+            };
+            const double ty = mean_y(truth), by = mean_y(shaded);
+            nlohmann::json j = metrics_json(c.metrics);
+            j["environment"] = env_path;
+            j["view_deg"] = {view.theta_deg, view.phi_deg};
+            j["btf_views"] = blend.views.size();
+            j["mean_luminance_rel_diff"] = ty > 0 ? (by - ty) / ty : 0.0;
+            j["truth_rel_error"] = std::isfinite(truth_noise) ? nlohmann::json(truth_noise)
+                                                              : nlohmann::json();
+            j["exposure"] = exposure;
+            j["below_horizon_share"] =
+                lighting.below_horizon.sum() /
+                std::max(1e-30, lighting.below_horizon.sum() +
+                                    std::accumulate(lighting.weight.begin(), lighting.weight.end(),
+                                                    Eigen::Vector3d(Eigen::Vector3d::Zero()))
+                                        .sum());
+            log::info(str("btf-shade ", stem, " view ", view.theta_deg, "/", view.phi_deg,
+                          ": mean_rel ", c.metrics.mean_rel, ", mean luminance ",
+                          100 * (by - ty) / std::max(ty, 1e-30), "% vs truth (truth noise ",
+                          truth_noise, ")"));
+            results.push_back(j);
+        }
+    }
+    report.metrics()["btf_shade"] = {{"spp", topt.spp},
+                                      {"view_neighbours", a.view_neighbours},
+                                      {"results", results}};
 }
 
 }  // namespace inlight::render

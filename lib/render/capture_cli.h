@@ -4,9 +4,11 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "core/report.h"
 #include "render/btf_capture.h"
+#include "render/compare.h"
 
 namespace inlight::render {
 
@@ -31,5 +33,23 @@ void add_capture_options(CLI::App& app, CaptureArgs& args);
 /// describing the frame, irradiance and units), and fills the report's metrics.
 void run_capture(const CaptureArgs& args, const std::string& fabric, const std::string& out_dir,
                  const CaptureOptions& options, Report& report);
+
+/// The raw-BTF shading flags (render FABRIC.toml --btf-shade BTF_DIR --environment ENV.exr
+/// -o PREFIX): the BTF captured from FABRIC shaded under each environment and compared with the
+/// path-traced truth of the same geometry (render/btf_shade.h).
+struct ShadeArgs {
+    std::string btf;                        ///< --btf-shade: a capture folder (capture.json)
+    std::vector<std::string> environments;  ///< --environment (repeatable): lat-long EXR/HDR
+    std::string views;  ///< --shade-views: direction file; "" = (0, 0), (45, 40), (75, 0)
+    int view_neighbours = 1;  ///< --view-neighbours: BTF views blended per view (1 or 3)
+    int subsamples = 4;       ///< --cell-subsamples: per map pixel side (btf/lighting.h)
+};
+void add_shade_options(CLI::App& app, ShadeArgs& args);
+
+/// Writes, per environment and view, <prefix>_<env>_tv<theta>_pv<phi>_{btf,truth}.exr, _relerr.exr
+/// and _compare.png (truth | BTF | heat map of the relative error), and the metrics (as render
+/// --compare reports them, plus the relative difference of the mean luminance) into the report.
+void run_shade(const ShadeArgs& args, const std::string& fabric, const std::string& prefix,
+               const CaptureOptions& truth_options, const CompareOptions& compare, Report& report);
 
 }  // namespace inlight::render

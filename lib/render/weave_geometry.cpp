@@ -56,7 +56,10 @@ WeaveShapes weave_shapes(const weave::Weave& w, const Eigen::Vector2d& lo,
     const double gap = 0.01 * (w.z_max_mm - w.z_min_mm);
     out.backing.center = {0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()),
                           w.z_min_mm - gap + z_offset_mm};
-    out.backing.size = hi - lo;
+    // The plate reaches 60 slab thicknesses past the region: a ray leaving a yarn downward at
+    // 1 degree below the horizon still meets it (tan 89 = 57), so no light from below the
+    // sample's plane leaks in at the edges.
+    out.backing.size = (hi - lo) + Eigen::Vector2d::Constant(120 * (w.z_max_mm - w.z_min_mm));
     out.yarn_material = w.spec.material;
     out.backing_material.specular = brdf::Model::kLambert;
     out.backing_material.albedo = w.spec.backing_albedo;

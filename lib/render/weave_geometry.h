@@ -19,14 +19,15 @@ namespace inlight::render {
 
 struct WeaveShapes {
     Shape yarns;    ///< kCurves
-    Shape backing;  ///< kPatch just below the lowest yarn surface, covering the region
+    Shape backing;  ///< kPatch just below the lowest yarn surface, the region and 60 slab
+                    ///< thicknesses around it
     brdf::Material yarn_material;     ///< the fabric's material (albedo replaced per yarn)
     brdf::Material backing_material;  ///< Lambertian, the fabric's backing_albedo
     int segments = 0;
 };
 
-/// Yarn tubes covering at least the rectangle [lo_mm, hi_mm] (x, y) and a backing plate of
-/// that size (the caller adds any margin it needs). Precondition: lo_mm < hi_mm (checked).
+/// Yarn tubes covering at least the rectangle [lo_mm, hi_mm] (x, y) (the caller adds any margin
+/// it needs) and a backing plate under them. Precondition: lo_mm < hi_mm (checked).
 WeaveShapes weave_shapes(const weave::Weave& weave, const Eigen::Vector2d& lo_mm,
                          const Eigen::Vector2d& hi_mm, double z_offset_mm = 0);
 

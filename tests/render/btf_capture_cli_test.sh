@@ -18,6 +18,23 @@ expect_true "8-bit sRGB PNG" -- bash -c "oiiotool --info -v '$WORK/dome/tv000_pv
 expect_true "capture.json states the irradiance" -- jq -e '.irradiance_w_m2 > 3.14 and .images == 6561' "$WORK/dome/capture.json"
 expect_true "report has images_per_s" -- jq -e '.metrics.capture.images_per_s > 0 and .metrics.capture.images == 6561' "$WORK/dome.json"
 
+# The raw BTF under environments, against the path-traced truth of the same weave.
+MK="$TBIN/inlight_make_test_image"
+"$MK" "$WORK/sky.exr" 32 16 1.0
+"$MK" "$WORK/sun.exr" 32 16 0.2 10 4 400
+expect_exit 0 "btf-shade under a sky and a sun" -- "$R" "$FABRICS/denim-plain.toml" --btf-shade "$WORK/dome" \
+    --environment "$WORK/sky.exr" --environment "$WORK/sun.exr" -o "$WORK/sh" --spp 4 --report "$WORK/sh.json"
+for f in btf.exr truth.exr relerr.exr compare.png; do
+    expect_true "shade output $f" -- test -s "$WORK/sh_sun_tv045_pv040_$f"
+done
+expect_true "metrics per environment and view" -- jq -e '.metrics.btf_shade.results | length == 6' "$WORK/sh.json"
+expect_true "metrics as render --compare, plus the mean's bias" -- \
+    jq -e '.metrics.btf_shade.results[0] | has("mean_rel") and has("mean_de2000") and has("mean_luminance_rel_diff")' "$WORK/sh.json"
+expect_exit 2 "btf-shade needs an environment" -- "$R" "$FABRICS/denim-plain.toml" --btf-shade "$WORK/dome" -o "$WORK/y"
+expect_exit 2 "btf-shade of another fabric's capture" -- "$R" "$FABRICS/satin.toml" --btf-shade "$WORK/dome" \
+    --environment "$WORK/sky.exr" -o "$WORK/y"
+expect_stderr "captured from a" "the repeat mismatch is named"
+
 # Off-grid pairs, EXR, a light at the horizon (black, not noise).
 printf '12.5 10 0 0\n90 0 0 0\n40 200 37.5 95\n' >"$WORK/pairs.txt"
 expect_exit 0 "pairs file, exr" -- "$R" "$FABRICS/satin.toml" --btf-capture -o "$WORK/pairs" \
