@@ -17,7 +17,10 @@ std::string shared_data(const std::string& sub) {
     const std::string root = shared_dir();
     if (root.empty()) return "";
     const std::string p = root + "/data/" + sub;
-    return std::filesystem::exists(p) ? p : "";
+    if (std::filesystem::exists(p)) return p;
+    ADD_FAILURE() << p << " not found although " << root
+                  << " exists: a data set is missing (see shared/data/README.md)";
+    return "";
 }
 
 std::string blender_hdri_dir() {

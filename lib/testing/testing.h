@@ -12,7 +12,9 @@ namespace inlight::testing {
 
 /// The project's ../shared directory (from INLIGHT_SHARED_DIR, set by ctest), or "" if absent.
 std::string shared_dir();
-/// ../shared/data/<sub>, or "" if it does not exist.
+/// ../shared/data/<sub>, or "" if it does not exist. With ../shared present, a missing <sub> is
+/// also a test failure (a broken path must not silently turn the real-data checks into skips);
+/// without ../shared (a clone without it) the caller skips.
 std::string shared_data(const std::string& sub);
 /// The blender-data studio-light HDRIs (/usr/share/blender/datafiles/studiolights/world), or "".
 std::string blender_hdri_dir();
@@ -47,8 +49,10 @@ ImageT random_image(int w, int h, int c, float lo, float hi, unsigned seed, Colo
 
 }  // namespace inlight::testing
 
-/// Skips the current test with a message when `path` (a string) is empty.
+/// Skips the current test with a message when `path` (a string) is empty, unless a failure is
+/// already recorded (shared_data's data set missing from a present ../shared): then it returns.
 #define INLIGHT_SKIP_IF_MISSING(path, what)                                   \
     if ((path).empty()) {                                                     \
+        if (::testing::Test::HasFailure()) return;                            \
         GTEST_SKIP() << what << " not found; skipping (see shared/data/README.md)"; \
     }

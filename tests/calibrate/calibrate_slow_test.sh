@@ -30,8 +30,8 @@ expect_true "image circle found within 2 px of the rendered 300 px" -- jq -e '.i
 expect_true "still accurate (f, c within 0.2 px)" -- jq -e --slurpfile t "$WORK/circle/truth.json" '
     .intrinsics as $i | $t[0] as $t | ([($i.fx - $t.fx), ($i.cx - $t.cx), ($i.cy - $t.cy)] | map(fabs) | max) < 0.2' "$WORK/circle_out/calibration.json"
 
-# --- Real data (skipped when ../shared is absent) ----------------------------------------------
-if [ -n "$SHARED" ] && [ -d "$SHARED/data/fisheye-ros-mono" ]; then
+# --- Real data (skipped when ../shared is absent; a data set missing from it is a failure) -----
+if have_shared_data fisheye-ros-mono; then
     ROS="$SHARED/data/fisheye-ros-mono"
     expect_exit 0 "ROS fisheye set, default pipeline (configs/calibrate-ros.toml)" -- "$CAL" geometry "$ROS" \
         --config "${INLIGHT_SOURCE_DIR:?}/configs/calibrate-ros.toml" -o "$WORK/ros" --report "$WORK/ros.json" -q
@@ -47,10 +47,8 @@ if [ -n "$SHARED" ] && [ -d "$SHARED/data/fisheye-ros-mono" ]; then
         .intrinsics as $i |
         ([($i.fx - 290.050152), ($i.fy - 289.392837), ($i.cx - 399.938345), ($i.cy - 273.885669)] | map(fabs) | max) < 0.5 and
         ([($i.k1 + 0.030464), ($i.k2 + 0.019695), ($i.k3 - 0.002098), ($i.k4 - 0.001030)] | map(fabs) | max) < 0.003' "$WORK/ros2/calibration.json"
-else
-    echo "skip: fisheye-ros-mono not found (see shared/data/README.md)"
 fi
-if [ -n "$SHARED" ] && [ -d "$SHARED/data/fisheye-opencv-jy-points" ]; then
+if have_shared_data fisheye-opencv-jy-points; then
     JY="$SHARED/data/fisheye-opencv-jy-points"
     expect_exit 2 "corner file without a size" -- "$CAL" geometry --image-points "$JY/left.xml" \
         --object-points "$JY/object.xml" -o "$WORK/jy"
@@ -58,11 +56,9 @@ if [ -n "$SHARED" ] && [ -d "$SHARED/data/fisheye-opencv-jy-points" ]; then
     expect_exit 0 "JY corner files" -- "$CAL" geometry --image-points "$JY/left.xml" --object-points "$JY/object.xml" \
         --image-size 1280x800 -o "$WORK/jy" -q
     expect_true "JY: OpenCV's reference K (0.01 px)" -- jq -e '(.intrinsics.fx - 558.478087865323 | fabs) < 0.01 and (.intrinsics.cy - 381.939424848348 | fabs) < 0.01' "$WORK/jy/calibration.json"
-else
-    echo "skip: fisheye-opencv-jy-points not found (see shared/data/README.md)"
 fi
 LEFT=/usr/share/doc/opencv-doc/examples/data
-if [ -e "$LEFT/left01.jpg" ]; then
+if have_package_file "$LEFT/left01.jpg" opencv-doc; then
     expect_exit 0 "pinhole: OpenCV's left01-14.jpg" -- "$CAL" geometry "$LEFT"/left0[1-9].jpg "$LEFT"/left1[1-4].jpg \
         --board 9x6 --square-size-m 0.025 --model pinhole --fix-aspect-ratio -o "$WORK/left" -q
     # OpenCV's sample calibration of these images (left_intrinsics.yml: f 535.92, c 342.28, 235.57,
@@ -70,8 +66,6 @@ if [ -e "$LEFT/left01.jpg" ]; then
     expect_true "pinhole: RMS < 0.25 px, all 13 views, f within 1% and c within 3 px of OpenCV's sample" -- jq -e '
         .reproj_rms_px < 0.25 and .views_used == 13 and ((.intrinsics.fx / 535.9157 - 1) | fabs) < 0.01 and
         ((.intrinsics.cx - 342.2832) | fabs) < 3 and ((.intrinsics.cy - 235.5708) | fabs) < 3' "$WORK/left/calibration.json"
-else
-    echo "skip: opencv-doc samples not installed"
 fi
 
 finish

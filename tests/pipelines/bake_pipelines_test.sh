@@ -35,16 +35,15 @@ for p in error_vs_sh_bands error_vs_frame_time truth_noise error_vs_bytes; do
 done
 expect_true "page links the pair's images" -- grep -q 'pairs/tiny/sunset/render_compare_consistent.png' "$WORK/val/index.html"
 
-# bake-device on the real ROS fisheye set (skipped when ../shared is absent).
+# bake-device on the real ROS fisheye set (skipped when ../shared is absent, failed when only
+# the data set is).
 DATA="${INLIGHT_SHARED_DIR:-}/data/fisheye-ros-mono"
-if [ -d "$DATA" ]; then
+if have_shared_data fisheye-ros-mono; then
     mkdir -p "$WORK/dev"
     printf 'inputs = ["%s"]\nboard = "8x6"\nsquare-size-m = 0.108\nfov-deg = 180\ndownscale = "100x63"\n' "$DATA" > "$WORK/dev/calibrate.toml"
     expect_exit 0 "bake-device (ROS set)" -- "$PIPE/bake-device.sh" "$WORK/dev" "$WORK/out" ros
     D="$WORK/out/bundles/devices/ros/manifest.json"
     expect_true "device bundle: maps at 800x503 and 100x63, calibration" -- jq -e \
         '([.files[] | select(.role == "directions") | .width_px] | sort == [100, 800]) and (.properties.reproj_rms_px < 1)' "$D"
-else
-    echo "skip: bake-device: $DATA not found (see shared/data/README.md)"
 fi
 finish
