@@ -175,10 +175,11 @@ Eigen::Vector3d cube_direction(int face, double s, double t) {
 }
 
 Eigen::Vector3d angular_direction(double u, double v) {
+    // Debevec's (u, v) = (Dx, Dy) acos(Dz) / (pi |(Dx, Dy)|), inverted: the centre looks along +z.
     const double r = std::sqrt(u * u + v * v);
-    if (r < 1e-12) return {0, 0, -1};
+    if (r < 1e-12) return {0, 0, 1};
     const double s = std::sin(kPi * r) / r;
-    return {s * u, s * v, -std::cos(kPi * r)};
+    return {s * u, s * v, std::cos(kPi * r)};
 }
 
 namespace {

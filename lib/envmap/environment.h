@@ -90,8 +90,9 @@ double cube_texel_solid_angle(int i, int j, int n);
 /// Direction of texture coordinates (s, t) in [0, 1]^2 of cube face `face` (0..5 = +X -X +Y -Y
 /// +Z -Z) in the OpenGL cube-map convention (t grows downward, row 0 is t = 0).
 Eigen::Vector3d cube_direction(int face, double s, double t);
-/// Angular map: direction of (u, v) in [-1, 1]^2 (v up), r = |(u, v)| <= 1:
-/// (sin(pi r) u / r, sin(pi r) v / r, -cos(pi r)) -- the map's centre looks along -z.
+/// Angular map (Debevec's light probes): direction of (u, v) in [-1, 1]^2 (v up),
+/// r = |(u, v)| <= 1: (sin(pi r) u / r, sin(pi r) v / r, cos(pi r)) -- the inverse of Debevec's
+/// (u, v) = (Dx, Dy) acos(Dz) / (pi |(Dx, Dy)|); the map's centre looks along +z.
 Eigen::Vector3d angular_direction(double u, double v);
 
 }  // namespace inlight::envmap

@@ -150,6 +150,72 @@ TEST(Layouts, CubeAndAngularAgreeWithLatLong) {
     EXPECT_LT((an - ll).cwiseAbs().maxCoeff(), 2e-3 * scale);
 }
 
+// Rounding of a handful of double operations on O(1) values.
+constexpr double kDirectionTol = 1e-14;
+
+TEST(Layouts, CubeTexelsFollowTheOpenGlFaceTable) {
+    // testmaps::kCubePins: texel -> direction from the OpenGL ES cube-map table, by hand. Checked
+    // on cube_direction and on the strip decoding (face order, row = t) of the sample set.
+    for (const auto& p : testmaps::kCubePins) {
+        const Eigen::Vector3d want = Eigen::Vector3d(p.x, p.y, p.z).normalized();
+        const Eigen::Vector3d got = cube_direction(p.face, (p.i + 0.5) / 2, (p.j + 0.5) / 2);
+        EXPECT_LT((got - want).norm(), kDirectionTol) << p.face << " " << p.i << " " << p.j;
+    }
+    Environment env;
+    env.layout = Layout::kCube;
+    env.radiance = image::Image(12, 2, 3);
+    for (int x = 0; x < 12; ++x) {
+        for (int y = 0; y < 2; ++y) env.radiance.at(x, y, 0) = float(y * 12 + x);  // texel id
+    }
+    const auto samples = make_sample_set(env);
+    ASSERT_EQ(samples->size(), 24);
+    int checked = 0;
+    for (int64_t k = 0; k < samples->size(); ++k) {
+        Eigen::Vector3d d;
+        double w, v[3];
+        ASSERT_TRUE(samples->sample(k, d, w, v));
+        for (const auto& p : testmaps::kCubePins) {
+            if (int(v[0]) != p.j * 12 + p.face * 2 + p.i) continue;
+            EXPECT_LT((d - Eigen::Vector3d(p.x, p.y, p.z).normalized()).norm(), kDirectionTol)
+                << "texel (" << p.face * 2 + p.i << ", " << p.j << ")";
+            ++checked;
+        }
+    }
+    EXPECT_EQ(checked, 24);
+}
+
+TEST(Layouts, AngularPixelsFollowDebevecsDefinition) {
+    // testmaps::kAngularPins and debevec_angular_uv: Debevec's (u, v) = (Dx r, Dy r) with
+    // r = acos(Dz) / (pi sqrt(Dx^2 + Dy^2)), written out independently of angular_direction.
+    for (const auto& p : testmaps::kAngularPins) {
+        const Eigen::Vector3d want(p.x, p.y, p.z);
+        EXPECT_LT((angular_direction(p.u, p.v) - want).norm(), kDirectionTol) << p.u << " " << p.v;
+    }
+    // Every pixel of a 16 x 16 map through the sample set: Debevec's forward map of its direction
+    // lands on the pixel centre (u = -1 + 2 (x + 0.5) / n, v = 1 - 2 (y + 0.5) / n). acos turns
+    // a rounding error dz into dz / sin(theta), sin(theta) >= 0.27 at the innermost centres: 1e-12.
+    const int n = 16;
+    Environment env;
+    env.layout = Layout::kAngular;
+    env.radiance = image::Image(n, n, 3);
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) env.radiance.at(x, y, 0) = float(y * n + x);
+    }
+    const auto samples = make_sample_set(env);
+    int checked = 0;
+    for (int64_t k = 0; k < samples->size(); ++k) {
+        Eigen::Vector3d d;
+        double w, v[3];
+        if (!samples->sample(k, d, w, v)) continue;
+        const int x = int(v[0]) % n, y = int(v[0]) / n;
+        const Eigen::Vector2d centre(-1 + 2.0 * (x + 0.5) / n, 1 - 2.0 * (y + 0.5) / n);
+        if (centre.norm() > 1) continue;  // pixels straddling the rim take the rim's direction
+        EXPECT_LT((testmaps::debevec_angular_uv(d) - centre).norm(), 1e-12) << x << " " << y;
+        ++checked;
+    }
+    EXPECT_EQ(checked, 208);  // pixel centres inside the unit disc of a 16 x 16 grid
+}
+
 TEST(Layouts, ConstantCubeAndAngularSolidAngles) {
     ProjectOptions opt;
     opt.sh_bands = 3;

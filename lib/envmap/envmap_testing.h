@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -58,6 +59,65 @@ inline Environment angular(int n, const Fn& f) {
     }
     return env;
 }
+
+// --- Convention pins, written out by hand from the published definitions (never computed with
+// cube_direction or angular_direction, which they check). docs/conventions.md states them.
+
+/// A texel of a cube strip with 2 x 2 texels per face and its direction (unnormalised), from the
+/// OpenGL ES 3.0.6 specification, section 3.8.10, table 3.21 (face selection): the face is the
+/// major axis ma of the direction r, and s = (sc / |ma| + 1) / 2, t = (tc / |ma| + 1) / 2 with
+///   +X: sc = -rz, tc = -ry     -X: sc = +rz, tc = -ry
+///   +Y: sc = +rx, tc = +rz     -Y: sc = +rx, tc = -rz
+///   +Z: sc = +rx, tc = -ry     -Z: sc = -rx, tc = -ry
+/// Row 0 of a face is t = 0 (the image's top row). Texel (i, j) of a 2 x 2 face has its centre at
+/// sc = i - 0.5, tc = j - 0.5, so each direction below is the table solved for r with |ma| = 1.
+struct CubePin {
+    int face, i, j;  ///< face 0..5 = +X -X +Y -Y +Z -Z (the strip's order), column i, row j
+    double x, y, z;
+};
+inline constexpr CubePin kCubePins[] = {
+    // +X: rx = 1, ry = -tc, rz = -sc
+    {0, 0, 0, 1, 0.5, 0.5}, {0, 1, 0, 1, 0.5, -0.5}, {0, 0, 1, 1, -0.5, 0.5}, {0, 1, 1, 1, -0.5, -0.5},
+    // -X: rx = -1, ry = -tc, rz = sc
+    {1, 0, 0, -1, 0.5, -0.5}, {1, 1, 0, -1, 0.5, 0.5}, {1, 0, 1, -1, -0.5, -0.5}, {1, 1, 1, -1, -0.5, 0.5},
+    // +Y: ry = 1, rx = sc, rz = tc
+    {2, 0, 0, -0.5, 1, -0.5}, {2, 1, 0, 0.5, 1, -0.5}, {2, 0, 1, -0.5, 1, 0.5}, {2, 1, 1, 0.5, 1, 0.5},
+    // -Y: ry = -1, rx = sc, rz = -tc
+    {3, 0, 0, -0.5, -1, 0.5}, {3, 1, 0, 0.5, -1, 0.5}, {3, 0, 1, -0.5, -1, -0.5}, {3, 1, 1, 0.5, -1, -0.5},
+    // +Z: rz = 1, rx = sc, ry = -tc
+    {4, 0, 0, -0.5, 0.5, 1}, {4, 1, 0, 0.5, 0.5, 1}, {4, 0, 1, -0.5, -0.5, 1}, {4, 1, 1, 0.5, -0.5, 1},
+    // -Z: rz = -1, rx = -sc, ry = -tc
+    {5, 0, 0, 0.5, 0.5, -1}, {5, 1, 0, -0.5, 0.5, -1}, {5, 0, 1, 0.5, -0.5, -1}, {5, 1, 1, -0.5, -0.5, -1},
+};
+
+/// Debevec's angular map ("Light Probe Image Gallery"): for a world direction D, the image
+/// coordinates (u, v) in [-1, 1]^2 (v up) are (Dx r, Dy r) with
+/// r = (1 / pi) acos(Dz) / sqrt(Dx^2 + Dy^2). Written out here, independently of the library.
+inline Eigen::Vector2d debevec_angular_uv(const Eigen::Vector3d& dir) {
+    const Eigen::Vector3d d = dir.normalized();
+    const double len = std::hypot(d.x(), d.y());
+    if (len == 0) return d.z() > 0 ? Eigen::Vector2d(0, 0) : Eigen::Vector2d(1, 0);  // centre; rim
+    const double r = std::acos(std::clamp(d.z(), -1.0, 1.0)) / kPi / len;
+    return {d.x() * r, d.y() * r};
+}
+
+/// Pairs (u, v) -> direction that follow from that definition with exact arithmetic: the centre
+/// looks along +z, the circle r = 1/2 is the equator z = 0 (u to +x, v to +y), r = 1/4 is 45
+/// degrees from +z, r = 3/4 is 135 degrees.
+struct AngularPin {
+    double u, v, x, y, z;
+};
+inline constexpr double kHalfSqrt2 = 0.70710678118654752440;
+inline constexpr AngularPin kAngularPins[] = {
+    {0, 0, 0, 0, 1},
+    {0.5, 0, 1, 0, 0},
+    {0, 0.5, 0, 1, 0},
+    {-0.5, 0, -1, 0, 0},
+    {0, -0.5, 0, -1, 0},
+    {0.25, 0, kHalfSqrt2, 0, kHalfSqrt2},
+    {0, 0.75, 0, kHalfSqrt2, -kHalfSqrt2},
+    {-0.25 * kHalfSqrt2, 0.25 * kHalfSqrt2, -0.5, 0.5, kHalfSqrt2},
+};
 
 inline Fn constant(double value) {
     return [value](const Eigen::Vector3d&) { return Eigen::Vector3d::Constant(value); };

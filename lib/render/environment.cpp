@@ -45,10 +45,10 @@ Eigen::Vector2i cube_texel(const Eigen::Vector3d& d, int n) {
     return {face * n + i, j};
 }
 
-/// Nearest pixel of an s x s angular map (envmap::angular_direction: the centre looks along
-/// -z, r = theta / pi, v up) in direction d.
+/// Nearest pixel of an s x s angular map (envmap::angular_direction, Debevec's definition: the
+/// centre looks along +z, r = theta / pi, v up) in direction d.
 Eigen::Vector2i angular_texel(const Eigen::Vector3d& d, int size) {
-    const double r = std::acos(std::clamp(-d.z(), -1.0, 1.0)) / kPi;
+    const double r = std::acos(std::clamp(d.z(), -1.0, 1.0)) / kPi;
     const double len = std::hypot(d.x(), d.y());
     const double u = len > 0 ? r * d.x() / len : 0.0, v = len > 0 ? r * d.y() / len : 0.0;
     const int x = std::clamp(static_cast<int>((u + 1) * 0.5 * size), 0, size - 1);

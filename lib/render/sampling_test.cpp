@@ -11,6 +11,7 @@
 #include "brdf/brdf.h"
 #include "core/conventions.h"
 #include "core/error.h"
+#include "envmap/envmap_testing.h"
 #include "envmap/project.h"
 #include "render/environment.h"
 #include "testing/testing.h"
@@ -369,6 +370,26 @@ TEST(EnvironmentLayouts, CubeAndAngularInvertEnvmapDirections) {
     check_inverse_mapping(envmap::Layout::kCube, 6 * 8, 8);
     check_inverse_mapping(envmap::Layout::kAngular, 32, 32);
     check_inverse_mapping(envmap::Layout::kLatLong, 32, 16);
+}
+
+TEST(EnvironmentLayouts, LookupsFollowTheOpenGlCubeTableAndDebevecsAngularMap) {
+    // The pins of envmap_testing.h (from the OpenGL ES cube-map table and Debevec's definition,
+    // written out by hand): the path tracer's texel lookup must find the pinned texel.
+    for (const auto& p : envmap::testmaps::kCubePins) {
+        EXPECT_EQ(environment_texel(envmap::Layout::kCube, Eigen::Vector3d(p.x, p.y, p.z), 12, 2),
+                  Eigen::Vector2i(p.face * 2 + p.i, p.j))
+            << p.face << " " << p.i << " " << p.j;
+    }
+    // An odd size keeps every pin off the pixel borders: pixel x covers
+    // u in [-1 + 2x/n, -1 + 2(x+1)/n], row y covers v in [1 - 2(y+1)/n, 1 - 2y/n].
+    const int n = 7;
+    for (const auto& p : envmap::testmaps::kAngularPins) {
+        const Eigen::Vector2i want(int(std::floor((p.u + 1) / 2 * n)),
+                                   int(std::floor((1 - p.v) / 2 * n)));
+        EXPECT_EQ(environment_texel(envmap::Layout::kAngular, Eigen::Vector3d(p.x, p.y, p.z), n, n),
+                  want)
+            << p.u << " " << p.v;
+    }
 }
 
 TEST(EnvironmentLayouts, ResampledCubeKeepsTheLighting) {
