@@ -2,8 +2,11 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <cstring>
+#include <fstream>
 #include <random>
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include "core/conventions.h"
@@ -12,6 +15,8 @@
 #include "sh/fit.h"
 #include "sh/quadrature.h"
 #include "sh/sh.h"
+#include "sh/sh_io.h"
+#include "testing/testing.h"
 
 namespace inlight::sh {
 namespace {
@@ -170,6 +175,28 @@ TEST(Window, HannAndLanczosFactors) {
     EXPECT_THROW(window_from_string("box"), Error);
 }
 
+TEST(Window, ApplyWindowScalesEachBandByItsFactor) {
+    // Band l occupies rows l^2 .. l^2 + 2l. Factors written out: Hann with 4 bands,
+    // (1 + cos(pi l / 4)) / 2 = 1, (2 + sqrt 2) / 4, 1/2, (2 - sqrt 2) / 4; Lanczos with 3 bands,
+    // sin(pi l / 3) / (pi l / 3) = 1, (3 sqrt 3 / 2) / pi, (3 sqrt 3 / 4) / pi.
+    const double hann[4] = {1, (2 + std::sqrt(2.0)) / 4, 0.5, (2 - std::sqrt(2.0)) / 4};
+    const double lanczos[3] = {1, 1.5 * std::sqrt(3.0) / kPi, 0.75 * std::sqrt(3.0) / kPi};
+    Eigen::MatrixXd c = Eigen::MatrixXd::Ones(16, 2);
+    c.col(1) *= -3;
+    apply_window(Window::kHann, 4, c);
+    for (int k = 0; k < 16; ++k) {
+        const int l = k < 1 ? 0 : k < 4 ? 1 : k < 9 ? 2 : 3;
+        EXPECT_NEAR(c(k, 0), hann[l], 1e-15) << k;
+        EXPECT_NEAR(c(k, 1), -3 * hann[l], 1e-15) << k;
+    }
+    Eigen::MatrixXd d = Eigen::MatrixXd::Ones(9, 1);
+    apply_window(Window::kLanczos, 3, d);
+    for (int k = 0; k < 9; ++k) EXPECT_NEAR(d(k, 0), lanczos[k < 1 ? 0 : k < 4 ? 1 : 2], 1e-15);
+    Eigen::MatrixXd e = Eigen::MatrixXd::Constant(9, 3, 0.7);
+    apply_window(Window::kNone, 3, e);
+    EXPECT_EQ(e, Eigen::MatrixXd::Constant(9, 3, 0.7));
+}
+
 // A sample set of Gauss-Legendre x uniform-phi nodes restricted to a cap around +z.
 class CapSamples : public SampleSet {
   public:
@@ -250,6 +277,135 @@ TEST(Fit, PartialSphereLeastSquaresRecoversWhatProjectionLoses) {
     const FitResult reg = fit_least_squares(3, cap);
     for (int k = 0; k < 9; ++k) EXPECT_NEAR(reg.coeffs(k, 0), truth[k], 0.05);
     EXPECT_LT(reg.regularised_condition, fit.gram_condition);
+}
+
+TEST(Fit, LeastSquaresPathSolvesEachRegularisedSystem) {
+    // fit_least_squares_path against the definition it documents: for each lambda, the
+    // coefficients solve (G + lambda ev_max(G) D) c = b with G = sum w y y^T, b = sum w f y and
+    // D = diag((l (l + 1))^2), all accumulated here independently. Tikhonov regularisation makes
+    // the penalty c^T D c non-increasing and the weighted residual non-decreasing in lambda.
+    std::vector<double> truth = {2.0, 0.3, 0.8, -0.4, 0.1, 0.2, 0.25, -0.15, 0.05};
+    auto f = [&](const Eigen::Vector3d& d) {
+        const auto y = eval(3, d);
+        double s = 0;
+        for (int k = 0; k < 9; ++k) s += truth[k] * y[k];
+        return s + 0.3 * d.x() * d.y() * d.z();  // plus a band-3 part the fit cannot hold
+    };
+    const CapSamples cap(82.5 * kPi / 180, f);
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(9, 9);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(9);
+    for (int64_t i = 0; i < cap.size(); ++i) {
+        Eigen::Vector3d d;
+        double w, v;
+        if (!cap.sample(i, d, w, &v)) continue;
+        Eigen::VectorXd y(9);
+        eval(3, d, y.data());
+        gram += w * y * y.transpose();
+        rhs += w * v * y;
+    }
+    const double ev_max = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(gram).eigenvalues().maxCoeff();
+    Eigen::VectorXd penalty_diag(9);
+    for (int k = 0; k < 9; ++k) {
+        const int l = k < 1 ? 0 : k < 4 ? 1 : 2;
+        penalty_diag[k] = double(l * (l + 1)) * (l * (l + 1));
+    }
+    const std::vector<double> lambdas = {0, 1e-4, 1e-2, 1};
+    const auto path = fit_least_squares_path(3, cap, lambdas);
+    ASSERT_EQ(path.size(), lambdas.size());
+    double prev_penalty = INFINITY, prev_residual = 0;
+    for (size_t j = 0; j < lambdas.size(); ++j) {
+        ASSERT_EQ(path[j].coeffs.rows(), 9);
+        EXPECT_EQ(path[j].lambda, lambdas[j]);
+        const Eigen::VectorXd c = path[j].coeffs.col(0);
+        const Eigen::MatrixXd a =
+            gram + Eigen::MatrixXd(lambdas[j] * ev_max * penalty_diag.asDiagonal());
+        // Normal-equation residual: rounding of sums over 1e4 samples times |A| |c|.
+        EXPECT_LT((a * c - rhs).norm(), 1e-11 * a.norm() * c.norm()) << "lambda " << lambdas[j];
+        const double penalty = c.dot(penalty_diag.asDiagonal() * c);
+        EXPECT_LE(penalty, prev_penalty * (1 + 1e-12)) << "lambda " << lambdas[j];
+        EXPECT_GE(path[j].weighted_residual_rms, prev_residual * (1 - 1e-12)) << lambdas[j];
+        prev_penalty = penalty;
+        prev_residual = path[j].weighted_residual_rms;
+        // One pass for several lambdas gives what separate fits give.
+        FitOptions one;
+        one.lambda = lambdas[j];
+        EXPECT_LT((fit_least_squares(3, cap, one).coeffs - path[j].coeffs).cwiseAbs().maxCoeff(),
+                  1e-12);
+    }
+}
+
+// One observed direction: 9 unknowns from one sample.
+class OneSample : public SampleSet {
+  public:
+    int64_t size() const override { return 1; }
+    int channels() const override { return 1; }
+    bool sample(int64_t, Eigen::Vector3d& dir, double& w, double* v) const override {
+        dir = Eigen::Vector3d(0.48, 0.6, 0.64);
+        w = 0.01;
+        v[0] = 1;
+        return true;
+    }
+};
+
+TEST(Fit, LeastSquaresPathLeavesSingularEntriesEmpty) {
+    // Without the penalty one sample cannot fix 9 coefficients; with it bands 1 and 2 are held
+    // by the penalty and band 0 by the sample, so the system is regular.
+    const auto path = fit_least_squares_path(3, OneSample(), {0, 1e-2});
+    ASSERT_EQ(path.size(), 2u);
+    EXPECT_EQ(path[0].coeffs.size(), 0);
+    EXPECT_EQ(path[1].coeffs.rows(), 9);
+    EXPECT_THROW(fit_least_squares(3, OneSample(), FitOptions{0}), Error);
+}
+
+TEST(ShIo, ReadCoefficientsDecodesTheDocumentedBinaryAndJson) {
+    // Files written by hand from docs/formats.md (not with write_binary / to_json): binary is
+    // "INLSH\0\0\1", uint32 sh_bands, channels, 0, then float32 coefficients k-major, all
+    // little-endian.
+    const std::string dir = inlight::testing::temp_dir("sh_io");
+    const float values[4][2] = {{1.5f, -2.0f}, {0.25f, 3.0f}, {-0.125f, 0.0f}, {7.0f, 0.5f}};
+    std::string bytes("INLSH\0\0\1", 8);
+    auto put = [&](uint32_t u) {
+        for (int i = 0; i < 4; ++i) bytes.push_back(char((u >> (8 * i)) & 0xff));
+    };
+    put(2);
+    put(2);
+    put(0);
+    for (const auto& row : values) {
+        for (float v : row) {
+            uint32_t u;
+            std::memcpy(&u, &v, 4);
+            put(u);
+        }
+    }
+    {
+        std::ofstream(dir + "/c.bin", std::ios::binary) << bytes;
+    }
+    const CoefficientSet b = read_coefficients(dir + "/c.bin");
+    ASSERT_EQ(b.sh_bands, 2);
+    ASSERT_EQ(b.coeffs.rows(), 4);
+    ASSERT_EQ(b.coeffs.cols(), 2);
+    for (int k = 0; k < 4; ++k) {
+        for (int c = 0; c < 2; ++c) EXPECT_EQ(b.coeffs(k, c), values[k][c]) << k << "," << c;
+    }
+    std::ofstream(dir + "/c.json") << R"({"format": "inlight.sh_coefficients", "version": 1,
+        "sh_bands": 2, "channels": ["r", "g"], "color_space": "acescg",
+        "coefficients": [[1.5, -2], [0.25, 3], [-0.125, 0], [7, 0.5]]})";
+    const CoefficientSet j = read_coefficients(dir + "/c.json");
+    EXPECT_EQ(j.coeffs, b.coeffs);
+    EXPECT_EQ(j.color_space, "acescg");
+    EXPECT_EQ(j.channel_names, (std::vector<std::string>{"r", "g"}));
+    // Errors name the file and the problem.
+    std::ofstream(dir + "/short.bin", std::ios::binary) << bytes.substr(0, bytes.size() - 4);
+    EXPECT_NE(inlight::testing::error_of([&] { read_coefficients(dir + "/short.bin"); })
+                  .find("short.bin: size 48 bytes does not match the header"),
+              std::string::npos);
+    std::ofstream(dir + "/bad.json") << "{";
+    EXPECT_NE(inlight::testing::error_of([&] { read_coefficients(dir + "/bad.json"); })
+                  .find("bad.json: not valid JSON"),
+              std::string::npos);
+    EXPECT_NE(inlight::testing::error_of([&] { read_coefficients(dir + "/c.txt"); })
+                  .find("c.txt: expected a .json or .bin"),
+              std::string::npos);
 }
 
 TEST(Fit, NothingObservedIsAnError) {
