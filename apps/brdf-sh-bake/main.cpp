@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
         if (!view_xyz.empty()) o.view = brdf::parse_view(view_xyz);
         if (!view_deg.empty()) o.view = brdf::parse_view_deg(view_deg);
         brdf::ValidateOptions vopt;
+        vopt.reference_rel_tol = brdf::reference_rel_tol_for(o);
         if (full_validate) {
             vopt.max_nodes = 0;
             vopt.test_normals = 256;

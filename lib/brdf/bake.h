@@ -157,6 +157,12 @@ struct Validation {
     nlohmann::json to_json() const;
 };
 
+/// The checked nodes' reference tolerance that resolves a bake's integration error at a fraction
+/// of the cost: ValidateOptions{}.reference_rel_tol for gauss-legendre; for the Monte Carlo
+/// integrators, whose relative error is of order 1/sqrt(samples), max(that, 0.01 /
+/// sqrt(samples)): about 1% of their standard error.
+double reference_rel_tol_for(const BakeOptions& options);
+
 /// The reference at one normal: kMaxBakeBands coefficients and the exact radiance.
 struct ReferenceNormal {
     Eigen::MatrixXd coeffs;  ///< 3 x count(kMaxBakeBands)

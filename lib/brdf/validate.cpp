@@ -74,6 +74,12 @@ std::vector<double> radiance_scales(const ReferenceSet& ref, int n_lights) {
 
 }  // namespace
 
+double reference_rel_tol_for(const BakeOptions& o) {
+    const double gl = ValidateOptions{}.reference_rel_tol;
+    if (o.integrator == Integrator::kGaussLegendre) return gl;
+    return std::max(gl, 0.01 / std::sqrt(static_cast<double>(std::max(1, o.samples))));
+}
+
 ReferenceNormal reference_normal(const Material& m, const Eigen::Vector3d& n,
                                  const Eigen::Vector3d& view, const ValidateOptions& vopt) {
     const auto lights = test_lightings();
