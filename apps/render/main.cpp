@@ -11,6 +11,7 @@
 #include "render/capture_cli.h"
 #include "render/compare.h"
 #include "render/compare_lights.h"
+#include "render/decompose.h"
 #include "render/path_tracer.h"
 #include "render/scene.h"
 
@@ -20,9 +21,9 @@ namespace {
 
 struct Args {
     std::string scene, output, stderr_output, strategy = "mis", rt_lighting;
-    int width_px = 0, height_px = 0, convergence_ref_spp = 0;
+    int width_px = 0, height_px = 0, convergence_ref_spp = 0, decompose_map_height = 128;
     double max_rel_error = 0;
-    bool no_jitter = false, compare = false;
+    bool no_jitter = false, compare = false, decompose = false;
 };
 
 std::string default_stderr_path(const std::string& output) {
@@ -100,6 +101,15 @@ int main(int argc, char** argv) {
                    "metrics.realtime.lighting_file")
         ->check(CLI::ExistingFile)
         ->needs("--compare");
+    app.add_flag("--rt-decompose", a.decompose,
+                 "With --compare: take the model's error apart by replacing one approximation at "
+                 "a time with its exact counterpart (grid, SH truncation, roughness texture, "
+                 "fixed view, visibility, truth noise): metrics.realtime.decomposition")
+        ->needs("--compare");
+    app.add_option("--rt-decompose-map-height", a.decompose_map_height,
+                   "Rows of the box-filtered map the exact integrals of --rt-decompose sum over")
+        ->check(CLI::Range(4, 4096))
+        ->capture_default_str();
     app.add_option("--exposure", cmp.exposure,
                    "Linear scale before dE2000 and the PNG panels (0 = 0.18 / mean luminance)")
         ->check(app::finite_non_negative())
@@ -210,6 +220,21 @@ int main(int argc, char** argv) {
                 m["realtime"]["lighting_file"] = render::compare_lighting_file(
                     *scene, r, cmp, *lighting, (p.parent_path() / p.stem()).string(), files);
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
+        }
+        if (a.decompose) {
+            ScopedStage stage(report, "decompose");
+            render::DecomposeOptions dopt;
+            dopt.max_bands = cmp.max_bands;
+            // A truth of pixel centres (--no-jitter) is compared at pixel centres.
+            dopt.supersample = a.no_jitter ? 1 : cmp.supersample;
+            dopt.map_height = a.decompose_map_height;
+            dopt.bake = render::compare_bake_options(*scene, cmp, cmp.max_bands);
+            const render::Decomposition d = render::decompose_error(
+                *scene, r, render::compare_lighting(*scene, cmp, cmp.max_bands), dopt);
+            m["realtime"]["decomposition"] = render::to_json(d);
+            log::info(str("render: truth noise ", d.truth_noise,
+                          ", exact unshadowed model vs truth ", d.exact_vs_truth,
+                          " (decomposition in ", d.time_s, " s)"));
         }
         if (a.max_rel_error > 0 && !(r.rel_error <= a.max_rel_error)) {
             throw app::QualityGateFailed(

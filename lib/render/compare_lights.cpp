@@ -31,23 +31,37 @@ void check_frame(const Scene& scene, const LightingFile& file) {
 
 }  // namespace
 
+brdf::BakeOptions compare_bake_options(const Scene& scene, const CompareOptions& options,
+                                       int bands) {
+    brdf::BakeOptions bo;
+    bo.sh_bands = std::min(bands, brdf::kMaxBakeBands);
+    bo.samples = options.bake_samples;
+    const Camera& cam = scene.camera();
+    bo.view = (cam.position - cam.look_at).normalized();
+    return bo;
+}
+
+RealtimeLighting compare_lighting(const Scene& scene, const CompareOptions& options, int bands) {
+    RealtimeLighting lighting;
+    lighting.coeffs = project_environment(scene.environment(), bands);
+    const brdf::BakeOptions bo = compare_bake_options(scene, options, bands);
+    const brdf::Grid grid = brdf::parse_grid(options.grid);
+    for (const SurfaceMaterial& m : scene.desc().materials)
+        lighting.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    return lighting;
+}
+
 nlohmann::json compare_lighting_file(const Scene& scene, const RenderResult& truth,
                                      const CompareOptions& options, const LightingFile& file,
                                      const std::string& prefix, std::vector<WrittenFile>& written) {
     check_frame(scene, file);
     const int bands = file.sh.sh_bands;
     const double exposure = options.exposure > 0 ? options.exposure : auto_exposure(truth.radiance);
-    brdf::BakeOptions bo;
-    bo.sh_bands = std::min(bands, brdf::kMaxBakeBands);
-    bo.samples = options.bake_samples;
-    const Camera& cam = scene.camera();
-    bo.view = (cam.position - cam.look_at).normalized();
-    const brdf::Grid grid = brdf::parse_grid(options.grid);
+    RealtimeLighting pure = compare_lighting(scene, options, bands);
     RealtimeLighting lit;
     lit.coeffs = file.sh.coeffs;
     lit.lights = file.lights;
-    for (const SurfaceMaterial& m : scene.desc().materials)
-        lit.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    lit.tables = pure.tables;
     RealtimeOptions ro;
     ro.sh_bands = bands;
     ro.supersample = options.supersample;
@@ -58,9 +72,6 @@ nlohmann::json compare_lighting_file(const Scene& scene, const RenderResult& tru
     image::write_image(prefix + "_compare_lights.png", with.side_by_side);
     written.push_back({prefix + "_compare_lights.png", "side_by_side", "srgb"});
 
-    RealtimeLighting pure;
-    pure.coeffs = project_environment(scene.environment(), bands);
-    pure.tables = lit.tables;
     const Comparison without =
         compare_images(truth.radiance, render_realtime(scene, pure, ro), exposure, options);
 

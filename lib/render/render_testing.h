@@ -5,10 +5,28 @@
 
 #include "brdf/bake.h"
 #include "brdf/grid.h"
+#include "core/conventions.h"
+#include "image/image.h"
 #include "render/realtime.h"
 #include "render/scene.h"
 
 namespace inlight::render::testscenes {
+
+/// Band-limited lighting (l <= 2 only), positive everywhere, as a lat-long map.
+inline image::Image band_limited_sky(int w, int h) {
+    image::Image img(w, h, 3);
+    for (int row = 0; row < h; ++row) {
+        for (int col = 0; col < w; ++col) {
+            const Eigen::Vector3d d = latlong_direction((col + 0.5) / w, (row + 0.5) / h);
+            const double base = 1.5 + 0.5 * d.z() + 0.3 * d.x() + 0.2 * (3 * d.z() * d.z() - 1) +
+                                0.25 * d.x() * d.y();
+            img.at(col, row, 0) = static_cast<float>(base);
+            img.at(col, row, 1) = static_cast<float>(0.8 * base + 0.2 * d.y());
+            img.at(col, row, 2) = static_cast<float>(0.6 * base - 0.1 * d.z());
+        }
+    }
+    return img;
+}
 
 /// The app's case in miniature: a 1x1 patch at z = 0 facing +z in material m, seen by the
 /// default orthographic camera (px x px pixels, 0.8 wide: every pixel on the patch).
