@@ -1,4 +1,5 @@
-// core/sha256.h: SHA-256 (FIPS 180-4) of files, for the run report's input list.
+// core/sha256.h: SHA-256 (FIPS 180-4) of files, for the run report's input list and bundle
+// manifests; computed by OpenSSL's libcrypto (EVP), not by hand.
 #pragma once
 
 #include <cstddef>
