@@ -2,15 +2,113 @@
 
 #include <filesystem>
 #include <iostream>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
 #include <limits>
 
 #include "core/fs.h"
 #include "core/log.h"
 #include "core/number.h"
 #include "core/parallel.h"
+#include "core/toml.h"
 #include "core/validators.h"
 
 namespace inlight::app {
+namespace {
+
+/// The value of `name` in argv ("--name X" or "--name=X"), or "" (the last one wins, as in
+/// CLI11).
+std::string option_value_in(int argc, char** argv, const std::string& name) {
+    std::string value;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == name && i + 1 < argc) value = argv[++i];
+        if (a.rfind(name + "=", 0) == 0) value = a.substr(name.size() + 1);
+    }
+    return value;
+}
+
+/// CLI11's own config reader replaced by core/toml.h (toml++), so a --config file is real TOML
+/// and every error names the file, the line and the key: syntax errors (also a binary file) with
+/// line and column, unknown keys with the options the tool has, tables (a config file is flat).
+class TomlConfig : public CLI::Config {
+  public:
+    explicit TomlConfig(const CLI::App& app) : m_app(app) {}
+    /// The file name for messages (CLI11 hands from_config only the stream).
+    void set_source(std::string source) { m_source = std::move(source); }
+
+    std::string to_config(const CLI::App* app, bool defaults, bool write_description,
+                          std::string prefix) const override {
+        return CLI::ConfigTOML().to_config(app, defaults, write_description, std::move(prefix));
+    }
+
+    std::vector<CLI::ConfigItem> from_config(std::istream& in) const override {
+        const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+        const std::string source = m_source.empty() ? "--config" : m_source;
+        toml::Document doc;
+        try {
+            doc = toml::parse(text, source);
+        } catch (const Error& e) {
+            throw CLI::ConfigError(e.what());
+        }
+        const toml::Table* table = nullptr;
+        for (const auto& [name, t] : doc.tables) {
+            if (!table || t.line < table->line) table = &t;
+        }
+        for (const auto& [name, list] : doc.table_arrays) {
+            if (!table || list.front().line < table->line) table = &list.front();
+        }
+        if (table) {
+            throw CLI::ConfigError(str(source, ":", table->line, ": [",
+                                       table->name, "]: a --config file has no tables; its keys "
+                                       "are the tool's long option names"));
+        }
+        std::vector<CLI::ConfigItem> items;
+        for (const auto& [key, value] : doc.root.values) {
+            const CLI::Option* opt = m_app.get_option_no_throw("--" + key);
+            if (!opt) opt = m_app.get_option_no_throw(key);  // a positional, as CLI11 allows
+            const std::string where = str(source, ":", value.line, ": ");
+            if (!opt || key == "config") {
+                throw CLI::ConfigError(str(where, "unknown key '", key, "': not an option of ",
+                                           m_app.get_name(), " (keys are long option names "
+                                           "without '--'; see --help)"));
+            }
+            CLI::ConfigItem item;
+            item.name = key;
+            if (const auto* array = std::get_if<toml::Array>(&value.data)) {
+                for (const toml::Value& v : *array) item.inputs.push_back(scalar(v, where, key));
+            } else {
+                item.inputs.push_back(scalar(value, where, key));
+            }
+            items.push_back(std::move(item));
+        }
+        return items;
+    }
+
+  private:
+    /// A TOML value as the command-line word CLI11 converts (integers without a decimal point,
+    /// floats round-tripping, nan and inf spelled so the finite() checks reject them by name).
+    static std::string scalar(const toml::Value& v, const std::string& where,
+                              const std::string& key) {
+        if (const auto* b = std::get_if<bool>(&v.data)) return *b ? "true" : "false";
+        if (const auto* s = std::get_if<std::string>(&v.data)) return *s;
+        if (const auto* d = std::get_if<double>(&v.data)) {
+            if (v.is_integer) return std::to_string(static_cast<long long>(*d));
+            if (std::isnan(*d)) return "nan";
+            if (std::isinf(*d)) return *d > 0 ? "inf" : "-inf";
+            char buffer[32];
+            std::snprintf(buffer, sizeof buffer, "%.17g", *d);
+            return buffer;
+        }
+        throw CLI::ConfigError(str(where, key, ": nested arrays are not option values"));
+    }
+
+    const CLI::App& m_app;
+    std::string m_source;
+};
+
+}  // namespace
 
 void setup(CLI::App& app, CommonArgs& common, const std::string& example) {
     app.add_flag_callback(
@@ -23,6 +121,7 @@ void setup(CLI::App& app, CommonArgs& common, const std::string& example) {
     app.set_config("--config", "", "TOML file of options; keys are long option names (e.g. "
                                    "threads = 2); flags given on the command line override it");
     app.allow_config_extras(false);
+    app.config_formatter(std::make_shared<TomlConfig>(app));
     app.add_option("--report", common.report_path,
                    "Write the JSON run report here ('-' = stdout)");
     app.add_option("--threads", common.threads, "Worker threads (0 = all cores)")
@@ -42,18 +141,6 @@ void setup(CLI::App& app, CommonArgs& common, const std::string& example) {
 }
 
 namespace {
-
-/// The value of --report in argv ("--report X" or "--report=X"), or "" (the last one wins, as in
-/// CLI11). Used when the parser rejected the command line and CommonArgs may not be filled.
-std::string report_path_in(int argc, char** argv) {
-    std::string path;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "--report" && i + 1 < argc) path = argv[++i];
-        if (a.rfind("--report=", 0) == 0) path = a.substr(9);
-    }
-    return path;
-}
 
 /// Whether `path` is the same file as an existing file named on the command line (other than as
 /// the value of --report): such a file may be an input, and the report must not overwrite it.
@@ -113,12 +200,15 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip) {
     for (CLI::Option* opt : app.get_options()) {
         if (opt->get_type_name().rfind("FLOAT", 0) == 0) opt->check(finite());
     }
+    if (auto config = std::dynamic_pointer_cast<TomlConfig>(app.get_config_formatter())) {
+        config->set_source(option_value_in(argc, argv, "--config"));
+    }
     try {
         app.parse(argc - skip, argv + skip);
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e) == 0 ? kExitOk : kExitUsage;
         // A run rejected by the parser still gets the report it asked for.
-        const std::string report_path = report_path_in(argc, argv);
+        const std::string report_path = option_value_in(argc, argv, "--report");
         if (code != kExitOk && !report_path.empty()) {
             Report report(tool_name(app));
             report.set_argv(argc, argv);

@@ -123,5 +123,47 @@ TEST(App, AnOutputOntoTheReportOrAnInputIsAUsageError) {
         << report["error"];
 }
 
+TEST(App, ConfigFileErrorsNameTheFileLineAndKey) {
+    // --config is read by core/toml.h (toml++): every message names the file and the line; a
+    // value goes through the option's own checks, NaN included, as if given on the command line.
+    const std::string dir = testing::temp_dir("app_config");
+    auto message = [&](const std::string& name, const std::string& text) {
+        fs::write_text_atomic(dir + "/" + name, text);
+        CLI::App cli{"t", "tool-x"};
+        app::CommonArgs common;
+        double gain = 1;
+        std::vector<std::string> inputs;
+        cli.add_option("inputs", inputs);
+        cli.add_option("--gain", gain);
+        app::setup(cli, common, "tool-x");
+        Args args({"tool-x", "--config", dir + "/" + name});
+        ::testing::internal::CaptureStderr();
+        const auto code = app::parse(cli, args.argc(), args.argv.data());
+        const std::string err = ::testing::internal::GetCapturedStderr();
+        if (!code) return std::string("accepted: gain ") + std::to_string(gain) + ", inputs " +
+                          std::to_string(inputs.size());
+        EXPECT_EQ(*code, app::kExitUsage) << err;
+        return err;
+    };
+    auto contains = [](const std::string& text, const std::string& part) {
+        return text.find(part) != std::string::npos;
+    };
+    EXPECT_EQ(message("ok.toml", "gain = 2.5\ninputs = [\"a\", \"b\"]\nthreads = 1\n"),
+              "accepted: gain 2.500000, inputs 2");
+    std::string m = message("syntax.toml", "gain = 2.5\ngain = = 3\n");
+    EXPECT_TRUE(contains(m, "syntax.toml:2:")) << m;
+    EXPECT_TRUE(contains(m, "TOML syntax error")) << m;
+    // \r\n and \n end lines 1 and 2 of a PNG signature; its first NUL is on line 3.
+    m = message("binary.toml", std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16));
+    EXPECT_TRUE(contains(m, "binary.toml:3: binary data (a NUL byte): not a TOML text file")) << m;
+    m = message("typo.toml", "gain = 2\ngian = 3\n");
+    EXPECT_TRUE(contains(m, "typo.toml:2: unknown key 'gian': not an option of tool-x")) << m;
+    m = message("table.toml", "gain = 2\n[render]\nspp = 3\n");
+    EXPECT_TRUE(contains(m, "table.toml:2: [render]: a --config file has no tables")) << m;
+    m = message("nan.toml", "gain = nan\n");
+    EXPECT_TRUE(contains(m, "--gain")) << m;
+    EXPECT_TRUE(contains(m, "finite")) << m;
+}
+
 }  // namespace
 }  // namespace inlight

@@ -1,256 +1,122 @@
 #include "core/toml.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <limits>
+#include <string_view>
 
+#include <toml++/toml.h>
+
+#include "core/check.h"
 #include "core/error.h"
 #include "core/fs.h"
 
 namespace inlight::toml {
 namespace {
 
-/// A cursor over the whole text that tracks the line number.
-class Parser {
+/// Converts toml++'s tree into the Document the project's readers use: TOML itself (syntax,
+/// duplicate keys and tables, escapes, numbers) is toml++'s job; this only flattens tables into
+/// dotted names and keeps each value's line and column for messages.
+class Converter {
   public:
-    Parser(const std::string& text, const std::string& source) : m_s(text), m_source(source) {}
+    explicit Converter(Document& doc) : m_doc(doc) {}
 
-    Document run() {
-        Document doc;
-        doc.source = m_source;
-        Table* current = &doc.root;
-        while (true) {
-            skip_blank_lines();
-            if (at_end()) break;
-            if (peek() == '[') {
-                current = &header(doc);
+    /// Adds the key/values of `in` to `out` and every sub-table of `in` to the document, under
+    /// `prefix` + key. `in_array` names the [[array]] element being read, if any.
+    void table(const ::toml::table& in, Table& out, const std::string& prefix,
+               const std::string& in_array) {
+        for (const auto& [key, node] : in) {
+            const std::string name = prefix + std::string(key.str());
+            if (const auto* t = node.as_table()) {
+                if (!in_array.empty()) {
+                    fail(node, str("[", in_array, "] ", key.str(), ": a table inside [[", in_array,
+                                   "]] is not supported"));
+                }
+                sub_table(*t, name);
+            } else if (const auto* a = node.as_array(); a && !a->empty() && a->is_array_of_tables()) {
+                if (!in_array.empty()) {
+                    fail(node, str("[", in_array, "] ", key.str(), ": an array of tables inside [[",
+                                   in_array, "]] is not supported"));
+                }
+                if (m_doc.tables.count(name)) fail(node, str("[[", name, "]] is also a [", name, "]"));
+                auto& list = m_doc.table_arrays[name];
+                for (const auto& element : *a) {
+                    const auto& et = *element.as_table();
+                    list.push_back(Table{name, line_of(et), column_of(et), {}});
+                    table(et, list.back(), name + ".", name);
+                }
             } else {
-                key_value(*current);
+                out.values.emplace(std::string(key.str()), value(node, out.name, key.str()));
             }
         }
-        return doc;
     }
 
   private:
-    /// Throws "<source>:<line>: <what>", or "<source>:<line>: [<table>] <key>: <what>" while a
-    /// value is being read.
-    [[noreturn]] void fail(const std::string& what, int line = 0) const {
-        throw Error(str(m_source, ":", line > 0 ? line : m_line, ": ", m_key_context, what));
-    }
-    bool at_end() const { return m_pos >= m_s.size(); }
-    char peek() const { return at_end() ? '\0' : m_s[m_pos]; }
-    char get() {
-        const char c = m_s[m_pos++];
-        if (c == '\n') ++m_line;
-        return c;
-    }
-    void skip_space() {
-        while (!at_end() && (peek() == ' ' || peek() == '\t')) ++m_pos;
-    }
-    void skip_comment() {
-        if (peek() == '#') {
-            while (!at_end() && peek() != '\n') ++m_pos;
+    /// A [table] (or dotted key / inline table): listed under its dotted name when it holds
+    /// values or nothing at all; a table holding only tables (such as the implicit [material]
+    /// of [material.denim]) is not listed itself.
+    void sub_table(const ::toml::table& t, const std::string& name) {
+        const bool only_tables =
+            !t.empty() && std::all_of(t.begin(), t.end(), [](const auto& kv) {
+                return kv.second.is_table() || kv.second.is_array_of_tables();
+            });
+        if (only_tables) {
+            Table ignored{name, 0, 0, {}};
+            table(t, ignored, name + ".", "");
+            return;
         }
+        auto [it, inserted] = m_doc.tables.emplace(name, Table{name, line_of(t), column_of(t), {}});
+        INLIGHT_CHECK(inserted) << "toml++ gave table " << name << " twice";
+        table(t, it->second, name + ".", "");
     }
-    /// Whitespace, comments and newlines (between statements and inside arrays).
-    void skip_blank_lines() {
-        while (!at_end()) {
-            skip_space();
-            skip_comment();
-            if (peek() == '\n' || peek() == '\r') {
-                get();
-            } else {
+
+    Value value(const ::toml::node& node, const std::string& table_name, std::string_view key) {
+        Value v;
+        v.line = line_of(node);
+        v.column = column_of(node);
+        switch (node.type()) {
+            case ::toml::node_type::boolean:
+                v.data = node.as_boolean()->get();
+                break;
+            case ::toml::node_type::integer:
+                v.data = static_cast<double>(node.as_integer()->get());
+                v.is_integer = true;
+                break;
+            case ::toml::node_type::floating_point:
+                v.data = node.as_floating_point()->get();
+                break;
+            case ::toml::node_type::string:
+                v.data = node.as_string()->get();
+                break;
+            case ::toml::node_type::array: {
+                Array items;
+                for (const auto& element : *node.as_array()) {
+                    if (element.is_table()) {
+                        fail(element, str(where(table_name, key), "tables inside an array of "
+                                                                  "values are not supported"));
+                    }
+                    items.push_back(value(element, table_name, key));
+                }
+                v.data = std::move(items);
                 break;
             }
-        }
-    }
-    /// After a statement: only spaces and a comment may follow before the newline.
-    void end_of_line() {
-        skip_space();
-        skip_comment();
-        if (peek() == '\r') ++m_pos;
-        if (at_end()) return;
-        if (peek() != '\n') fail(str("unexpected '", peek(), "' after the value"));
-        get();
-    }
-
-    std::string key() {
-        skip_space();
-        if (peek() == '"' || peek() == '\'') return string_value();
-        std::string k;
-        while (!at_end() && (std::isalnum(static_cast<unsigned char>(peek())) || peek() == '_' ||
-                             peek() == '-')) {
-            k += get();
-        }
-        if (k.empty()) fail(str("expected a key, got '", peek(), "'"));
-        return k;
-    }
-
-    Table& header(Document& doc) {
-        get();  // '['
-        const bool array = peek() == '[';
-        if (array) get();
-        std::string name;
-        while (true) {
-            name += key();
-            skip_space();
-            if (peek() == '.') {
-                get();
-                name += '.';
-                continue;
-            }
-            break;
-        }
-        if (peek() != ']') fail(str("expected ']' to close [", name));
-        get();
-        if (array) {
-            if (peek() != ']') fail(str("expected ']]' to close [[", name));
-            get();
-        }
-        const int line = m_line;
-        end_of_line();
-        if (array) {
-            if (doc.tables.count(name)) {
-                fail(str("[[", name, "]] was already declared as [", name, "]"), line);
-            }
-            auto& list = doc.table_arrays[name];
-            list.push_back(Table{name, line, {}});
-            return list.back();
-        }
-        if (doc.table_arrays.count(name)) {
-            fail(str("[", name, "] was already declared as [[", name, "]]"), line);
-        }
-        auto [it, inserted] = doc.tables.emplace(name, Table{name, line, {}});
-        if (!inserted) fail(str("duplicate table [", name, "]"), line);
-        return it->second;
-    }
-
-    void key_value(Table& table) {
-        const int line = m_line;
-        const std::string k = key();
-        skip_space();
-        if (peek() == '.') fail(str("dotted key '", k, ".' is not supported; use a [table]"));
-        if (peek() != '=') fail(str("expected '=' after key '", k, "'"));
-        get();
-        skip_space();
-        m_key_context = str(table.name.empty() ? "" : str("[", table.name, "] "), k, ": ");
-        Value v = value();
-        m_key_context.clear();
-        v.line = line;
-        if (table.values.count(k)) fail(str("duplicate key '", k, "'"), line);
-        table.values.emplace(k, std::move(v));
-        end_of_line();
-    }
-
-    std::string string_value() {
-        const char quote = get();
-        std::string out;
-        while (true) {
-            if (at_end() || peek() == '\n') fail("unterminated string");
-            const char c = get();
-            if (c == quote) break;
-            if (c == '\\' && quote == '"') {
-                if (at_end()) fail("unterminated string");
-                const char e = get();
-                switch (e) {
-                    case '"':
-                        out += '"';
-                        break;
-                    case '\\':
-                        out += '\\';
-                        break;
-                    case 'n':
-                        out += '\n';
-                        break;
-                    case 't':
-                        out += '\t';
-                        break;
-                    case 'r':
-                        out += '\r';
-                        break;
-                    default:
-                        fail(str("unsupported escape '\\", e, "' in a string"));
-                }
-            } else {
-                out += c;
-            }
-        }
-        return out;
-    }
-
-    Value value() {
-        Value v;
-        v.line = m_line;
-        const char c = peek();
-        if (c == '"' || c == '\'') {
-            if (m_s.compare(m_pos, 3, std::string(3, c)) == 0)
-                fail("multi-line strings are not supported");
-            v.data = string_value();
-        } else if (c == '[') {
-            get();
-            Array items;
-            while (true) {
-                skip_blank_lines();
-                if (peek() == ']') {
-                    get();
-                    break;
-                }
-                items.push_back(value());
-                skip_blank_lines();
-                if (peek() == ',') {
-                    get();
-                } else if (peek() != ']') {
-                    fail(str("expected ',' or ']' in an array, got '", peek(), "'"));
-                }
-            }
-            v.data = std::move(items);
-        } else if (c == '{') {
-            fail("inline tables are not supported; use a [table]");
-        } else {
-            std::string word;
-            while (!at_end() &&
-                   (std::isalnum(static_cast<unsigned char>(peek())) || peek() == '.' ||
-                    peek() == '+' || peek() == '-' || peek() == '_')) {
-                word += get();
-            }
-            if (word.empty()) fail(str("expected a value, got '", c, "'"));
-            if (word == "true" || word == "false") {
-                v.data = word == "true";
-            } else {
-                v.data = number(word, v.is_integer);
-            }
+            default:  // dates and times
+                fail(node, str(where(table_name, key), "dates and times are not used by inlight"));
         }
         return v;
     }
 
-    double number(std::string word, bool& is_integer) const {
-        word.erase(std::remove(word.begin(), word.end(), '_'), word.end());
-        std::string body = word;
-        double sign = 1;
-        if (!body.empty() && (body[0] == '+' || body[0] == '-')) {
-            sign = body[0] == '-' ? -1 : 1;
-            body = body.substr(1);
-        }
-        is_integer = false;
-        if (body == "inf") return sign * std::numeric_limits<double>::infinity();
-        if (body == "nan") return std::numeric_limits<double>::quiet_NaN();
-        try {
-            size_t used = 0;
-            const double d = std::stod(word, &used);
-            if (used != word.size()) throw std::invalid_argument("trailing");
-            is_integer = word.find_first_of(".eE") == std::string::npos;
-            return d;
-        } catch (const std::exception&) {
-            fail(str("'", word, "' is not a number, boolean or quoted string"));
-        }
+    static std::string where(const std::string& table_name, std::string_view key) {
+        return str(table_name.empty() ? "" : str("[", table_name, "] "), key, ": ");
+    }
+    static int line_of(const ::toml::node& n) { return static_cast<int>(n.source().begin.line); }
+    static int column_of(const ::toml::node& n) {
+        return static_cast<int>(n.source().begin.column);
+    }
+    [[noreturn]] void fail(const ::toml::node& n, const std::string& what) const {
+        throw Error(str(m_doc.source, ":", line_of(n), ":", column_of(n), ": ", what));
     }
 
-    const std::string& m_s;
-    std::string m_source;
-    std::string m_key_context;  ///< "[table] key: " while a value is read, else ""
-    size_t m_pos = 0;
-    int m_line = 1;
+    Document& m_doc;
 };
 
 std::string type_name(const Value& v) {
@@ -269,9 +135,25 @@ std::string type_name(const Value& v) {
 }  // namespace
 
 Document parse(const std::string& text, const std::string& source) {
-    return Parser(text, source).run();
+    if (const size_t nul = text.find('\0'); nul != std::string::npos) {
+        const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(nul), '\n');
+        throw Error(str(source, ":", line, ": binary data (a NUL byte): not a TOML text file"));
+    }
+    ::toml::table parsed;
+    try {
+        parsed = ::toml::parse(text, source);
+    } catch (const ::toml::parse_error& e) {
+        const auto& at = e.source().begin;
+        const std::string what(e.description());
+        const bool binary = what.find("utf-8") != std::string::npos;
+        throw Error(str(source, ":", at.line, ":", at.column, ": TOML syntax error: ", what,
+                        binary ? " (a binary file, not TOML text?)" : ""));
+    }
+    Document doc;
+    doc.source = source;
+    Converter(doc).table(parsed, doc.root, "", "");
+    return doc;
 }
-
 Document parse_file(const std::string& path) { return parse(fs::read_file(path), path); }
 
 Reader::Reader(const Document& doc, const Table& table) : m_doc(doc), m_table(table) {}
@@ -288,7 +170,8 @@ std::string Reader::where(const std::string& key) const {
     const auto it = m_table.values.find(key);
     const int line = it == m_table.values.end() ? m_table.line : it->second.line;
     const std::string table = m_table.name.empty() ? "" : str("[", m_table.name, "] ");
-    return str(m_doc.source, ":", line, ": ", table, key, ": ");
+    // The root table has no line: then the file alone is named.
+    return str(m_doc.source, line > 0 ? str(":", line) : "", ": ", table, key, ": ");
 }
 
 std::string Reader::get_string(const std::string& key, const std::string& fallback) const {

@@ -1,11 +1,12 @@
-// core/toml.h: the one TOML reader of inlight (scene files, material files and any later config
-// file): the subset of TOML v1.0 below, with messages that name the file, the line and the key.
+// core/toml.h: the one TOML reader of inlight (scene files, material files, fabric files and the
+// tools' --config files). TOML v1.0 itself is parsed by toml++ (Debian's libtomlplusplus-dev);
+// this layer adds what TOML does not say: typed access whose errors name the file, the line and
+// the key, ranges, and unknown keys as errors.
 //
-// Supported: comments (#), bare and "quoted" keys, [table] and [a.b] headers, [[array-of-tables]]
-// headers, key = value with basic "strings" (escapes \" \\ \n \t \r), 'literal strings', integers,
-// floats (1.5, 1e-3, inf, nan), booleans, and arrays of those values (which may span lines).
-// Not supported (rejected with an error): dotted keys on the left of '=', inline tables,
-// multi-line strings, dates.
+// Tables, dotted keys (a.b = 1) and inline tables ({b = 1}) all become Document::tables under
+// their dotted name; [[name]] arrays of tables become Document::table_arrays. Rejected with an
+// error: a table or array of tables inside an [[array]] element, tables inside arrays of values,
+// dates and times (nothing in inlight takes them).
 #pragma once
 
 #include <Eigen/Core>
@@ -19,17 +20,19 @@ namespace inlight::toml {
 struct Value;
 using Array = std::vector<Value>;
 
-/// One value with the line it was read from (for messages).
+/// One value with where it was read from (for messages; 1-based).
 struct Value {
     std::variant<bool, double, std::string, Array> data;
-    bool is_integer = false;  ///< written without '.', 'e', inf or nan
+    bool is_integer = false;  ///< a TOML integer (written without '.', 'e', inf or nan)
     int line = 0;
+    int column = 0;
 };
 
 /// A table: its key/value pairs (sorted by key) and where it was declared.
 struct Table {
     std::string name;  ///< "" for the root, "camera", "material.denim", "object" (per element)
-    int line = 0;
+    int line = 0;      ///< of the [header] (0 for the root)
+    int column = 0;
     std::map<std::string, Value> values;
 };
 
@@ -42,9 +45,10 @@ struct Document {
     std::map<std::string, std::vector<Table>> table_arrays;
 };
 
-/// Parses TOML text; `source` names it in errors. Throws Error "<source>:<line>: <what>" on a
-/// syntax error, a duplicate key or a duplicate [table]; an error inside a value also names its
-/// key: "<source>:<line>: [<table>] <key>: <what>" ("[<table>] " absent for root keys).
+/// Parses TOML text; `source` names it in errors. Throws Error
+/// "<source>:<line>:<column>: TOML syntax error: <what>" for anything TOML v1.0 rejects (syntax,
+/// duplicate keys or tables, bad escapes, invalid UTF-8 such as a binary file), and
+/// "<source>:<line>:<column>: [<table>] <key>: <what>" for the constructs listed above.
 Document parse(const std::string& text, const std::string& source);
 /// Reads and parses a file. Throws Error naming the file if it cannot be read.
 Document parse_file(const std::string& path);

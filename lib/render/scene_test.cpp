@@ -109,9 +109,9 @@ TEST(SceneFile, ErrorsNameFileLineTableAndKey) {
     expect_error(replace(kScene, "[environment]", "[environmnet]"),
                  "bad.toml: missing [environment] table");
     expect_error(replace(kScene, "radius = 0.25", "radius = 0.25 0.5"),
-                 "bad.toml:28: unexpected '0' after the value");
+                 "bad.toml:28:15: TOML syntax error");
     expect_error(replace(kScene, "[camera]", "[camera]\n[camera]"),
-                 "bad.toml:7: duplicate table [camera]");
+                 "bad.toml:7:1: TOML syntax error: Error while parsing table header: cannot redefine existing table 'camera'");
     expect_error(replace(kScene, "size = [2, 1]", "size = [2, 1"), "bad.toml:");
     expect_error(std::string("x = 1\n") + kScene, "bad.toml:1: key 'x' outside any table");
     expect_error(replace(kScene, "[environment]\nradiance = [0.5, 1, 2]",
