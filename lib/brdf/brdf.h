@@ -76,17 +76,19 @@ struct Material {
     double specular_scale = 1.0;
 };
 
-/// Reads a flat TOML material file (core/toml.h; no [tables]). Keys (all optional; defaults as
-/// in Material):
+/// Reads a flat TOML material file (core/toml.h; no [tables]). Keys (`specular` required, so an
+/// empty or truncated file is an error and never a silent default GGX; the others optional,
+/// defaults as in Material):
 ///   specular = "ggx" | "cook-torrance-report" | "charlie" | "lambert"
 ///   albedo, f0, sheen_color = [r, g, b] or one number for all channels, each in [0, 1]
 ///   alpha, report_f = number in [0, 1]; report_r = number in (0, 100];
 ///   specular_scale = number in [0, 1e6]
 ///   name, description = string (ignored)
 /// Throws Error "<file>:<line>: <key>: <what is wrong>" on bad values, wrong types or values out
-/// of range, "<file>:<line>: unknown key '<key>' (known: ...)", "<file>:<line>: duplicate key
-/// '<key>'", "<file>:<line>: tables (...) are not supported in material files" and other syntax
-/// errors with file and line, and "<file>: cannot read material file" when it cannot be opened.
+/// of range, "<file>:<line>: unknown key '<key>' (known: ...)", "<file>: specular: required key
+/// is missing ...", "<file>:<line>: tables (...) are not supported in material files",
+/// "<file>:<line>:<column>: TOML syntax error: ..." (also for a duplicate key or a binary file),
+/// and "<file>: cannot read material file" when it cannot be opened.
 Material load_material(const std::string& toml_path);
 /// The same from TOML text; `name` is used in error messages.
 Material parse_material(const std::string& toml_text, const std::string& name);
@@ -95,6 +97,10 @@ Material parse_material(const std::string& toml_text, const std::string& name);
 /// reader.finish() after reading its own keys. Scene files use it for inline [material.<name>]
 /// overrides, so both accept the same keys and ranges. Throws Error as load_material does.
 void read_material_keys(const toml::Reader& reader, Material& material);
+/// Throws Error "<where>specular: required key is missing ..." unless the table of `reader` names
+/// its lobe: a material file, a fabric's [material] and a scene's [material.<name>] without
+/// `file` must say which BRDF they are, rather than bake the default GGX without a word.
+void require_specular(const toml::Reader& reader);
 
 /// The material as TOML text that parse_material() reads back to the same values.
 std::string to_toml(const Material& material);

@@ -500,10 +500,12 @@ TEST(Material, ErrorsNameFileLineAndKey) {
         {"specular = \"phong\"\n", "cloth.toml:1: specular: unknown BRDF"},
         {"albedo = [1, 2]\n", "cloth.toml:1: albedo: expected an array of 3 numbers"},
         {"sheen_color = [0.5, 2, 0.5]\n", "cloth.toml:1: sheen_color: 2 is outside [0, 1]"},
-        {"f0 = abc\n", "cloth.toml:1: f0: 'abc' is not a number"},
+        {"f0 = abc\n", "cloth.toml:1:6: TOML syntax error"},
         {"[material]\n", "cloth.toml:1: tables ([material]) are not supported"},
         {"alpha = 0.1\n\n[[layer]]\nf0 = 1\n", "cloth.toml:3: tables ([[layer]])"},
-        {"alpha = 0.1\nalpha = 0.2\n", "cloth.toml:2: duplicate key 'alpha'"},
+        {"alpha = 0.1\nalpha = 0.2\n", "cloth.toml:2:9: TOML syntax error: Error while parsing key-value pair: cannot redefine existing floating-point 'alpha'"},
+        {"", "cloth.toml: specular: required key is missing"},
+        {"alpha = 0.2\n", "cloth.toml: specular: required key is missing"},
     };
     for (const auto& c : kCases) {
         EXPECT_NE(error_of(c.text).find(c.expected), std::string::npos)

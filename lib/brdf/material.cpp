@@ -62,6 +62,14 @@ void read_material_keys(const toml::Reader& r, Material& m) {
     r.check_range("specular_scale", m.specular_scale, 0, 1e6);
 }
 
+void require_specular(const toml::Reader& r) {
+    if (!r.has("specular")) {
+        throw Error(str(r.where("specular"), "required key is missing: name the lobe (specular = "
+                                             "\"ggx\", \"cook-torrance-report\", \"charlie\" or "
+                                             "\"lambert\")"));
+    }
+}
+
 Material parse_material(const std::string& text, const std::string& name) {
     const toml::Document doc = toml::parse(text, name);
     reject_tables(doc);
@@ -71,6 +79,7 @@ Material parse_material(const std::string& text, const std::string& name) {
     r.get_string("name", "");  // name, description: documentation only
     r.get_string("description", "");
     r.finish();
+    require_specular(r);
     return m;
 }
 

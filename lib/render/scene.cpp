@@ -114,6 +114,7 @@ void parse_materials(const toml::Document& doc, SceneDesc& scene, const std::str
         m.uv_scale = r.get_vector("uv_scale", 2, m.uv_scale, true);
         r.check_range("uv_scale", m.uv_scale.minCoeff(), 1e-6, 1e6);
         r.finish();
+        if (!r.has("file")) brdf::require_specular(r);
         scene.materials.push_back(std::move(m));
     }
 }

@@ -321,6 +321,7 @@ WeaveSpec parse_weave(const std::string& text, const std::string& source) {
                     "the yarns' colours are warp_albedo / weft_albedo / color_* (root keys)"));
         }
         mr.finish();
+        brdf::require_specular(mr);
     }
     validate(s, str(source, ": "));
     return s;
