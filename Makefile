@@ -3,7 +3,7 @@ BUILD    ?= build
 JOBS     ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build debug asan test test-only bench demo smoke format clean
+.PHONY: all deps configure build debug asan fuzz test test-only bench demo smoke format clean
 
 all: build
 
@@ -44,6 +44,16 @@ asan:
 	cmake --build build-asan -j $(JOBS)
 	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE slow
 
+# libFuzzer harnesses, one per loader (docs/fuzzing.md), built with clang, ASan and UBSan in
+# build-fuzz, then each run for FUZZ_SECONDS (two at a time, nice 10). The 10-minute runs:
+# make fuzz FUZZ_SECONDS=600.
+FUZZ_SECONDS ?= 30
+fuzz:
+	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Fuzz -DINLIGHT_FUZZ=ON \
+		-DINLIGHT_BUILD_BENCH=OFF $(CMAKE_FLAGS)
+	cmake --build build-fuzz -j $(JOBS) --target inlight_fuzzers
+	./fuzz/run.sh build-fuzz $(FUZZ_SECONDS)
+
 test: deps build test-only
 
 test-only:
@@ -62,4 +72,4 @@ format:
 	find apps lib tests -name '*.h' -o -name '*.cpp' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD) build-debug build-asan
+	rm -rf $(BUILD) build-debug build-asan build-fuzz

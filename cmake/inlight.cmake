@@ -1,7 +1,8 @@
 # Helpers that keep each module's and tool's CMakeLists.txt to a few lines (like Mitsuba's add_plugin).
 
 add_library(inlight_warnings INTERFACE)
-target_compile_options(inlight_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local
+target_compile_options(inlight_warnings INTERFACE -Wall -Wextra -Wpedantic
+    $<IF:$<CXX_COMPILER_ID:GNU>,-Wshadow=local,-Wshadow-uncaptured-local>
     -Wnon-virtual-dtor -Wno-unused-parameter)
 if(INLIGHT_WARNINGS_AS_ERRORS)
     target_compile_options(inlight_warnings INTERFACE -Werror)
