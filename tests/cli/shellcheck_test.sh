@@ -3,7 +3,7 @@
 set -uo pipefail
 ROOT=${INLIGHT_SOURCE_DIR:?}
 cd "$ROOT" || exit 1
-mapfile -t scripts < <(find pipelines tests .ci -name '*.sh' -o -path '.ci/run' | sort)
+mapfile -t scripts < <(find pipelines tests fuzz .ci -name '*.sh' -o -path '.ci/run' | sort)
 if shellcheck -x "${scripts[@]}"; then
     echo "${#scripts[@]} passed, 0 failed"
 else

@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# Bad input files, at least one per loader a tool reads: images (EXR, HDR, PNG), TOML (scene,
+# material, fabric via bundle, --config), OBJ and PLY meshes, OpenCV corner files, response JSON
+# and bundle manifests; plus the silent defaults of issue #12 (an empty material file or one
+# without `specular` baked a default GGX without a word). Each: exit code, a message naming the
+# file and the problem, $OUT as it was. (The SH coefficient and BTF readers have no tool yet:
+# fuzz/ replays their seeds and crash inputs, and their unit tests hold the bad-file cases.)
+# shellcheck source=tests/cli/lib.sh
+source "$(dirname "$0")/../cli/lib.sh"
+# shellcheck source=tests/badinput/lib.sh
+source "$(dirname "$0")/lib.sh"
+EP="$BIN/envmap-project"
+BAKE="$BIN/brdf-sh-bake"
+R="$BIN/render"
+CAL="$BIN/calibrate"
+MK="$TBIN/inlight_make_test_image"
+"$MK" "$WORK/env.exr" 32 16 0.5
+
+# Images: truncated EXR, garbage HDR and PNG, an empty file.
+head -c 200 "$WORK/env.exr" > "$WORK/truncated.exr"
+printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999 +X 99999\nshort' > "$WORK/garbage.hdr"
+printf '\x89PNG\r\n\x1a\nnot really a png' > "$WORK/garbage.png"
+: > "$WORK/empty.exr"
+bad 1 "truncated.exr" "truncated EXR" -- "$EP" "$WORK/truncated.exr" -o "$OUT/t_sh.json"
+bad 1 "garbage.hdr" "HDR with a lying header" -- "$EP" "$WORK/garbage.hdr" -o "$OUT/g_sh.json"
+bad 1 "garbage.png" "garbage PNG" -- "$EP" "$WORK/garbage.png" -o "$OUT/g_sh.json"
+bad 1 "empty.exr" "empty EXR" -- "$EP" "$WORK/empty.exr" -o "$OUT/e_sh.json"
+
+# --config: a TOML syntax error names file, line and column; a binary file says it is binary.
+printf 'sh-bands = 3\nvalidate = = true\n' > "$WORK/syntax.toml"
+bad 2 "syntax.toml:2:[0-9]*: TOML syntax error" "TOML syntax error in --config" -- \
+    "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config "$WORK/syntax.toml"
+cp "$WORK/env.exr" "$WORK/binary.toml"
+bad 2 "binary.toml.*binary" "binary file as --config" -- "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config "$WORK/binary.toml"
+printf 'sh-bandz = 3\n' > "$WORK/typo.toml"
+bad 2 "typo.toml:1: unknown key 'sh-bandz'" "unknown key in --config" -- \
+    "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config "$WORK/typo.toml"
+
+# Material files: silent defaults are errors now; a syntax error names line and column.
+: > "$WORK/empty.toml"
+bad 1 "empty.toml: specular: required key is missing" "empty material file" -- \
+    "$BAKE" --material "$WORK/empty.toml" -o "$OUT/m"
+printf 'alpha = 0.3\nf0 = 0.04\n' > "$WORK/nospec.toml"
+bad 1 "nospec.toml: specular: required key is missing" "material file without specular" -- \
+    "$BAKE" --material "$WORK/nospec.toml" -o "$OUT/m"
+printf 'specular = "ggx"\nalpha = 0.3 0.4\n' > "$WORK/msyntax.toml"
+bad 1 "msyntax.toml:2:[0-9]*: TOML syntax error" "material syntax error" -- \
+    "$BAKE" --material "$WORK/msyntax.toml" -o "$OUT/m"
+
+# Scene files (render): syntax, NaN rotation of the environment, a material without specular,
+# and meshes holding NaN, Inf, garbage or out-of-range indices.
+scene() {  # scene FILE ENV_LINES MATERIAL_LINES OBJECT_LINES
+    printf '[environment]\nradiance = 1\n%s\n[camera]\nwidth_px = 8\nheight_px = 8\n[material.m]\n%s\n[[object]]\nmaterial = "m"\n%s\n' \
+        "$2" "$3" "$4" > "$1"
+}
+scene "$WORK/ok.toml" '' 'specular = "lambert"' 'shape = "sphere"'
+expect_exit 0 "the scene the bad ones derive from renders" -- "$R" "$WORK/ok.toml" -o "$WORK/ok.exr" --spp 1
+scene "$WORK/rotnan.toml" 'rotation = "z=nan"' 'specular = "lambert"' 'shape = "sphere"'
+bad 1 "rotnan.toml:.*rotation" "scene rotation z=nan" -- "$R" "$WORK/rotnan.toml" -o "$OUT/s.exr"
+scene "$WORK/nospec_scene.toml" '' 'albedo = 0.5' 'shape = "sphere"'
+bad 1 "nospec_scene.toml:.*\[material.m\] specular: required key is missing" "scene material without specular" -- \
+    "$R" "$WORK/nospec_scene.toml" -o "$OUT/s.exr"
+printf '[environment]\nradiance = 1\n[camera\n' > "$WORK/ssyntax.toml"
+bad 1 "ssyntax.toml:3:[0-9]*: TOML syntax error" "scene syntax error" -- "$R" "$WORK/ssyntax.toml" -o "$OUT/s.exr"
+bad_mesh() {  # bad_mesh FILE CONTENT PATTERN DESCRIPTION [ROTATION]: a scene with that mesh fails
+    printf '%b' "$2" > "$WORK/$1"
+    scene "$WORK/$1.toml" '' 'specular = "lambert"' "shape = \"mesh\"
+path = \"$WORK/$1\"
+rotation = \"${5:-none}\""
+    bad 1 "$3" "$4" -- "$R" "$WORK/$1.toml" -o "$OUT/s.exr"
+}
+bad_mesh nan.obj 'v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n' "nan.obj:3" "OBJ vertex with NaN"
+bad_mesh index.obj 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n' "index.obj:4" "OBJ face index out of range"
+PLY_HEAD='ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n'
+bad_mesh inf.ply "${PLY_HEAD}0 0 0\n1 0 inf\n0 1 0\n3 0 1 2\n" "inf.ply" "PLY vertex with Inf"
+bad_mesh short.ply 'ply\nformat binary_little_endian 1.0\nelement vertex 1000000\nproperty float x\nend_header\nxx' \
+    "short.ply" "binary PLY shorter than its header says"
+bad_mesh ok.obj 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "ok.obj.toml:.*rotation" "mesh rotation x=nan" "x=nan"
+
+# Corner files (calibrate geometry --image-points): NaN, a missing node, not YAML at all.
+corners() {  # corners FILE FIRST_VALUE
+    printf '%%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\nimage_0: [ %s, 80., 140., 80., 180., 80., 100., 120., 140., 120., 180., 120. ]\n' "$2" > "$1"
+}
+corners "$WORK/nan_corners.yml" .nan
+bad 1 "nan_corners.yml.*image_0" "corner file holding NaN" -- \
+    "$CAL" geometry --image-points "$WORK/nan_corners.yml" --board 3x2 -o "$OUT/cal"
+printf '%%YAML:1.0\n---\nimage_width: 640\n' > "$WORK/no_views.yml"
+bad 1 "no_views.yml" "corner file without views" -- \
+    "$CAL" geometry --image-points "$WORK/no_views.yml" --board 3x2 -o "$OUT/cal"
+cp "$WORK/env.exr" "$WORK/binary.yml"
+bad 1 "binary.yml" "binary file as corner file" -- \
+    "$CAL" geometry --image-points "$WORK/binary.yml" --board 3x2 -o "$OUT/cal"
+
+# Response curves (envmap-project --response): not JSON, wrong format, short curves.
+"$MK" "$WORK/frame.png" 32 16 0.5
+printf '{"format": "inlight_response", "channels": ["r"], "g": [[0, 1]]' > "$WORK/notjson.json"
+bad 1 "notjson.json" "response file that is not JSON" -- \
+    "$EP" "$WORK/frame.png" -o "$OUT/r_sh.json" --response "$WORK/notjson.json" --exposure-s 0.01
+printf '{"format": "something_else"}' > "$WORK/format.json"
+bad 1 "format.json.*inlight_response" "response file of another format" -- \
+    "$EP" "$WORK/frame.png" -o "$OUT/r_sh.json" --response "$WORK/format.json" --exposure-s 0.01
+printf '{"format": "inlight_response", "channels": ["r", "g", "b"], "g": [[0, 1], [0, 1], [0, 1]]}' > "$WORK/short.json"
+bad 1 "short.json.*256" "response curves of 2 values" -- \
+    "$EP" "$WORK/frame.png" -o "$OUT/r_sh.json" --response "$WORK/short.json" --exposure-s 0.01
+
+# Bundle manifests (bundle verify): not JSON, traversal.
+mkdir -p "$WORK/bundle1" "$WORK/bundle2"
+printf '{"format": "inlight_bundle", ' > "$WORK/bundle1/manifest.json"
+bad 1 "manifest.json.*not valid JSON" "bundle manifest that is not JSON" -- "$BIN/bundle" verify "$WORK/bundle1"
+printf '{"format": "inlight_bundle", "version": 1, "kind": "fabric", "id": "x", "name": "x", "created_by": "t", "properties": {}, "files": [{"path": "../../etc/passwd", "role": "albedo", "media_type": "image/png", "color_space": "srgb", "bytes": 1, "sha256": "%064d", "width_px": 1, "height_px": 1, "stream_index": -1}]}' 0 > "$WORK/bundle2/manifest.json"
+bad 1 "\.\." "bundle manifest with a path out of the bundle" -- "$BIN/bundle" verify "$WORK/bundle2"
+finish

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Bad option values, one case per class of issue #12 (and more): NaN and Inf are usage errors
+# everywhere (CLI11's Range lets NaN through; app::parse adds finite() to every float option), a
+# rotation holding NaN is a usage error and not a CHECK abort, quality gates and stop rules
+# reject NaN and negatives, sizes that cannot be allocated and empty sizes are named, and a run
+# rejected by the parser still writes the report it asked for. Exit 2, option named, $OUT as it was.
+# shellcheck source=tests/cli/lib.sh
+source "$(dirname "$0")/../cli/lib.sh"
+# shellcheck source=tests/badinput/lib.sh
+source "$(dirname "$0")/lib.sh"
+SRC=${INLIGHT_SOURCE_DIR:?}
+EP="$BIN/envmap-project"
+BAKE="$BIN/brdf-sh-bake"
+R="$BIN/render"
+CAL="$BIN/calibrate"
+MAT="$SRC/configs/materials/satin-ggx.toml"
+FURNACE="$SRC/configs/scenes/sphere_furnace.toml"
+"$TBIN/inlight_make_test_image" "$WORK/env.exr" 32 16 0.5
+ENV=("$WORK/env.exr" -o "$OUT/env_sh.json")
+
+# Aborts: a rotation with NaN or Inf was a CHECK failure (SIGABRT, no message, no report).
+bad 2 "rotate.*nan" "--rotate z=nan" -- "$EP" "${ENV[@]}" --rotate z=nan
+bad 2 "rotate.*inf" "--rotate x=inf" -- "$EP" "${ENV[@]}" --rotate x=inf
+
+# NaN accepted: every float option of every tool.
+bad 2 "intensity.*nan" "--intensity nan" -- "$EP" "${ENV[@]}" --intensity nan
+bad 2 "fit-lambda.*nan" "--fit-lambda nan" -- "$EP" "${ENV[@]}" --fit-lambda nan
+bad 2 "max-error.*nan" "envmap-project --max-error nan" -- "$EP" "${ENV[@]}" --max-error nan
+bad 2 "max-mean-rel-error.*nan" "gate --max-mean-rel-error nan" -- "$EP" "${ENV[@]}" --max-mean-rel-error nan
+bad 2 "max-mean-rel-error" "negative gate --max-mean-rel-error -1" -- "$EP" "${ENV[@]}" --max-mean-rel-error -1
+bad 2 "view-deg.*nan" "brdf-sh-bake --view-deg nan" -- "$BAKE" --material "$MAT" -o "$OUT/b" --view-deg nan
+bad 2 "max-error.*nan" "brdf-sh-bake --max-error nan" -- "$BAKE" --material "$MAT" -o "$OUT/b" --max-error nan
+bad 2 "view" "view behind the screen (--view 0,0,-1)" -- "$BAKE" --material "$MAT" -o "$OUT/b" --view 0,0,-1
+bad 2 "view-deg" "view behind the screen (--view-deg 120)" -- "$BAKE" --material "$MAT" -o "$OUT/b" --view-deg 120
+bad 2 "time-budget-s.*nan" "stop rule --time-budget-s nan" -- "$R" "$FURNACE" -o "$OUT/f.exr" --time-budget-s nan
+bad 2 "target-rel-error.*nan" "stop rule --target-rel-error nan" -- "$R" "$FURNACE" -o "$OUT/f.exr" --target-rel-error nan
+bad 2 "max-rel-error.*nan" "gate --max-rel-error nan" -- "$R" "$FURNACE" -o "$OUT/f.exr" --max-rel-error nan
+bad 2 "max-rel-error" "negative gate --max-rel-error -0.5" -- "$R" "$FURNACE" -o "$OUT/f.exr" --max-rel-error -0.5
+bad 2 "fov-deg.*nan" "calibrate --fov-deg nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --fov-deg nan
+bad 2 "outlier-factor.*nan" "calibrate --outlier-factor nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --outlier-factor nan
+bad 2 "device-from-camera" "calibrate --device-from-camera z=nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --device-from-camera z=nan
+bad 2 "exposure-s.*inf" "calibrate response --exposure-s inf" -- "$CAL" response --images "$WORK/env.exr" "$WORK/env.exr" --exposure-s 0.01 inf -o "$OUT/resp.json"
+
+# NaN in a --config file: the same check as on the command line, naming the option.
+printf 'intensity = nan\n' > "$WORK/nan.toml"
+bad 2 "intensity.*nan" "intensity = nan in --config" -- "$EP" "${ENV[@]}" --config "$WORK/nan.toml"
+printf 'max-rel-error = -inf\n' > "$WORK/inf.toml"
+bad 2 "max-rel-error" "max-rel-error = -inf in --config" -- "$R" "$FURNACE" -o "$OUT/f.exr" --config "$WORK/inf.toml"
+
+# Unclear messages: sizes that cannot be allocated or are empty, and a negative seed.
+bad 2 "board.*100000x100000" "--board 100000x100000" -- "$CAL" geometry "$WORK" --board 100000x100000 -o "$OUT/cal"
+bad 2 "downscale.*0x0" "--downscale 0x0" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --downscale 0x0
+bad 2 "seed" "--seed -1" -- "$EP" "${ENV[@]}" --seed -1
+bad 2 "rt-grid" "render --rt-grid hex:4 (rejected before any path tracing)" -- "$R" "$FURNACE" -o "$OUT/f.exr" --compare --rt-grid hex:4
+
+# Reports: a run the parser rejects still writes its report, status failed, the error in it.
+bad 2 "intensity" "report of a parse failure" -- "$EP" "${ENV[@]}" --intensity nan --report "$WORK/r.json"
+expect_true "report written: failed, exit 2, error names the option" -- \
+    jq -e '.status == "failed" and .exit_code == 2 and (.error | test("intensity"))' "$WORK/r.json"
+finish

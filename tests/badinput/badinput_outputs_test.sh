@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Outputs, the classes of issue #12: an output naming an input (calibrate response's image, the
+# scene's environment map) or another output (--stderr-output = -o; two inputs of one stem into
+# one folder) is a usage error naming both, found before any work; a run that fails after some
+# of its outputs could be written (the second of two envmap-project inputs is bad; the .json of
+# brdf-sh-bake cannot be placed) leaves nothing, the output folder as it was.
+# shellcheck source=tests/cli/lib.sh
+source "$(dirname "$0")/../cli/lib.sh"
+# shellcheck source=tests/badinput/lib.sh
+source "$(dirname "$0")/lib.sh"
+SRC=${INLIGHT_SOURCE_DIR:?}
+EP="$BIN/envmap-project"
+MK="$TBIN/inlight_make_test_image"
+
+# Inputs overwritten: -o naming an input of calibrate response.
+"$MK" "$WORK/a.png" 32 16 0.2
+"$MK" "$WORK/b.png" 32 16 0.6
+cp "$WORK/a.png" "$WORK/a_orig.png"
+bad 2 "a.png" "calibrate response -o naming an input image" -- \
+    "$BIN/calibrate" response --images "$WORK/a.png" "$WORK/b.png" --exposure-s 0.01 0.04 -o "$WORK/a.png"
+same_file "$WORK/a.png" "$WORK/a_orig.png" "the input image is untouched"
+
+# render -o naming the scene's environment map.
+"$MK" "$WORK/sky.exr" 32 16 1
+cp "$WORK/sky.exr" "$WORK/sky_orig.exr"
+printf '[environment]\npath = "sky.exr"\n[camera]\nwidth_px = 8\nheight_px = 8\n[material.m]\nspecular = "lambert"\n[[object]]\nmaterial = "m"\nshape = "sphere"\n' > "$WORK/scene.toml"
+bad 2 "sky.exr" "render -o naming the scene's environment map" -- "$BIN/render" "$WORK/scene.toml" -o "$WORK/sky.exr" --spp 1
+same_file "$WORK/sky.exr" "$WORK/sky_orig.exr" "the environment map is untouched"
+
+# Two outputs of one run on one path.
+bad 2 "stderr-output" "render --stderr-output equal to -o" -- \
+    "$BIN/render" "$WORK/scene.toml" -o "$OUT/x.exr" --stderr-output "$OUT/x.exr" --spp 1
+mkdir -p "$WORK/d1" "$WORK/d2"
+"$MK" "$WORK/d1/sky.exr" 32 16 1
+"$MK" "$WORK/d2/sky.exr" 32 16 2
+bad 2 "sky" "two inputs of one stem into one output folder" -- "$EP" "$WORK/d1/sky.exr" "$WORK/d2/sky.exr" -o "$OUT"
+
+# Partial results: the second input is bad; the first one's results must not stay.
+"$MK" "$WORK/good.exr" 32 16 1
+"$MK" "$WORK/wrong_aspect.exr" 32 15 1
+bad 1 "wrong_aspect.exr" "second of two envmap-project inputs bad" -- "$EP" "$WORK/good.exr" "$WORK/wrong_aspect.exr" -o "$OUT"
+# brdf-sh-bake: OUT.json cannot be placed (a folder holds its name): found before any work now,
+# so OUT.bin is never written.
+mkdir -p "$OUT/satin.json"
+bad 2 "satin.json.*existing folder" "brdf-sh-bake whose .json cannot be placed" -- \
+    "$BIN/brdf-sh-bake" --material "$SRC/configs/materials/satin-ggx.toml" -o "$OUT/satin" --grid report5x5 --samples 64
+rmdir "$OUT/satin.json"
+finish
