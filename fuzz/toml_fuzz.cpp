@@ -17,7 +17,8 @@ namespace {
 
 void typed_reads(const inlight::toml::Document& doc, const inlight::toml::Table& table) {
     const inlight::toml::Reader r(doc, table);
-    for (const auto& [key, value] : table.values) {
+    for (const auto& entry : table.values) {
+        const std::string& key = entry.first;  // a named copy: lambdas cannot capture bindings
         inlight::fuzz::expect_error_or_success([&] { r.get_double(key, 0); });
         inlight::fuzz::expect_error_or_success([&] { r.get_int(key, 0); });
         inlight::fuzz::expect_error_or_success([&] { r.get_bool(key, false); });
