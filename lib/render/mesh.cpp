@@ -1,5 +1,6 @@
 #include "render/mesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -77,6 +78,7 @@ TriangleMesh load_ply(const std::string& path) {
     if (line.rfind("ply", 0) != 0) throw Error(str(path, ": not a PLY file (no 'ply' magic)"));
     std::string format;
     std::vector<PlyElement> elements;
+    bool end_header = false;
     while (std::getline(header, line)) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         std::istringstream ls(line);
@@ -86,7 +88,12 @@ TriangleMesh load_ply(const std::string& path) {
             ls >> format;
         } else if (word == "element") {
             PlyElement e;
-            ls >> e.name >> e.count;
+            std::string count;
+            ls >> e.name >> count;
+            // Each item takes at least one byte, so a count beyond the file's size is a lie (and
+            // would loop or allocate for nothing).
+            e.count = parse_integer(count, str(path, ": PLY element '", e.name, "' count"), 0,
+                                    static_cast<long long>(data.size()));
             elements.push_back(e);
         } else if (word == "property") {
             if (elements.empty()) throw Error(str(path, ": PLY property before any element"));
@@ -101,7 +108,14 @@ TriangleMesh load_ply(const std::string& path) {
             }
             elements.back().props.push_back(p);
         } else if (word == "end_header") {
+            end_header = true;
             break;
+        }
+    }
+    if (!end_header) throw Error(str(path, ": PLY header without end_header"));
+    for (const PlyElement& e : elements) {
+        if (e.count > 0 && e.props.empty()) {
+            throw Error(str(path, ": PLY element '", e.name, "' has no properties"));
         }
     }
     if (format != "ascii" && format != "binary_little_endian") {
@@ -137,10 +151,21 @@ TriangleMesh load_ply(const std::string& path) {
                     }
                     return v;
                 };
+                // List lengths and indices must be whole numbers in range before any cast.
+                auto read_int = [&](const std::string& type, double lo, double hi) {
+                    const double v = read_value(type);
+                    if (v != std::floor(v) || v < lo || v > hi) {
+                        throw Error(str(path, ": element '", e.name, "' ", i, ", '", p.name,
+                                        "': ", v, " is not an integer in [", lo, ", ", hi, "]"));
+                    }
+                    return static_cast<int>(v);
+                };
                 if (!p.count_type.empty()) {
-                    const int n = static_cast<int>(read_value(p.count_type));
-                    std::vector<int> items(static_cast<size_t>(std::max(n, 0)));
-                    for (int& item : items) item = static_cast<int>(read_value(p.type));
+                    // A list item takes at least one byte (or character) of the file.
+                    const int n = read_int(p.count_type, 0,
+                                           static_cast<double>(std::min<size_t>(data.size(), 1 << 30)));
+                    std::vector<int> items(static_cast<size_t>(n));
+                    for (int& item : items) item = read_int(p.type, -2147483647.0, 2147483647.0);
                     if (p.name == "vertex_indices" || p.name == "vertex_index") list = items;
                 } else {
                     scalars[p.name] = read_value(p.type);
