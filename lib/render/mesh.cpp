@@ -92,8 +92,12 @@ TriangleMesh load_ply(const std::string& path) {
             ls >> e.name >> count;
             // Each item takes at least one byte, so a count beyond the file's size is a lie (and
             // would loop or allocate for nothing).
-            e.count = parse_integer(count, str(path, ": PLY element '", e.name, "' count"), 0,
-                                    static_cast<long long>(data.size()));
+            try {
+                e.count = parse_integer(count, str(path, ": PLY element '", e.name, "' count"), 0,
+                                        static_cast<long long>(data.size()));
+            } catch (const Error& bad) {  // a bad file is a data error (exit 1), not a usage error
+                throw Error(bad.what());
+            }
             elements.push_back(e);
         } else if (word == "property") {
             if (elements.empty()) throw Error(str(path, ": PLY property before any element"));
