@@ -42,7 +42,8 @@ asan:
 	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DINLIGHT_SANITIZE=address,undefined \
 		-DINLIGHT_BUILD_BENCH=OFF $(CMAKE_FLAGS)
 	cmake --build build-asan -j $(JOBS)
-	cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -LE slow
+	cd build-asan && ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0 \
+		LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp ctest --output-on-failure -j $(JOBS) -LE slow
 
 # libFuzzer harnesses, one per loader (docs/fuzzing.md), built with clang, ASan and UBSan in
 # build-fuzz, then each run for FUZZ_SECONDS (two at a time, nice 10). The 10-minute runs:

@@ -16,6 +16,10 @@ src=$(cd "$(dirname "$0")/.." && pwd)
 bin=$build/fuzz
 "$bin/inlight_make_seeds" "$src" "$bin/seeds"
 mkdir -p "$bin/logs"
+# Leaks inside Debian's libraries are suppressed by name (fuzz/lsan.supp); the name is only on a
+# full stack, hence the slow unwinder on malloc.
+export LSAN_OPTIONS="suppressions=$src/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+export ASAN_OPTIONS="fast_unwind_on_malloc=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 
 run_one() {
     local h=$1
