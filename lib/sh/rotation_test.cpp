@@ -1,5 +1,6 @@
 // Tests of SH rotation and coefficient files.
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -15,7 +16,11 @@
 namespace inlight::sh {
 namespace {
 
-constexpr double kRotTol = 1e-12;  // exact quadrature; error is accumulated rounding only
+// rotation_matrix is an exact quadrature over N = (bands + 1) (2 bands + 2) nodes, so each entry's
+// error is rounding only: at most N u sum_nodes w |Y_k Y_k'| <= N u (Cauchy-Schwarz with the
+// orthonormality the rule reproduces), u = 2^-53. Blocks are (2l + 1) wide, so a product of two
+// such matrices, or of one with a vector, gathers at most 2 (2 lmax + 1) of these errors.
+double rotation_entry_tol(int bands) { return (bands + 1.0) * (2 * bands + 2) * 0x1p-53; }
 
 TEST(ShRotation, RotatedCoefficientsEvaluateRotatedFunction) {
     std::mt19937_64 rng(5);
@@ -34,7 +39,11 @@ TEST(ShRotation, RotatedCoefficientsEvaluateRotatedFunction) {
             fw += cr(k) * yw[static_cast<size_t>(k)];  // g(w)
             fi += c(k) * yi[static_cast<size_t>(k)];   // f(R^-1 w)
         }
-        EXPECT_NEAR(fw, fi, kRotTol * 100);
+        // |(D c - exact) . Y(w)| <= (2 lmax + 1) eps_D |c| |Y(w)|, |Y(w)|^2 = n / (4 pi) (addition
+        // theorem); Y's own evaluation at two points adds the same order again: factor 2.
+        const double tol = 2 * (2 * bands - 1) * rotation_entry_tol(bands) * c.norm() *
+                           std::sqrt(n / (4 * kPi));
+        EXPECT_NEAR(fw, fi, tol);
     }
 }
 
@@ -44,8 +53,12 @@ TEST(ShRotation, InverseRoundTripAndOrthogonality) {
     const Eigen::MatrixXd d = rotation_matrix(bands, r);
     const Eigen::MatrixXd di = rotation_matrix(bands, r.transpose());
     const Eigen::MatrixXd id = Eigen::MatrixXd::Identity(count(bands), count(bands));
-    EXPECT_LT((di * d - id).cwiseAbs().maxCoeff(), kRotTol * 10);
-    EXPECT_LT((d.transpose() * d - id).cwiseAbs().maxCoeff(), kRotTol * 10);
+    const double tol = 2 * (2 * bands - 1) * rotation_entry_tol(bands);
+    EXPECT_LT((di * d - id).cwiseAbs().maxCoeff(), tol);
+    EXPECT_LT((d.transpose() * d - id).cwiseAbs().maxCoeff(), tol);
+    std::printf("rotation, %d bands: |D^-1 D - I| %.1e, |D^T D - I| %.1e, bound %.1e\n", bands,
+                (di * d - id).cwiseAbs().maxCoeff(), (d.transpose() * d - id).cwiseAbs().maxCoeff(),
+                tol);
 }
 
 TEST(ShIo, JsonAndBinaryRoundTrip) {
