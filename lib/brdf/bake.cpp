@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/bits.h"
 #include "core/check.h"
 #include "core/error.h"
 #include "core/number.h"
@@ -55,13 +56,6 @@ uint32_t sobol_dim1(uint32_t i) {
         if (i & 1u) r ^= v;
     }
     return r;
-}
-uint32_t reverse_bits(uint32_t x) {
-    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
-    x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
-    return (x >> 16) | (x << 16);
 }
 double u32_to_unit(uint32_t x) { return (static_cast<double>(x) + 0.5) * 0x1.0p-32; }
 
@@ -380,7 +374,7 @@ Eigen::MatrixXd project_normal(const Material& m, const Eigen::Vector3d& n, cons
             const double inv_n = 1.0 / o.samples;
             for (int i = 0; i < o.samples; ++i) {
                 const uint32_t idx = static_cast<uint32_t>(i);
-                const Eigen::Vector2d u(u32_to_unit(reverse_bits(idx) ^ shift0),
+                const Eigen::Vector2d u(u32_to_unit(bits::reverse_bits32(idx) ^ shift0),
                                         u32_to_unit(sobol_dim1(idx) ^ shift1));
                 const Sample s = fv.edge_on ? sample_baked_lobe_edge_on(m, fv.wo, u)
                                             : sample_baked_lobe(m, fv.wo, u);

@@ -9,13 +9,6 @@
 
 namespace inlight::render {
 
-uint64_t mix64(uint64_t x) {
-    x += 0x9e3779b97f4a7c15ull;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-}
-
 Rng::Rng(uint64_t seed, uint64_t pixel, uint64_t sample) {
     const uint64_t h = mix64(mix64(mix64(seed) ^ pixel) ^ (sample * 0xd1342543de82ef95ull));
     m_inc = (mix64(h ^ 0x5851f42d4c957f2dull) << 1u) | 1u;

@@ -12,16 +12,20 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/bits.h"
+
 namespace inlight::render {
 
-/// SplitMix64 finaliser: a bijective 64-bit mix.
-uint64_t mix64(uint64_t x);
+/// SplitMix64 finaliser: a bijective 64-bit mix (one definition, in core/bits.h).
+using bits::mix64;
 
 /// PCG32 whose state and stream are derived from hashed counters, so every (seed, pixel, sample)
 /// path has its own independent stream and results do not depend on which thread runs it.
 class Rng {
   public:
     Rng(uint64_t seed, uint64_t pixel, uint64_t sample);
+    /// A placeholder that costs nothing (stream 0 of seed 0; not meant to be drawn from).
+    Rng() : m_state(0), m_inc(1) {}
     uint32_t next_u32();
     /// Uniform in [0, 1) with 32 random bits (never returns 1).
     double uniform() { return next_u32() * 0x1p-32; }
