@@ -20,7 +20,7 @@ using namespace inlight;
 namespace {
 
 struct Args {
-    std::string scene, output, stderr_output, strategy = "mis", rt_lighting;
+    std::string scene, output, stderr_output, strategy = "mis", rt_lighting, sampler = "sobol";
     int width_px = 0, height_px = 0, convergence_ref_spp = 0, decompose_map_height = 128;
     double max_rel_error = 0;
     bool no_jitter = false, compare = false, decompose = false;
@@ -69,6 +69,14 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--strategy", a.strategy, "Light transport estimator: mis | bsdf | light")
         ->check(CLI::IsMember({"mis", "bsdf", "light"}))
+        ->capture_default_str();
+    app.add_option("--sampler", a.sampler,
+                   "Sample numbers: sobol (Owen-scrambled, Morton-ordered pixels) | independent")
+        ->check(CLI::IsMember({"sobol", "independent"}))
+        ->capture_default_str();
+    app.add_option("--scramble-groups", opt.scramble_groups,
+                   "Sobol: independently scrambled groups per pixel that estimate its noise")
+        ->check(CLI::Range(2, 16))
         ->capture_default_str();
     app.add_option("--tile-px", opt.tile_px, "Tile size in pixels (unit of parallel work)")
         ->check(CLI::Range(1, 4096))
@@ -142,6 +150,7 @@ int main(int argc, char** argv) {
         opt.seed = common.seed;
         opt.jitter = !a.no_jitter;
         opt.strategy = render::strategy_from_string(a.strategy);
+        opt.sampler = render::sampler_from_string(a.sampler);
         if (cap.enabled || !shade.btf.empty()) {
             if (cap.enabled) fs::declare_output(a.output, "-o");
             render::CaptureOptions co;
@@ -198,6 +207,7 @@ int main(int argc, char** argv) {
         m = render::to_json(r);
         m["width_px"] = scene->camera().width_px;
         m["height_px"] = scene->camera().height_px;
+        m["sampler"] = a.sampler;
         log::info(str("render: ", r.spp, " spp in ", r.render_time_s, " s, ",
                       r.rays / std::max(r.render_time_s, 1e-9) / 1e6, " Mrays/s, rel_error ",
                       r.rel_error, " (", r.stop_reason, ")"));

@@ -79,6 +79,8 @@ image::Image truth_under_environment(const std::shared_ptr<const weave::Weave>& 
     const int w = options.width_px, h = options.height_px;
     image::Image out(w, h, 3, image::ColorSpace::kLinearSrgb);
     std::vector<double> se2(size_t(h), 0), ys(size_t(h), 0);
+    // Independent samples: the standard error below is the per-sample variance / n.
+    const Sampler sampler(SamplerKind::kIndependent, options.seed, w, h, options.spp, 1);
     parallel::for_chunks(h, 1, [&](int64_t y0, int64_t y1) {
         for (int64_t y = y0; y < y1; ++y) {
             for (int x = 0; x < w; ++x) {
@@ -86,9 +88,9 @@ image::Image truth_under_environment(const std::shared_ptr<const weave::Weave>& 
                 double sy = 0, sy2 = 0;
                 int64_t rays = 0;
                 for (int s = 0; s < options.spp; ++s) {
-                    Rng rng(options.seed, uint64_t(y) * uint64_t(w) + uint64_t(x), uint64_t(s));
-                    const Eigen::Vector2d j =
-                        options.jitter ? rng.uniform2() : Eigen::Vector2d(0.5, 0.5);
+                    Sampler::Stream rng = sampler.stream(x, static_cast<int>(y), s);
+                    const Eigen::Vector2d j = options.jitter ? rng.get2d(PathDims::kPixelDim)
+                                                             : Eigen::Vector2d(0.5, 0.5);
                     Eigen::Vector3d l = trace_path(cs.scene(), cs.view_ray(v, x + j[0], y + j[1]),
                                                    rng, ro, &rays);
                     if (!l.allFinite()) l.setZero();

@@ -44,24 +44,79 @@ struct Welford {
     }
 };
 
-double rel_error_of(const std::vector<Welford>& acc) {
-    if (acc.empty() || acc[0].n < 2) return std::numeric_limits<double>::quiet_NaN();
+/// Per-pixel running statistics: a Welford mean and variance over all samples, and with G >= 2
+/// scramble groups the per-group sums whose spread estimates the error of the mean.
+class Accumulators {
+  public:
+    Accumulators(size_t pixels, int groups)
+        : m_groups(groups), m_all(pixels), m_group_sum(groups > 1 ? pixels * groups * 4 : 0) {}
+
+    /// Adds sample `s` (of group s % G) of pixel i; samples of a pixel arrive in order.
+    void add(size_t i, int64_t s, const Eigen::Vector3d& x) {
+        m_all[i].add(x);
+        if (m_groups > 1) {
+            double* g = &m_group_sum[(i * static_cast<size_t>(m_groups) +
+                                      static_cast<size_t>(s % m_groups)) * 4];
+            g[0] += x[0];
+            g[1] += x[1];
+            g[2] += x[2];
+            g[3] += luminance(x);
+        }
+    }
+    size_t size() const { return m_all.size(); }
+    /// Samples a pixel needs before its standard error is defined.
+    int64_t min_count() const { return m_groups > 1 ? m_groups : 2; }
+    int64_t count(size_t i) const { return m_all[i].n; }
+    double mean(size_t i, int c) const { return m_all[i].mean[c]; }
+
+    /// Squared standard error of pixel i's mean in channel c (R, G, B, Y): the Welford sample
+    /// variance / n with one group (independent samples), else the variance of the G group
+    /// means / G (independent randomisations). 0 while undefined (n < 2, or n < G).
+    double variance_of_mean(size_t i, int c) const {
+        const int64_t n = m_all[i].n;
+        if (m_groups == 1) {
+            const double se = m_all[i].std_error(c);
+            return se * se;
+        }
+        if (n < m_groups) return 0.0;
+        const int64_t base = n / m_groups, extra = n % m_groups;
+        const double* g = &m_group_sum[i * static_cast<size_t>(m_groups) * 4];
+        double means[16], sum = 0;
+        for (int k = 0; k < m_groups; ++k) {
+            means[k] = g[static_cast<size_t>(k) * 4 + static_cast<size_t>(c)] /
+                       static_cast<double>(base + (k < extra ? 1 : 0));
+            sum += means[k];
+        }
+        const double m = sum / m_groups;
+        double ss = 0;
+        for (int k = 0; k < m_groups; ++k) ss += (means[k] - m) * (means[k] - m);
+        return ss / (static_cast<double>(m_groups) * (m_groups - 1));
+    }
+
+  private:
+    int m_groups;
+    std::vector<Welford> m_all;
+    std::vector<double> m_group_sum;  ///< pixel-major, then group, then R, G, B, Y
+};
+
+double rel_error_of(const Accumulators& acc) {
+    if (acc.size() == 0) return std::numeric_limits<double>::quiet_NaN();
     double se2 = 0, y = 0;
-    for (const auto& a : acc) {
-        const double se = a.std_error(3);
-        se2 += se * se;
-        y += a.mean[3];
+    for (size_t i = 0; i < acc.size(); ++i) {
+        if (acc.count(i) < acc.min_count()) return std::numeric_limits<double>::quiet_NaN();
+        se2 += acc.variance_of_mean(i, 3);
+        y += acc.mean(i, 3);
     }
     const double n = static_cast<double>(acc.size());
     if (!(y != 0)) return std::numeric_limits<double>::quiet_NaN();
     return std::sqrt(se2 / n) / std::abs(y / n);
 }
 
-image::Image mean_image(const std::vector<Welford>& acc, int w, int h) {
+image::Image mean_image(const Accumulators& acc, int w, int h) {
     image::Image img(w, h, 3, image::ColorSpace::kLinearSrgb);
     for (size_t i = 0; i < acc.size(); ++i) {
         for (int c = 0; c < 3; ++c)
-            img.pixels[i * 3 + static_cast<size_t>(c)] = static_cast<float>(acc[i].mean[c]);
+            img.pixels[i * 3 + static_cast<size_t>(c)] = static_cast<float>(acc.mean(i, c));
     }
     return img;
 }
@@ -79,14 +134,26 @@ Ray spawn_ray(const Eigen::Vector3d& p, const Eigen::Vector3d& ng, const Eigen::
     return r;
 }
 
-bool russian_roulette(Eigen::Vector3d& beta, Rng& rng) {
+namespace {
+// Draws its uniform only when q < 1, so an Rng stream is consumed as before.
+template <typename Draw>
+bool roulette(Eigen::Vector3d& beta, Draw draw) {
     const double q = std::min(1.0, beta.maxCoeff());
     if (!(q > 0)) return false;
     if (q < 1.0) {
-        if (rng.uniform() >= q) return false;
+        if (draw() >= q) return false;
         beta /= q;
     }
     return true;
+}
+}  // namespace
+
+bool russian_roulette(Eigen::Vector3d& beta, Rng& rng) {
+    return roulette(beta, [&rng] { return rng.uniform(); });
+}
+
+bool russian_roulette(Eigen::Vector3d& beta, Sampler::Stream& u, int dim) {
+    return roulette(beta, [&u, dim] { return u.get1d(dim); });
 }
 
 Strategy strategy_from_string(const std::string& name) {
@@ -96,7 +163,7 @@ Strategy strategy_from_string(const std::string& name) {
     throw UsageError(str("strategy '", name, "': expected 'mis', 'bsdf' or 'light'"));
 }
 
-Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Rng& rng,
+Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Sampler::Stream& u,
                            const RenderOptions& options, int64_t* rays) {
     const EnvironmentLight& env = scene.environment();
     const Accel& accel = scene.accel();
@@ -126,7 +193,8 @@ Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Rng& rng,
 
         // Next-event estimation: one environment sample, weighted against BSDF sampling.
         if (options.strategy != Strategy::kBsdf) {
-            const EnvironmentLight::Sample ls = env.sample(rng.uniform2());
+            const EnvironmentLight::Sample ls =
+                env.sample(u.get2d(PathDims::bounce(depth, PathDims::kLightDim)));
             if (ls.pdf > 0 && ls.dir.dot(sp.ng) > 0) {
                 const Eigen::Vector3d wi_l = local_from_world * ls.dir;
                 const Eigen::Vector3d f = brdf::eval(sp.brdf, wo_l, wi_l);
@@ -145,15 +213,17 @@ Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Rng& rng,
         }
 
         // Continue the path by BSDF sampling.
-        const Eigen::Vector2d u = rng.uniform2();
-        const double u_lobe = rng.uniform();
-        const brdf::Sample bs = brdf::sample(sp.brdf, wo_l, u, u_lobe);
+        const Eigen::Vector2d u_dir = u.get2d(PathDims::bounce(depth, PathDims::kBsdfDim));
+        const double u_lobe = u.get1d(PathDims::bounce(depth, PathDims::kLobeDim));
+        const brdf::Sample bs = brdf::sample(sp.brdf, wo_l, u_dir, u_lobe);
         if (!bs.valid || !(bs.pdf > 0)) break;
         const Eigen::Vector3d wi = sp.world_from_local * bs.wi;
         if (wi.dot(sp.ng) <= 0) break;  // the shading normal sent it into the surface
         beta = beta.cwiseProduct(bs.value) * (bs.wi.z() / bs.pdf);
         prev_bsdf_pdf = bs.pdf;
-        if (depth + 1 >= options.rr_depth && !russian_roulette(beta, rng)) break;
+        if (depth + 1 >= options.rr_depth &&
+            !russian_roulette(beta, u, PathDims::bounce(depth, PathDims::kRouletteDim)))
+            break;
         ray = spawn_ray(hit.p, sp.ng, wi, scale);
     }
     return radiance;
@@ -169,7 +239,11 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
     const int tiles_y = (h + options.tile_px - 1) / options.tile_px;
     const int64_t tiles = static_cast<int64_t>(tiles_x) * tiles_y;
 
-    std::vector<Welford> acc(static_cast<size_t>(w) * h);
+    INLIGHT_CHECK(options.sampler == SamplerKind::kIndependent ||
+                  (options.scramble_groups >= 2 && options.scramble_groups <= 16));
+    const Sampler sampler(options.sampler, options.seed, w, h, options.spp,
+                          options.sampler == SamplerKind::kSobol ? options.scramble_groups : 1);
+    Accumulators acc(static_cast<size_t>(w) * h, sampler.groups());
     std::vector<int64_t> tile_rays(static_cast<size_t>(tiles), 0);
     std::vector<int64_t> tile_bad(static_cast<size_t>(tiles), 0);
     std::vector<int> snapshots = options.snapshot_spp;
@@ -206,18 +280,18 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
                 for (int y = y0; y < y1; ++y) {
                     for (int x = x0; x < x1; ++x) {
                         const uint64_t pixel = static_cast<uint64_t>(y) * w + x;
-                        Welford& a = acc[pixel];
                         for (int s = first; s < first + n; ++s) {
-                            Rng rng(options.seed, pixel, static_cast<uint64_t>(s));
-                            const Eigen::Vector2d j =
-                                options.jitter ? rng.uniform2() : Eigen::Vector2d(0.5, 0.5);
+                            Sampler::Stream u = sampler.stream(x, y, s);
+                            const Eigen::Vector2d j = options.jitter
+                                                          ? u.get2d(PathDims::kPixelDim)
+                                                          : Eigen::Vector2d(0.5, 0.5);
                             const Ray ray = cam.generate_ray(x + j[0], y + j[1]);
-                            Eigen::Vector3d l = trace_path(scene, ray, rng, options, &rays);
+                            Eigen::Vector3d l = trace_path(scene, ray, u, options, &rays);
                             if (!l.allFinite()) {
                                 l.setZero();
                                 ++bad;
                             }
-                            a.add(l);
+                            acc.add(pixel, s, l);
                         }
                     }
                 }
@@ -234,7 +308,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
             result.snapshots.push_back({done, elapsed(), mean_image(acc, w, h)});
         }
         if (done >= options.spp) break;
-        if (options.target_rel_error > 0 && done >= 2 &&
+        if (options.target_rel_error > 0 && done >= std::max(2, sampler.groups()) &&
             rel_error_of(acc) <= options.target_rel_error) {
             result.stop_reason = "target_rel_error";
             break;
@@ -254,7 +328,7 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
     for (size_t i = 0; i < acc.size(); ++i) {
         for (int c = 0; c < 3; ++c) {
             result.std_error.pixels[i * 3 + static_cast<size_t>(c)] =
-                static_cast<float>(acc[i].std_error(c));
+                static_cast<float>(std::sqrt(acc.variance_of_mean(i, c)));
         }
     }
     result.rel_error = rel_error_of(acc);

@@ -7,7 +7,11 @@
 // Humphreys, PBR 3rd ed., sec. 14.5 (path tracing with NEE and MIS), 13.7 (Russian roulette);
 // Welford 1962 (running variance).
 //
-// Determinism: sample s of pixel p draws from its own PCG32 stream seeded by (seed, p, s), pixels
+// Sampling: render/sampler.h (Owen-scrambled Sobol in Morton order by default, or independent).
+// Noise: the standard error of each pixel comes from the spread of its samples (independent) or
+// of its scramble groups' means (Sobol), so it predicts the error either way.
+//
+// Determinism: sample s of pixel p is a pure function of (seed, p, s, dimension), pixels
 // are rendered in fixed tiles over core/parallel.h, and each pixel's samples are accumulated in
 // sample order, so the output is bit-identical for any thread count and any pass schedule (the
 // time budget changes only how many samples are taken).
@@ -26,6 +30,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "render/sampler.h"
 #include "render/sampling.h"
 #include "render/scene.h"
 
@@ -50,6 +55,11 @@ struct RenderOptions {
     int tile_px = 16;             ///< square tiles, the unit of parallel work
     bool jitter = true;           ///< box filter over the pixel; false = the pixel centre only
     Strategy strategy = Strategy::kMis;
+    SamplerKind sampler = SamplerKind::kSobol;
+    /// Sobol only: independently scrambled sample groups per pixel, whose spread is the noise
+    /// estimate (render/sampler.h); >= 2. More groups give a steadier per-pixel estimate but
+    /// each group is a shorter sequence (the error of their mean grows ~groups^0.2 at spp^-0.7).
+    int scramble_groups = 4;
     std::vector<int> snapshot_spp;  ///< also keep the image after these sample counts
 };
 
@@ -62,7 +72,9 @@ struct Snapshot {
 
 struct RenderResult {
     image::Image radiance;   ///< 3 channels, linear_srgb: mean of the samples
-    image::Image std_error;  ///< 3 channels, data: standard error of that mean (0 when spp < 2)
+    /// 3 channels, data: standard error of that mean (0 when spp < 2, or below one sample per
+    /// scramble group)
+    image::Image std_error;
     int spp = 0;             ///< samples per pixel taken (the same for every pixel)
     int passes = 0;
     int64_t samples = 0;            ///< camera paths
@@ -70,7 +82,7 @@ struct RenderResult {
     int64_t nonfinite_samples = 0;  ///< NaN/Inf path values, counted and replaced by 0
     double render_time_s = 0;
     /// Relative noise of the image: sqrt(mean over pixels of se_Y^2) / mean over pixels of Y,
-    /// Y = Rec.709 luminance, se_Y its standard error. NaN when spp < 2 or the image is black.
+    /// Y = Rec.709 luminance, se_Y its standard error. NaN when spp < 2 (Sobol: < scramble_groups) or the image is black.
     double rel_error = 0;
     std::string stop_reason;  ///< "spp" | "time_budget" | "target_rel_error"
     std::vector<Snapshot> snapshots;
@@ -90,10 +102,12 @@ Ray spawn_ray(const Eigen::Vector3d& p, const Eigen::Vector3d& ng, const Eigen::
 /// Russian roulette (PBR 3rd ed. sec. 13.7): survives with probability q = min(1, max beta)
 /// and divides beta by q; returns false when the path ends (also for beta <= 0).
 bool russian_roulette(Eigen::Vector3d& beta, Rng& rng);
+/// The same with the uniform from dimension `dim` of a sampler stream.
+bool russian_roulette(Eigen::Vector3d& beta, Sampler::Stream& u, int dim);
 
 /// One path's radiance estimate along `ray` (exposed for tests). Adds the rays it traces to
 /// *rays.
-Eigen::Vector3d trace_path(const Scene& scene, const Ray& ray, Rng& rng,
+Eigen::Vector3d trace_path(const Scene& scene, const Ray& ray, Sampler::Stream& u,
                            const RenderOptions& options, int64_t* rays);
 
 /// Error of the path tracer against sample count (it must fall as 1/sqrt(N)).

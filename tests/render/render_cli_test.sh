@@ -14,6 +14,11 @@ expect_true "--help gives units" -- grep -q -- "--time-budget-s" "$WORK/stdout"
 expect_exit 2 "unknown flag is a usage error" -- "$R" "$FURNACE" -o "$WORK/x.exr" --frobnicate
 expect_exit 2 "missing scene file is a usage error" -- "$R" "$WORK/none.toml" -o "$WORK/x.exr"
 expect_exit 2 "spp 0 is a usage error" -- "$R" "$FURNACE" -o "$WORK/x.exr" --spp 0
+expect_exit 2 "unknown sampler is a usage error" -- "$R" "$FURNACE" -o "$WORK/x.exr" --sampler halton
+expect_exit 2 "one scramble group is a usage error" -- "$R" "$FURNACE" -o "$WORK/x.exr" --scramble-groups 1
+expect_exit 0 "independent sampler" -- "$R" "$FURNACE" -o "$WORK/i.exr" "${SMALL[@]}" --spp 8 \
+    --sampler independent --report "$WORK/i.json"
+expect_true "report names the sampler" -- jq -e '.metrics.sampler == "independent"' "$WORK/i.json"
 
 # White furnace through the tool: every pixel is 1 within noise; the report carries the figures.
 expect_exit 0 "furnace" -- "$R" "$FURNACE" -o "$WORK/f.exr" "${SMALL[@]}" --spp 256 --report "$WORK/f.json"
@@ -80,9 +85,9 @@ expect_exit 3 "quality gate on relative error" -- "$R" "$FURNACE" -o "$WORK/q.ex
 expect_true "gate failure reported, outputs kept" -- \
     bash -c "jq -e '.status == \"quality_gate_failed\" and .exit_code == 3' '$WORK/q.json' && test -s '$WORK/q.exr'"
 
-# Convergence: error falls as 1/sqrt(N).
+# Convergence: error falls as 1/sqrt(N) with independent samples.
 expect_exit 0 "convergence study" -- "$R" "$FURNACE" -o "$WORK/c.exr" "${SMALL[@]}" --spp 64 \
-    --convergence-ref-spp 1024 --report "$WORK/c.json"
+    --sampler independent --convergence-ref-spp 1024 --report "$WORK/c.json"
 expect_true "slope within 0.15 of -1/2" -- jq -e '(.metrics.convergence.slope + 0.5 | fabs) < 0.15' "$WORK/c.json"
 
 # Scene-file errors name the file, the line, the table and the key; exit 1; no output.
