@@ -78,6 +78,18 @@ int main(int argc, char** argv) {
                    "Sobol: independently scrambled groups per pixel that estimate its noise")
         ->check(CLI::Range(2, 16))
         ->capture_default_str();
+    app.add_flag("--adaptive", opt.adaptive,
+                 "Adaptive sampling: --spp becomes the mean over the image; passes go to the "
+                 "pixels whose noise falls most per sample (stop with --spp, --time-budget-s or "
+                 "--target-rel-error)");
+    app.add_option("--adaptive-min-spp", opt.adaptive_min_spp,
+                   "Adaptive: uniform samples per pixel before the first choice")
+        ->check(CLI::Range(2, 1 << 16))
+        ->capture_default_str();
+    app.add_option("--adaptive-max-factor", opt.adaptive_max_factor,
+                   "Adaptive: one pixel takes at most this x --spp samples")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     app.add_option("--tile-px", opt.tile_px, "Tile size in pixels (unit of parallel work)")
         ->check(CLI::Range(1, 4096))
         ->capture_default_str();
@@ -208,6 +220,7 @@ int main(int argc, char** argv) {
         m["width_px"] = scene->camera().width_px;
         m["height_px"] = scene->camera().height_px;
         m["sampler"] = a.sampler;
+        m["adaptive"] = opt.adaptive;
         log::info(str("render: ", r.spp, " spp in ", r.render_time_s, " s, ",
                       r.rays / std::max(r.render_time_s, 1e-9) / 1e6, " Mrays/s, rel_error ",
                       r.rel_error, " (", r.stop_reason, ")"));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <limits>
 
@@ -110,6 +111,17 @@ double rel_error_of(const Accumulators& acc) {
     const double n = static_cast<double>(acc.size());
     if (!(y != 0)) return std::numeric_limits<double>::quiet_NaN();
     return std::sqrt(se2 / n) / std::abs(y / n);
+}
+
+image::Image std_error_image(const Accumulators& acc, int w, int h) {
+    image::Image img(w, h, 3, image::ColorSpace::kData);
+    for (size_t i = 0; i < acc.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            img.pixels[i * 3 + static_cast<size_t>(c)] =
+                static_cast<float>(std::sqrt(acc.variance_of_mean(i, c)));
+        }
+    }
+    return img;
 }
 
 image::Image mean_image(const Accumulators& acc, int w, int h) {
@@ -229,46 +241,117 @@ Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Sampler::S
     return radiance;
 }
 
+namespace {
+
+/// Adaptive sampling: which pixels take the next pass. The marginal error reduction of one more
+/// sample in pixel i is ~ v_i / n_i (v_i its variance of the mean, n_i its samples; exactly so for
+/// independent samples, up to a constant factor for QMC), at a cost of r_i / n_i rays (r_i the
+/// rays the pixel has traced: a deterministic proxy for its time), so the MSE of the image falls
+/// fastest for the time spent when v_i / r_i is equalised: pixels at or above the image's mean
+/// take the pass. v_i is
+/// the luminance variance averaged over the 3x3 neighbourhood (a Sobol pixel's own estimate has
+/// 3 dof; 27 keep the choice from chasing noise).
+std::vector<uint8_t> choose_active(const Accumulators& acc, const std::vector<int64_t>& rays,
+                                   int w, int h, int64_t cap) {
+    std::vector<double> v(acc.size());
+    for (size_t i = 0; i < acc.size(); ++i) v[i] = acc.variance_of_mean(i, 3);
+    std::vector<double> ratio(acc.size());
+    double mean_ratio = 0;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            double sum = 0;
+            int count = 0;
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    sum += v[static_cast<size_t>(yy) * w + xx];
+                    ++count;
+                }
+            }
+            const size_t i = static_cast<size_t>(y) * w + x;
+            ratio[i] = sum / count / static_cast<double>(std::max<int64_t>(1, rays[i]));
+            mean_ratio += ratio[i];
+        }
+    }
+    mean_ratio /= static_cast<double>(acc.size());
+    std::vector<uint8_t> active(acc.size(), 0);
+    for (size_t i = 0; i < acc.size(); ++i)
+        active[i] = ratio[i] > 0 && ratio[i] >= mean_ratio && acc.count(i) < cap;
+    return active;
+}
+
+}  // namespace
+
 RenderResult render(const Scene& scene, const RenderOptions& options,
                     const std::function<void(int)>& progress) {
     INLIGHT_CHECK_GE(options.spp, 1);
     INLIGHT_CHECK_GE(options.tile_px, 1);
+    INLIGHT_CHECK_GE(options.adaptive_max_factor, 1);
     const Camera& cam = scene.camera();
     const int w = cam.width_px, h = cam.height_px;
     const int tiles_x = (w + options.tile_px - 1) / options.tile_px;
     const int tiles_y = (h + options.tile_px - 1) / options.tile_px;
     const int64_t tiles = static_cast<int64_t>(tiles_x) * tiles_y;
+    const auto pixels = static_cast<int64_t>(w) * h;
 
     INLIGHT_CHECK(options.sampler == SamplerKind::kIndependent ||
                   (options.scramble_groups >= 2 && options.scramble_groups <= 16));
-    const Sampler sampler(options.sampler, options.seed, w, h, options.spp,
+    // Adaptive: spp is the mean budget and one pixel may take up to adaptive_max_factor x spp.
+    const int64_t cap =
+        options.adaptive ? static_cast<int64_t>(options.spp) * options.adaptive_max_factor
+                         : options.spp;
+    INLIGHT_CHECK_LE(cap, int64_t{1} << 30);
+    const Sampler sampler(options.sampler, options.seed, w, h, static_cast<int>(cap),
                           options.sampler == SamplerKind::kSobol ? options.scramble_groups : 1);
-    Accumulators acc(static_cast<size_t>(w) * h, sampler.groups());
+    Accumulators acc(static_cast<size_t>(pixels), sampler.groups());
+    // Uniform passes until every pixel has an error estimate worth ranking.
+    const int uniform_spp =
+        options.adaptive ? std::min<int>(options.spp, std::max<int>(options.adaptive_min_spp,
+                                                                     2 * sampler.groups()))
+                         : options.spp;
+    const int64_t budget = static_cast<int64_t>(options.spp) * pixels;
     std::vector<int64_t> tile_rays(static_cast<size_t>(tiles), 0);
     std::vector<int64_t> tile_bad(static_cast<size_t>(tiles), 0);
     std::vector<int> snapshots = options.snapshot_spp;
     std::sort(snapshots.begin(), snapshots.end());
+    size_t next_snapshot = 0;
 
     RenderResult result;
-    Progress bar("render", static_cast<int64_t>(options.spp) * tiles);
+    Progress bar("render", budget);
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&start] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
-    int done = 0;
+    const std::clock_t cpu_start = std::clock();
+    auto cpu_elapsed = [cpu_start] {
+        return static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+    };
+    int done = 0;           // uniform passes: samples every pixel has
+    int64_t total = 0;      // samples taken over all pixels
     int pass_spp = 1;
+    std::vector<uint8_t> active(static_cast<size_t>(pixels), 1);
+    std::vector<int64_t> pixel_rays(options.adaptive ? static_cast<size_t>(pixels) : 0, 0);
+    int64_t active_count = pixels;
     result.stop_reason = "spp";
-    while (done < options.spp) {
-        int n = std::min(pass_spp, options.spp - done);
-        for (int s : snapshots) {
-            if (s > done && s < done + n) n = s - done;  // end the pass at the snapshot
+    for (;;) {
+        const bool uniform = done < uniform_spp;
+        int n = std::min(pass_spp, uniform ? uniform_spp - done : pass_spp);
+        if (uniform || !options.adaptive) {
+            for (int s : snapshots) {
+                if (s > done && s < done + n) n = s - done;  // end the pass at the snapshot
+            }
         }
-        if (options.time_budget_s > 0 && done > 0) {
-            const double per_spp = elapsed() / done;
+        if (!uniform && options.adaptive) {  // stay within the budget: no pass overshoots it
+            n = static_cast<int>(std::min<int64_t>(
+                n, std::max<int64_t>(1, (budget - total + active_count - 1) / active_count)));
+        }
+        if (options.time_budget_s > 0 && total > 0) {
+            const double per_sample = elapsed() / static_cast<double>(total);
             const double left = options.time_budget_s - elapsed();
-            n = std::max(1, std::min(n, static_cast<int>(left / std::max(per_spp, 1e-12))));
+            const double per_pass_spp = per_sample * static_cast<double>(active_count);
+            n = std::max(1, std::min(n, static_cast<int>(left / std::max(per_pass_spp, 1e-12))));
         }
-        const int first = done;
         parallel::for_chunks(tiles, 1, [&](int64_t begin, int64_t end) {
             for (int64_t tile = begin; tile < end; ++tile) {
                 const int tx = static_cast<int>(tile % tiles_x),
@@ -276,11 +359,15 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
                 const int x0 = tx * options.tile_px, y0 = ty * options.tile_px;
                 const int x1 = std::min(w, x0 + options.tile_px),
                           y1 = std::min(h, y0 + options.tile_px);
-                int64_t rays = 0, bad = 0;
+                int64_t rays = 0, bad = 0, taken = 0;
                 for (int y = y0; y < y1; ++y) {
                     for (int x = x0; x < x1; ++x) {
-                        const uint64_t pixel = static_cast<uint64_t>(y) * w + x;
-                        for (int s = first; s < first + n; ++s) {
+                        const size_t pixel = static_cast<size_t>(y) * w + x;
+                        if (!active[pixel]) continue;
+                        const int64_t first = acc.count(pixel);
+                        const int64_t last = std::min<int64_t>(first + n, cap);
+                        const int64_t rays_before = rays;
+                        for (int64_t s = first; s < last; ++s) {
                             Sampler::Stream u = sampler.stream(x, y, s);
                             const Eigen::Vector2d j = options.jitter
                                                           ? u.get2d(PathDims::kPixelDim)
@@ -293,22 +380,42 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
                             }
                             acc.add(pixel, s, l);
                         }
+                        taken += last - first;
+                        if (options.adaptive) pixel_rays[pixel] += rays - rays_before;
                     }
                 }
                 tile_rays[static_cast<size_t>(tile)] += rays;
                 tile_bad[static_cast<size_t>(tile)] += bad;
-                bar.add(n);
+                bar.add(taken);
             }
         });
-        done += n;
+        total = 0;
+        for (size_t i = 0; i < acc.size(); ++i) total += acc.count(i);
+        if (uniform || !options.adaptive) done += n;
         ++result.passes;
         pass_spp = std::min(2 * pass_spp, 32);
-        if (progress) progress(done);
-        if (std::binary_search(snapshots.begin(), snapshots.end(), done)) {
-            result.snapshots.push_back({done, elapsed(), mean_image(acc, w, h)});
+        const int mean_spp = static_cast<int>(total / pixels);
+        if (progress) progress(mean_spp);
+        // A snapshot is due when the mean samples per pixel reach it (exactly, for uniform
+        // passes, which end at snapshots).
+        bool snap = false;
+        while (next_snapshot < snapshots.size() &&
+               total >= static_cast<int64_t>(snapshots[next_snapshot]) * pixels) {
+            ++next_snapshot;
+            snap = true;
         }
-        if (done >= options.spp) break;
-        if (options.target_rel_error > 0 && done >= std::max(2, sampler.groups()) &&
+        if (snap) {
+            Snapshot sn;
+            sn.spp = snapshots[next_snapshot - 1];
+            sn.mean_spp = static_cast<double>(total) / static_cast<double>(pixels);
+            sn.time_s = elapsed();
+            sn.cpu_time_s = cpu_elapsed();
+            sn.radiance = mean_image(acc, w, h);
+            sn.std_error = std_error_image(acc, w, h);
+            result.snapshots.push_back(std::move(sn));
+        }
+        if (total >= budget) break;
+        if (options.target_rel_error > 0 && done >= acc.min_count() &&
             rel_error_of(acc) <= options.target_rel_error) {
             result.stop_reason = "target_rel_error";
             break;
@@ -317,20 +424,24 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
             result.stop_reason = "time_budget";
             break;
         }
+        if (options.adaptive && done >= uniform_spp) {
+            active = choose_active(acc, pixel_rays, w, h, cap);
+            active_count = 0;
+            for (uint8_t a : active) active_count += a;
+            if (active_count == 0) break;  // nothing left to gain (or every pixel at the cap)
+        }
     }
     result.render_time_s = elapsed();
-    result.spp = done;
-    result.samples = static_cast<int64_t>(done) * w * h;
+    result.cpu_time_s = cpu_elapsed();
+    result.samples = total;
+    result.spp = static_cast<int>(total / pixels);
+    result.mean_spp = static_cast<double>(total) / static_cast<double>(pixels);
+    for (size_t i = 0; i < acc.size(); ++i)
+        result.max_pixel_spp = std::max<int64_t>(result.max_pixel_spp, acc.count(i));
     for (int64_t r : tile_rays) result.rays += r;
     for (int64_t b : tile_bad) result.nonfinite_samples += b;
     result.radiance = mean_image(acc, w, h);
-    result.std_error = image::Image(w, h, 3, image::ColorSpace::kData);
-    for (size_t i = 0; i < acc.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            result.std_error.pixels[i * 3 + static_cast<size_t>(c)] =
-                static_cast<float>(std::sqrt(acc.variance_of_mean(i, c)));
-        }
-    }
+    result.std_error = std_error_image(acc, w, h);
     result.rel_error = rel_error_of(acc);
     return result;
 }
@@ -345,6 +456,7 @@ ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& opt
     ref_opt.seed = mix64(options.seed ^ 0x7265666572656e63ull);  // "referenc": independent
     ref_opt.time_budget_s = ref_opt.target_rel_error = 0;
     ref_opt.snapshot_spp.clear();
+    ref_opt.adaptive = false;  // a uniform reference: its noise is even over the image
     const RenderResult ref = render(scene, ref_opt);
     out.reference_rel_error = ref.rel_error;
     double ref_mean = 0, ref_var = 0;
@@ -363,20 +475,25 @@ ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& opt
     const RenderResult run = render(scene, run_opt);
     std::vector<double> xs, ys;
     for (const Snapshot& s : run.snapshots) {
-        double mse = 0;
+        double mse = 0, var = 0;
         for (size_t i = 0; i < s.radiance.pixels.size(); ++i) {
             const double d = static_cast<double>(s.radiance.pixels[i]) - ref.radiance.pixels[i];
             mse += d * d;
+            var += static_cast<double>(s.std_error.pixels[i]) * s.std_error.pixels[i];
         }
         mse /= count;
+        var /= count;
         ConvergencePoint p;
         p.spp = s.spp;
+        p.mean_spp = s.mean_spp;
+        p.cpu_time_s = s.cpu_time_s;
+        p.predicted_rel_rmse = std::sqrt(var + ref_var) / std::abs(ref_mean);
         p.time_s = s.time_s;
         p.rel_rmse = std::sqrt(mse) / std::abs(ref_mean);
         p.rel_rmse_corrected = std::sqrt(std::max(0.0, mse - ref_var)) / std::abs(ref_mean);
         out.points.push_back(p);
         if (p.rel_rmse_corrected > 0) {
-            xs.push_back(std::log(static_cast<double>(p.spp)));
+            xs.push_back(std::log(p.mean_spp));
             ys.push_back(std::log(p.rel_rmse_corrected));
         }
     }
@@ -409,10 +526,13 @@ nlohmann::json finite_or_null(double v) {
 nlohmann::json to_json(const RenderResult& r) {
     const double t = std::max(r.render_time_s, 1e-9);
     return {{"spp", r.spp},
+            {"mean_spp", r.mean_spp},
+            {"max_pixel_spp", r.max_pixel_spp},
             {"passes", r.passes},
             {"samples", r.samples},
             {"rays", r.rays},
             {"render_time_s", r.render_time_s},
+            {"cpu_time_s", r.cpu_time_s},
             {"samples_per_s", static_cast<double>(r.samples) / t},
             {"rays_per_s", static_cast<double>(r.rays) / t},
             {"rel_error", finite_or_null(r.rel_error)},
@@ -424,9 +544,12 @@ nlohmann::json to_json(const ConvergenceResult& c) {
     nlohmann::json pts = nlohmann::json::array();
     for (const auto& p : c.points) {
         pts.push_back({{"spp", p.spp},
+                       {"mean_spp", p.mean_spp},
                        {"time_s", p.time_s},
+                       {"cpu_time_s", p.cpu_time_s},
                        {"rel_rmse", p.rel_rmse},
-                       {"rel_rmse_corrected", p.rel_rmse_corrected}});
+                       {"rel_rmse_corrected", p.rel_rmse_corrected},
+                       {"predicted_rel_rmse", p.predicted_rel_rmse}});
     }
     return {{"reference_spp", c.reference_spp},
             {"reference_rel_error", finite_or_null(c.reference_rel_error)},

@@ -46,7 +46,9 @@ enum class Strategy {
 Strategy strategy_from_string(const std::string& name);
 
 struct RenderOptions {
-    int spp = 64;  ///< samples per pixel (the maximum when a stop rule is given)
+    /// Samples per pixel (the maximum when a stop rule is given); adaptive: the mean over the
+    /// image (the budget is spp x pixels).
+    int spp = 64;
     uint64_t seed = 1;
     int max_depth = 32;           ///< surface interactions per path (a cap: RR ends most paths)
     int rr_depth = 3;             ///< Russian roulette after this many interactions
@@ -61,13 +63,23 @@ struct RenderOptions {
     /// each group is a shorter sequence (the error of their mean grows ~groups^0.2 at spp^-0.7).
     int scramble_groups = 4;
     std::vector<int> snapshot_spp;  ///< also keep the image after these sample counts
+    /// Adaptive sampling: after adaptive_min_spp uniform samples (at least 2 per scramble
+    /// group), each pass goes to the pixels whose neighbourhood variance of the mean per sample
+    /// is at or above the image's mean (equalising the marginal gain, which minimises the
+    /// image's MSE for the samples spent), each pixel up to adaptive_max_factor x spp.
+    bool adaptive = false;
+    int adaptive_min_spp = 16;
+    int adaptive_max_factor = 16;
 };
 
 /// The image after a given number of samples (for convergence studies).
 struct Snapshot {
-    int spp = 0;
+    int spp = 0;          ///< the snapshot asked for
+    double mean_spp = 0;  ///< samples per pixel taken (>= spp when adaptive passes overshoot)
     double time_s = 0;  ///< render time until then
+    double cpu_time_s = 0;  ///< process CPU time until then (all threads; steadier on a shared machine)
     image::Image radiance;
+    image::Image std_error;  ///< as RenderResult::std_error
 };
 
 struct RenderResult {
@@ -75,12 +87,15 @@ struct RenderResult {
     /// 3 channels, data: standard error of that mean (0 when spp < 2, or below one sample per
     /// scramble group)
     image::Image std_error;
-    int spp = 0;             ///< samples per pixel taken (the same for every pixel)
+    int spp = 0;             ///< samples per pixel taken (adaptive: the mean, rounded down)
+    double mean_spp = 0;     ///< samples / pixels
+    int64_t max_pixel_spp = 0;
     int passes = 0;
     int64_t samples = 0;            ///< camera paths
     int64_t rays = 0;               ///< closest-hit plus shadow rays
     int64_t nonfinite_samples = 0;  ///< NaN/Inf path values, counted and replaced by 0
     double render_time_s = 0;
+    double cpu_time_s = 0;  ///< process CPU time of the render (all threads)
     /// Relative noise of the image: sqrt(mean over pixels of se_Y^2) / mean over pixels of Y,
     /// Y = Rec.709 luminance, se_Y its standard error. NaN when spp < 2 (Sobol: < scramble_groups) or the image is black.
     double rel_error = 0;
@@ -113,17 +128,22 @@ Eigen::Vector3d trace_path(const Scene& scene, const Ray& ray, Sampler::Stream& 
 /// Error of the path tracer against sample count (it must fall as 1/sqrt(N)).
 struct ConvergencePoint {
     int spp = 0;
+    double mean_spp = 0;  ///< samples per pixel actually taken (adaptive passes overshoot)
     double time_s = 0;
+    double cpu_time_s = 0;
     double rel_rmse = 0;  ///< sqrt(mean (x - ref)^2) / mean(ref) over pixels and channels
     /// The same with the reference's own noise subtracted: sqrt(max(0, mse - mean se_ref^2)).
     double rel_rmse_corrected = 0;
+    /// The error the noise map predicts: sqrt(mean se^2 + mean se_ref^2) / mean(ref), to set
+    /// against rel_rmse (their ratio is 1 for an honest map).
+    double predicted_rel_rmse = 0;
 };
 struct ConvergenceResult {
     int reference_spp = 0;
     double reference_rel_error = 0;
     std::vector<ConvergencePoint> points;
-    /// Least-squares slope of log(rel_rmse_corrected) against log(spp): -0.5 for an unbiased
-    /// Monte Carlo estimator.
+    /// Least-squares slope of log(rel_rmse_corrected) against log(mean_spp): -0.5 for an
+    /// unbiased Monte Carlo estimator with independent samples.
     double slope = 0;
 };
 /// Renders a reference with `reference_spp` (seed ^ a constant, independent of the measured
@@ -131,11 +151,12 @@ struct ConvergenceResult {
 ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
                                     int reference_spp, const std::vector<int>& spp_list);
 
-/// Report metrics of a render: spp, passes, samples, rays, render_time_s, samples_per_s,
+/// Report metrics of a render: spp, mean_spp, max_pixel_spp, passes, samples, rays, render_time_s,
+/// cpu_time_s, samples_per_s,
 /// rays_per_s, rel_error (null when undefined), stop_reason, nonfinite_samples.
 nlohmann::json to_json(const RenderResult& result);
 /// Report metrics of a convergence study: reference_spp, reference_rel_error, points
-/// [{spp, time_s, rel_rmse, rel_rmse_corrected}], slope.
+/// [{spp, mean_spp, time_s, cpu_time_s, rel_rmse, rel_rmse_corrected, predicted_rel_rmse}], slope.
 nlohmann::json to_json(const ConvergenceResult& result);
 
 }  // namespace inlight::render

@@ -19,6 +19,11 @@ expect_exit 2 "one scramble group is a usage error" -- "$R" "$FURNACE" -o "$WORK
 expect_exit 0 "independent sampler" -- "$R" "$FURNACE" -o "$WORK/i.exr" "${SMALL[@]}" --spp 8 \
     --sampler independent --report "$WORK/i.json"
 expect_true "report names the sampler" -- jq -e '.metrics.sampler == "independent"' "$WORK/i.json"
+expect_exit 0 "adaptive sampling" -- "$R" "$FURNACE" -o "$WORK/a.exr" "${SMALL[@]}" --spp 16 \
+    --adaptive --adaptive-min-spp 8 --report "$WORK/a.json"
+expect_true "adaptive: mean spp within the budget, reported" -- \
+    jq -e '.metrics.adaptive and .metrics.mean_spp <= 17 and .metrics.max_pixel_spp >= 8' "$WORK/a.json"
+expect_exit 2 "adaptive-min-spp 1 is a usage error" -- "$R" "$FURNACE" -o "$WORK/x.exr" --adaptive-min-spp 1
 
 # White furnace through the tool: every pixel is 1 within noise; the report carries the figures.
 expect_exit 0 "furnace" -- "$R" "$FURNACE" -o "$WORK/f.exr" "${SMALL[@]}" --spp 256 --report "$WORK/f.json"
