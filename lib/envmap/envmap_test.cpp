@@ -91,6 +91,40 @@ TEST(ProjectLatLong, SeparableSchemeEqualsPerPixelBoxIntegral) {
     EXPECT_LT((fast - ref).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+TEST(ProjectLatLong, FloatRowSumsMatchDouble) {
+    // The float path against the double reference, on maps that stress it: smooth random
+    // values, a high-dynamic-range map (a 1e5 sun on a 1e-1 sky, with slightly negative pixels
+    // as the blender-data EXRs have) and, when installed, city.exr; 1..8 bands, 4096 columns
+    // (64 float blocks per row). Required: the 1e-6 of the largest coefficient.
+    constexpr double kFloatRel = 1e-6;
+    std::vector<std::pair<std::string, image::Image>> maps;
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-0.01, 2);
+    image::Image smooth(4096, 2048, 3), hdr(4096, 2048, 3);
+    for (float& p : smooth.pixels) p = static_cast<float>(u(rng));
+    for (int y = 0; y < 2048; ++y) {
+        for (int x = 0; x < 4096; ++x) {
+            const bool sun = std::abs(x - 1000) < 6 && std::abs(y - 600) < 6;
+            for (int c = 0; c < 3; ++c)
+                hdr.at(x, y, c) = sun ? 1e5f : static_cast<float>(0.1 * u(rng));
+        }
+    }
+    maps.emplace_back("smooth random", std::move(smooth));
+    maps.emplace_back("sun on sky", std::move(hdr));
+    const std::string dir = testing::blender_hdri_dir();
+    if (!dir.empty()) maps.emplace_back("city.exr", image::read_image(dir + "/city.exr"));
+    for (const auto& [name, img] : maps) {
+        for (int bands : {1, 3, 5, 8}) {
+            const Eigen::MatrixXd ref = project_latlong(img, bands, LatlongPrecision::kDouble);
+            const Eigen::MatrixXd fast =
+                project_latlong(img, bands, LatlongPrecision::kFloatRowSums);
+            const double err = (fast - ref).cwiseAbs().maxCoeff() / ref.cwiseAbs().maxCoeff();
+            EXPECT_LT(err, kFloatRel) << name << ", " << bands << " bands";
+            EXPECT_GT(err, 0.0) << name << ": the float path did not run";
+        }
+    }
+}
+
 TEST(ProjectLatLong, HotPixelsFollowCyclesConventionAtPolesAndSeam) {
     const int w = 64, h = 32;
     auto hot = [&](int x, int y) {

@@ -21,7 +21,41 @@ PartialMethod partial_method_from_string(const std::string& name) {
     throw UsageError(str("partial method '", name, "': expected fit or zero-fill"));
 }
 
-Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
+namespace {
+
+/// Column sums of one row in float: out(ch, k) = sum_c px(c, ch) trig(c, k) for k < K, trig
+/// stored row-major with stride K (zero-padded). Each block of kFloatBlock columns is summed
+/// in float (vectorised over k) and then added in double, so the float rounding error is that
+/// of a 64-term sum (~sqrt(64) x 6e-8 of the terms' magnitude), not of a W-term one.
+constexpr int kFloatBlock = 64;
+template <int K>
+void row_sums_float(const float* px, const float* trig, int w, double* out /* 3 x K */) {
+    double acc[3][K] = {};
+    for (int c0 = 0; c0 < w; c0 += kFloatBlock) {
+        const int c1 = std::min(w, c0 + kFloatBlock);
+        float r[K] = {}, g[K] = {}, b[K] = {};
+        for (int c = c0; c < c1; ++c) {
+            const float pr = px[3 * c], pg = px[3 * c + 1], pb = px[3 * c + 2];
+            const float* t = trig + static_cast<size_t>(c) * K;
+            for (int k = 0; k < K; ++k) {
+                r[k] += pr * t[k];
+                g[k] += pg * t[k];
+                b[k] += pb * t[k];
+            }
+        }
+        for (int k = 0; k < K; ++k) {
+            acc[0][k] += r[k];
+            acc[1][k] += g[k];
+            acc[2][k] += b[k];
+        }
+    }
+    for (int ch = 0; ch < 3; ++ch)
+        for (int k = 0; k < K; ++k) out[ch * K + k] = acc[ch][k];
+}
+
+}  // namespace
+
+Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands, LatlongPrecision precision) {
     INLIGHT_CHECK_EQ(img.channels, 3);
     INLIGHT_CHECK_EQ(img.width, 2 * img.height);
     const int w = img.width, h = img.height, n = sh::count(sh_bands);
@@ -39,6 +73,17 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
             trig(c, m) = a * std::cos(m * phi);
             trig(c, sh_bands + m) = a * std::sin(m * phi);
         }
+    }
+    // Float row sums for up to kMaxFloatBands bands (2 sh_bands <= 16 terms, padded to 8 or 16).
+    const bool use_float = precision == LatlongPrecision::kFloatRowSums &&
+                           sh_bands <= kMaxFloatBands;
+    const int k_pad = 2 * sh_bands <= 8 ? 8 : 16;
+    std::vector<float> trig_f;
+    if (use_float) {
+        trig_f.assign(static_cast<size_t>(w) * k_pad, 0.0f);
+        for (int c = 0; c < w; ++c)
+            for (int k = 0; k < 2 * sh_bands; ++k)
+                trig_f[static_cast<size_t>(c) * k_pad + k] = static_cast<float>(trig(c, k));
     }
     // Polar: the row integral of Y_lm(theta, 0) sin(theta) dtheta. For even m the factor is a
     // polynomial of degree <= sh_bands - 1 in z = cos(theta): Gauss-Legendre in z is exact. For
@@ -58,6 +103,7 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
                 row_odd(static_cast<size_t>(n));
             Eigen::Matrix<double, 3, Eigen::Dynamic> rgb(3, w);
             Eigen::Matrix<double, 3, Eigen::Dynamic> sums(3, 2 * sh_bands);
+            std::vector<double> fsums(static_cast<size_t>(3 * k_pad));
             for (int64_t ri = begin; ri < end; ++ri) {
                 const int r = static_cast<int>(ri);
                 // Row factors: sqrt2 N_lm(z) sin^m(theta) (m > 0) or N_l0(z) (m = 0), integrated
@@ -83,9 +129,20 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands) {
                     }
                 }
                 const float* px = img.pixels.data() + static_cast<size_t>(r) * w * 3;
-                rgb = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic>>(px, 3, w)
-                          .cast<double>();
-                sums.noalias() = rgb * trig;  // 3 x 2 sh_bands: cosine sums, then sine sums
+                if (use_float) {
+                    if (k_pad == 8) {
+                        row_sums_float<8>(px, trig_f.data(), w, fsums.data());
+                    } else {
+                        row_sums_float<16>(px, trig_f.data(), w, fsums.data());
+                    }
+                    for (int ch = 0; ch < 3; ++ch)
+                        for (int k = 0; k < 2 * sh_bands; ++k)
+                            sums(ch, k) = fsums[static_cast<size_t>(ch * k_pad + k)];
+                } else {
+                    rgb = Eigen::Map<const Eigen::Matrix<float, 3, Eigen::Dynamic>>(px, 3, w)
+                              .cast<double>();
+                    sums.noalias() = rgb * trig;  // 3 x 2 sh_bands: cosine sums, then sine sums
+                }
                 for (int l = 0; l < sh_bands; ++l) {
                     for (int m = 0; m <= l; ++m) {
                         const double f = (m % 2 == 0 ? row : row_odd)[static_cast<size_t>(sh::index(l, m))];
@@ -145,7 +202,7 @@ ProjectResult project(const Environment& env, const ProjectOptions& options) {
     ProjectResult result;
     const bool identity = env.world_from_input.isIdentity(0.0);
     if (env.layout == Layout::kLatLong) {
-        result.coeffs = project_latlong(env.radiance, options.sh_bands);
+        result.coeffs = project_latlong(env.radiance, options.sh_bands, options.latlong_precision);
         if (!identity) result.coeffs = sh::rotation_matrix(options.sh_bands, env.world_from_input) *
                                        result.coeffs;
         result.method = "latlong-separable";

@@ -22,6 +22,13 @@ enum class PartialMethod {
 /// "fit" | "zero-fill"; throws UsageError otherwise.
 PartialMethod partial_method_from_string(const std::string& name);
 
+/// Precision of project_latlong's row sums: kFloatRowSums (opt-in, up to kMaxFloatBands bands) sums in float over blocks of 64 columns, vectorised, and adds the
+/// blocks in double (error <= 1e-6 of the largest coefficient,
+/// `ProjectLatLong.FloatRowSumsMatchDouble`); kDouble sums everything in double (the reference,
+/// exact to ~1e-15; used above kMaxFloatBands).
+enum class LatlongPrecision { kFloatRowSums, kDouble };
+constexpr int kMaxFloatBands = 8;
+
 struct ProjectOptions {
     int sh_bands = 3;                       ///< max l + 1, 1..sh::kMaxBands
     sh::Window window = sh::Window::kNone;  ///< optional band-limiting window (off by default)
@@ -32,6 +39,9 @@ struct ProjectOptions {
     /// band-limited clamped-cosine kernel and flux = 2 sqrt(pi) L_00 > 0 (any non-negative
     /// radiance satisfies this; a wild extrapolation into the unseen directions does not).
     double fit_lambda = -1;
+    /// Lat-long input: the double reference (default: the CLI's exactness checks hold to
+    /// 1e-12) or float row sums (fast, <= 1e-6 of the largest coefficient).
+    LatlongPrecision latlong_precision = LatlongPrecision::kDouble;
 };
 
 struct ProjectResult {
@@ -59,6 +69,8 @@ ProjectResult project(const Environment& env, const ProjectOptions& options);
 /// even m; in theta, to ~1e-15, for odd m). A constant map therefore gives L_00 = 2 sqrt(pi) value and L_lm = 0 for
 /// l > 0 for any resolution, a 2x1 map included. Separable: per row the column sums
 /// f cos(m phi), f sin(m phi) cost O(W sh_bands), the row factors O(sh_bands^2).
-Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands);
+///
+Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands,
+                                LatlongPrecision precision = LatlongPrecision::kDouble);
 
 }  // namespace inlight::envmap
