@@ -18,6 +18,25 @@ std::string glsl_float(float f) {
 std::string glsl_grid_coord_source(const Grid& g, int glsl_version) {
     INLIGHT_CHECK(glsl_version == 100 || glsl_version == 300) << "GLSL ES version " << glsl_version;
     std::ostringstream o;
+    if (g.kind == GridKind::kReport5x5 || g.kind == GridKind::kThetaPhi) {
+        // GLSL's acos() and atan() carry no accuracy requirement and some drivers approximate
+        // them coarsely (llvmpipe: ~1e-3 rad, 0.5% of a table value between nodes). This
+        // atan2 is Cephes' atanf (range reduction to |t| <= tan(pi/8), odd polynomial;
+        // ~1e-7 relative) from +, *, / and comparisons only, which GLSL computes to float.
+        o << "// atan(y, x) to float accuracy for (x, y) != (0, 0) (Cephes atanf).\n"
+          << "float atan2_f32(float y, float x) {\n"
+          << "    float ax = abs(x);\n    float ay = abs(y);\n"
+          << "    float t = min(ax, ay) / max(ax, ay);\n"
+          << "    float base = 0.0;\n"
+          << "    if (t > 0.414213562) { base = 0.785398163; t = (t - 1.0) / (t + 1.0); }\n"
+          << "    float z = t * t;\n"
+          << "    float a = base + ((((0.0805374449538 * z - 0.138776856032) * z + "
+             "0.199777106478) * z\n"
+          << "                       - 0.333329491539) * z * t + t);\n"
+          << "    if (ay > ax) a = 1.57079633 - a;\n"
+          << "    if (x < 0.0) a = 3.14159265 - a;\n"
+          << "    return y < 0.0 ? -a : a;\n}\n";
+    }
     o << "// Cell (r0, r1, c0, c1) and fractions (toward r1, toward c1) of normal n.\n"
       << "void brdf_grid_coord(vec3 n, out ivec4 cell, out vec2 f) {\n"
       << "    vec3 m = normalize(n);\n";
@@ -29,8 +48,8 @@ std::string glsl_grid_coord_source(const Grid& g, int glsl_version) {
             o << "    // The report's signed-theta grid; atan(y, x) keeps the quadrant, and phi "
                  "outside\n"
               << "    // [-pi/2, pi/2] folds to phi -+ pi with theta negated (the same normal).\n"
-              << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
-              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
+              << "    float theta = atan2_f32(sqrt(m.x * m.x + m.y * m.y), m.z);  // acos(m.z)\n"
+              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan2_f32(m.y, m.x) : 0.0;  // "
                  "atan(0,0) is undefined\n"
               << "    if (phi > " << glsl_float(1.57079633f) << ") { phi -= " << glsl_float(3.14159265f)
               << "; theta = -theta; }\n"
@@ -41,8 +60,8 @@ std::string glsl_grid_coord_source(const Grid& g, int glsl_version) {
             break;
         case GridKind::kThetaPhi:
             wrap = true;
-            o << "    float theta = acos(clamp(m.z, -1.0, 1.0));\n"
-              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan(m.y, m.x) : 0.0;  // "
+            o << "    float theta = atan2_f32(sqrt(m.x * m.x + m.y * m.y), m.z);  // acos(m.z)\n"
+              << "    float phi = (abs(m.x) + abs(m.y) > 0.0) ? atan2_f32(m.y, m.x) : 0.0;  // "
                  "atan(0,0) is undefined\n"
               << "    if (phi < 0.0) phi += " << glsl_float(6.28318531f) << ";\n"
               << "    float r = clamp(theta * "

@@ -120,7 +120,8 @@ std::string bilinear_function(const Plan& p, bool decode) {
       << "    vec2 i1 = i0 + 1.0 - size * step(size - 0.5, i0 + 1.0);\n";
     auto fetch = [&](const std::string& x, const std::string& y) {
         std::string e = p.es3() ? str("texelFetch(tex, ivec2(int(", x, "), int(", y, ")), 0).rgb")
-                                : str("texture2D(tex, (vec2(", x, ", ", y, ") + 0.5) / size).rgb");
+                                : str("snap8(texture2D(tex, (vec2(", x, ", ", y,
+                                      ") + 0.5) / size)).rgb");
         return decode ? "srgb_decode(" + e + ")" : e;
     };
     o << "    vec3 t00 = " << fetch("i0.x", "i0.y") << ";\n"
@@ -294,6 +295,11 @@ std::string fragment_source(const Plan& p, const std::string& name) {
     }
     if (mat.has_albedo_texture()) o << "uniform " << sampler << " u_albedo_texture;\n";
     if (mat.has_normal_texture()) o << "uniform " << sampler << " u_normal_texture;\n";
+    if (!es3 && (uv || p.layout == TableLayout::kRgba8Texture)) {
+        // texture2D() of an 8-bit texel need not return code / 255 exactly (llvmpipe's
+        // 8-bit path is off by up to 0.4%); the nearest code is exact on every driver.
+        o << "vec4 snap8(vec4 t) { return floor(t * 255.0 + 0.5) / 255.0; }\n";
+    }
     if (p.table) {
         const brdf::Table& t = *p.table;
         o << "const int BRDF_ROWS = " << t.grid.rows << ";\n"
@@ -317,9 +323,9 @@ std::string fragment_source(const Plan& p, const std::string& name) {
                   << "uniform vec4 u_brdf_scale[" << t_count << "];\n"
                   << "uniform vec4 u_brdf_offset[" << t_count << "];\n"
                   << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
-                  << "    return texture2D(u_brdf_texture, (vec2(float(i2 * " << t_count
+                  << "    return snap8(texture2D(u_brdf_texture, (vec2(float(i2 * " << t_count
                   << " + t), float(ch * BRDF_ROWS + i1)) + 0.5) / "
-                  << size_literal({t.grid.cols * t_count, t.channels * t.grid.rows}) << ");\n}\n";
+                  << size_literal({t.grid.cols * t_count, t.channels * t.grid.rows}) << "));\n}\n";
                 break;
             case TableLayout::kNone:
                 break;
@@ -332,20 +338,29 @@ std::string fragment_source(const Plan& p, const std::string& name) {
              "cell.w, t), f.y), f.x);\n}\n"
           << brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100);
     }
-    if (!es3 && mat.has_albedo_texture()) {
+    if (mat.has_albedo_texture()) {
+        // Decoded here, per texel, in both versions: drivers' sRGB texture decoders and pow()
+        // are approximations (llvmpipe's GL_SRGB8_ALPHA8 decode is off by up to 5e-3
+        // relative, its pow() by ~1e-3: measured, docs/gles.md); one Newton step on
+        // y^5 = x^12 (y = x^2.4) brings pow() to float rounding.
         o << "vec3 srgb_decode(vec3 c) {\n"
-          << "    return mix(pow((c + 0.055) / 1.055, vec3(2.4)), c / 12.92, step(c, "
-             "vec3(0.04045)));\n}\n"
+          << "    vec3 x = (c + 0.055) / 1.055;\n"
+          << "    vec3 y = pow(x, vec3(2.4));\n"
+          << "    vec3 x3 = x * x * x;\n    vec3 x6 = x3 * x3;\n    vec3 y2 = y * y;\n"
+          << "    y = 0.8 * y + 0.2 * (x6 * x6) / (y2 * y2);\n"
+          << "    vec3 lo = c / 12.92;\n"
+          << "    return vec3(c.r <= 0.04045 ? lo.r : y.r, c.g <= 0.04045 ? lo.g : y.g,\n"
+          << "                c.b <= 0.04045 ? lo.b : y.b);\n}\n"
           << bilinear_function(p, true);
     }
-    if (mat.has_normal_texture() || (es3 && mat.has_albedo_texture())) {
+    if (mat.has_normal_texture()) {
         o << bilinear_function(p, false);
     }
 
     o << "void main() {\n";
     if (mat.has_albedo_texture()) {
         o << "    vec3 albedo = u_albedo * "
-          << (es3 ? "texture_bilinear(" : "texture_bilinear_srgb(") << "u_albedo_texture, "
+          << "texture_bilinear_srgb(u_albedo_texture, "
           << size_literal(mat.albedo_texture_px) << ", v_uv);\n";
     } else {
         o << "    vec3 albedo = u_albedo;\n";
@@ -418,11 +433,10 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
     int unit = 0;
     if (mat.has_albedo_texture()) {
         textures.push_back({{"uniform", "u_albedo_texture"}, {"unit", unit++},
-                            {"internal_format", es3 ? "SRGB8_ALPHA8" : "RGBA"}, {"format", "RGBA"}, {"type", "UNSIGNED_BYTE"},
+                            {"internal_format", es3 ? "RGBA8" : "RGBA"}, {"format", "RGBA"}, {"type", "UNSIGNED_BYTE"},
                             {"width", mat.albedo_texture_px.x()}, {"height", mat.albedo_texture_px.y()},
                             {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "srgb"},
-                            {"meaning", es3 ? "albedo texture; the GL decodes sRGB per texel, the shader filters"
-                                            : "albedo texture, sRGB bytes; the shader decodes each texel, then filters"},
+                            {"meaning", "albedo texture, sRGB bytes (not an sRGB internal format): the shader decodes each texel exactly, then filters"},
                             {"range", {0.0, 1.0}}});
     }
     if (mat.has_normal_texture()) {

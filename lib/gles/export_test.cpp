@@ -206,7 +206,7 @@ TEST(ExportVariant, ManifestListsEveryBinding) {
             EXPECT_TRUE(names.count(n)) << n << " is not in the manifest";
         }
     }
-    EXPECT_EQ(e.manifest["textures"][0]["internal_format"], "SRGB8_ALPHA8");
+    EXPECT_EQ(e.manifest["textures"][0]["color_space"], "srgb");
     EXPECT_EQ(e.manifest["precision"]["safe"], "highp");
 }
 
