@@ -17,9 +17,9 @@
 //
 // Per fragment (render/material.cpp shade() and render/realtime.cpp):
 //   uv      = v_uv (the vertex shader multiplies a_uv by u_uv_scale; tiles wrap)
-//   albedo  = u_albedo x albedo texture (sRGB decoded BEFORE bilinear filtering: ES 3.00 binds
-//             GL_SRGB8_ALPHA8 and filters 4 texelFetch()es in the shader; ES 1.00 decodes each
-//             of 4 nearest texels in the shader), as the CPU model decodes then filters
+//   albedo  = u_albedo x albedo texture (RGBA8 sRGB bytes; the shader decodes each of the 4
+//             nearest texels exactly, then filters: decode before filtering, as the CPU model;
+//             drivers' own sRGB decoders are approximations, docs/gles.md)
 //   n       = normalize(v_normal), then the normal map (data, 2 rgb - 1, tangent frame (t,
 //             n x t, n), bilinear in the shader), falling back to v_normal when it faces away
 //             from the table's view (a constant: the table is baked for one view)
