@@ -239,6 +239,9 @@ Readback draw(const Context& context, const Export& e, const Bindings& b, const 
         glUniform4fv(loc("u_brdf_scale"), n, e.table_scale.data());
         glUniform4fv(loc("u_brdf_offset"), n, e.table_offset.data());
     }
+    for (const auto& [name, values] : b.float_arrays) {
+        glUniform1fv(loc(name.c_str()), static_cast<GLsizei>(values.size()), values.data());
+    }
     check_gl(str(e.name, ": binding uniforms and textures"));
 
     // Vertices.

@@ -63,6 +63,9 @@ struct Bindings {
     Eigen::Vector3f albedo{1, 1, 1};
     const Texture8* albedo_texture = nullptr;  ///< sRGB bytes; required iff the variant has one
     const Texture8* normal_texture = nullptr;  ///< data bytes; required iff the variant has one
+    /// Further `uniform float name[n]` arrays (for shaders that are not exports, e.g. the
+    /// brdf/glsl.h lookup snippet); set with glUniform1fv.
+    std::vector<std::pair<std::string, std::vector<float>>> float_arrays;
 };
 
 enum class TargetFormat { kRgba32f, kRgba8 };

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <random>
 
+#include "brdf/glsl.h"
 #include "gles/gles_testing.h"
 #include "image/color.h"
 #include "image/image.h"
@@ -336,6 +337,80 @@ TEST(GlesHarness, MatchesTheCpuModel) {
                     std::cout << "[gles] " << what << " float x" << scale << ": "
                               << f.pass_fraction * 100 << "% within 1e-3, worst " << f.worst
                               << "; 8-bit worst " << byte.worst << " codes\n";
+                }
+            }
+        }
+    }
+}
+
+
+// Issue 15: the lookup snippet brdf-sh-bake ships (brdf/glsl.h, both its uniform-array and its
+// texture path) computes brdf::lookup() on a real driver, at the nodes, cell centres, the
+// thetaphi seam and pole and the report grid's folds.
+TEST(BrdfGlslSnippet, EqualsLookupAtNodesSeamsAndPoles) {
+    for (const Case& s : cases()) {
+        if (s.textured) continue;
+        const brdf::Table t = smooth_table(s.grid, 3, s.channels, 5);
+        const std::vector<Eigen::Vector3d> normals =
+            probe_normals(t.grid, kWidth * kHeight, 14);
+        const Mesh mesh = probe_mesh(normals, Eigen::Vector3d::UnitX());
+        const float range = *std::max_element(t.coeffs.begin(), t.coeffs.end()) -
+                            *std::min_element(t.coeffs.begin(), t.coeffs.end());
+        // Equal but for float rounding: atan2_f32 and libm differ by ~1e-7 relative, moving
+        // the fractions by ~1e-6 of a cell, times at most the table's range per cell.
+        const double tolerance = 1e-5 * range;
+        for (bool use_texture : {false, true}) {
+            for (int ch = 0; ch < t.channels; ++ch) {
+                for (int k0 = 0; k0 < t.coeff_count(); k0 += 4) {
+                    Export e;
+                    e.name = str("lookup snippet ", s.grid, use_texture ? " texture" : " uniform");
+                    e.vertex_source =
+                        "#version 300 es\nin vec3 a_position;\nin vec3 a_normal;\nout vec3 "
+                        "v_normal;\nvoid main() {\n    v_normal = a_normal;\n    gl_Position = "
+                        "vec4(a_position, 1.0);\n}\n";
+                    std::string out = "vec4(";
+                    for (int i = 0; i < 4; ++i) {
+                        out += i ? ", " : "";
+                        out += k0 + i < t.coeff_count() ? str("c[", k0 + i, "]") : "0.0";
+                    }
+                    e.fragment_source =
+                        str("#version 300 es\n", use_texture ? "#define BRDF_USE_TEXTURE\n" : "",
+                            brdf::glsl_lookup_source(t),
+                            "in vec3 v_normal;\nout vec4 o_value;\nvoid main() {\n"
+                            "    float c[BRDF_NCOEFFS];\n    brdf_sh_lookup(v_normal, ",
+                            ch, ", c);\n    o_value = ", out, ");\n}\n");
+                    e.manifest["variant"] = {{"glsl_version", "300 es"}, {"sh_bands", 1}};
+                    e.manifest["textures"] = nlohmann::json::array();
+                    Bindings b;
+                    b.sh = Eigen::MatrixXd::Zero(1, 3);
+                    if (use_texture) {
+                        e.manifest["textures"].push_back({{"uniform", "u_brdf_texture"}, {"unit", 0}});
+                        e.table_layout = TableLayout::kFloatTexture;
+                        e.table_texels = brdf::texture_texels(t);
+                        const Eigen::Vector2i size = brdf::texture_size(t);
+                        e.data_width = size.x();
+                        e.data_height = size.y();
+                    } else {
+                        b.float_arrays.emplace_back("u_brdf_coeffs", t.coeffs);
+                    }
+                    const Readback gpu = draw(context3(), e, b, mesh, kWidth, kHeight,
+                                              TargetFormat::kRgba32f);
+                    double worst = 0;
+                    for (int y = 0; y < kHeight; ++y) {
+                        for (int x = 0; x < kWidth; ++x) {
+                            float want[16];
+                            brdf::lookup(t, normals[y * kWidth + x].cast<float>(), ch, want);
+                            for (int i = 0; i < 4 && k0 + i < t.coeff_count(); ++i) {
+                                const double d = std::abs(gpu.at(x, y, i) - want[k0 + i]);
+                                worst = std::max(worst, d);
+                                ASSERT_LE(d, tolerance)
+                                    << e.name << " channel " << ch << " k " << k0 + i
+                                    << " at normal " << normals[y * kWidth + x].transpose();
+                            }
+                        }
+                    }
+                    std::cout << "[gles] " << e.name << " ch " << ch << " k " << k0
+                              << "..: worst |GLSL - lookup()| " << worst << "\n";
                 }
             }
         }
