@@ -1,6 +1,7 @@
 // brdf-sh-bake: tabulate a material's cosine-weighted BRDF lobe in SH over a grid of normals for
 // the GLES shader, and report how exact the table is (lib/brdf/bake.h, docs/brdf.md).
 #include <cmath>
+#include <filesystem>
 
 #include "brdf/bake.h"
 #include "brdf/glsl.h"
@@ -8,6 +9,7 @@
 #include "core/fs.h"
 #include "core/log.h"
 #include "core/validators.h"
+#include "gles/cli.h"
 
 using namespace inlight;
 
@@ -62,6 +64,8 @@ int main(int argc, char** argv) {
     cli.add_flag("--validate", full_validate,
                  "Check every grid node and 256 off-grid normals "
                  "(default: at most 64 nodes and 64 normals)");
+    gles::ExportArgs gles_args;
+    gles::add_export_options(cli, gles_args);
     app::setup(cli, common,
                "brdf-sh-bake --material configs/materials/satin-ggx.toml "
                "--grid thetaphi:9x32 --sh-bands 3 -o out/satin --report run.json");
@@ -71,6 +75,13 @@ int main(int argc, char** argv) {
         report.add_input(material_path);
         for (const char* suffix : {".bin", ".json", ".glsl", "_texture.exr"})
             fs::declare_output(output + suffix, "-o");
+        if (!gles_args.dir.empty()) {
+            fs::declare_output(gles_args.dir + "/index.json", "--export-gles");
+            if (max_error <= 0 && gles_args.max_sh_bands > o.sh_bands) {
+                throw UsageError(str("--gles-max-bands ", gles_args.max_sh_bands,
+                                     " exceeds the table's --sh-bands ", o.sh_bands));
+            }
+        }
         const brdf::Material material = brdf::load_material(material_path);
         const brdf::Grid grid = brdf::parse_grid(grid_spec);
         o.integrator = brdf::integrator_from_string(integrator);
@@ -129,6 +140,16 @@ int main(int argc, char** argv) {
         report.add_output(output + ".json", "brdf_sh_table");
         report.add_output(output + ".glsl", "glsl_source");
         report.add_output(output + "_texture.exr", "brdf_sh_texture", "data");
+        if (!gles_args.dir.empty()) {
+            ScopedStage stage(report, "export gles");
+            gles::MaterialInputs in;
+            in.name = std::filesystem::path(output).filename().string();
+            const bool lambert = material.specular == brdf::Model::kLambert;  // no specular term
+            const auto exports = gles::export_material(lambert ? nullptr : &table, in, gles_args.set());
+            for (const auto& path : gles::write_exports(gles_args.dir, exports)) {
+                report.add_output(path, "gles_export");
+            }
+        }
         auto& m = report.metrics();
         m = v.to_json();
         m["model"] = brdf::to_string(material.specular);

@@ -7,6 +7,8 @@
 #include "core/log.h"
 #include "core/validators.h"
 #include "brdf/grid.h"
+#include "gles/cli.h"
+#include "gles/scene.h"
 #include "image/image.h"
 #include "render/capture_cli.h"
 #include "render/compare.h"
@@ -40,6 +42,7 @@ int main(int argc, char** argv) {
     render::CompareOptions cmp;
     Args a;
     render::CaptureArgs cap;
+    gles::ExportArgs gles_args;
     app.add_option("scene", a.scene,
                    "Scene file (.toml, see docs/render.md); with --btf-capture a fabric file")
         ->required()
@@ -153,6 +156,7 @@ int main(int argc, char** argv) {
     render::add_capture_options(app, cap);
     render::ShadeArgs shade;
     render::add_shade_options(app, shade);
+    gles::add_export_options(app, gles_args);
     app::setup(app, common,
                "render configs/scenes/patch_city.toml -o patch.exr --spp 256 --seed 7 "
                "--threads 2 --report patch.json");
@@ -192,6 +196,7 @@ int main(int argc, char** argv) {
                 render::read_lighting_file(a.rt_lighting));
             report.add_input(a.rt_lighting);
         }
+        if (!gles_args.dir.empty()) fs::declare_output(gles_args.dir + "/index.json", "--export-gles");
         std::unique_ptr<render::Scene> scene;
         {
             ScopedStage stage(report, "load scene");
@@ -258,6 +263,18 @@ int main(int argc, char** argv) {
             log::info(str("render: truth noise ", d.truth_noise,
                           ", exact unshadowed model vs truth ", d.exact_vs_truth,
                           " (decomposition in ", d.time_s, " s)"));
+        }
+        if (!gles_args.dir.empty()) {
+            ScopedStage stage(report, "export gles");
+            gles::SceneExportOptions eo;
+            eo.set = gles_args.set();
+            eo.grid = cmp.grid;
+            eo.bake_samples = cmp.bake_samples;
+            const auto exports = gles::export_scene(*scene, eo);
+            for (const auto& path : gles::write_exports(gles_args.dir, exports)) {
+                report.add_output(path, "gles_export");
+            }
+            m["gles_export"] = {{"dir", gles_args.dir}, {"variants", exports.size()}};
         }
         if (a.max_rel_error > 0 && !(r.rel_error <= a.max_rel_error)) {
             throw app::QualityGateFailed(

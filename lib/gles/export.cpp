@@ -10,6 +10,7 @@
 #include "brdf/glsl.h"
 #include "core/conventions.h"
 #include "core/error.h"
+#include "core/fs.h"
 #include "sh/sh.h"
 
 namespace inlight::gles {
@@ -40,6 +41,28 @@ std::string to_string(TableLayout l) {
         case TableLayout::kRgba8Texture: return "rgba8_texture";
     }
     return "?";
+}
+
+namespace {
+template <typename T>
+std::vector<T> parse_list(const std::string& list, T (*parse)(const std::string&)) {
+    std::vector<T> out;
+    std::stringstream in(list);
+    std::string item;
+    while (std::getline(in, item, ',')) out.push_back(parse(item));
+    if (out.empty()) throw UsageError(str("empty list '", list, "'"));
+    return out;
+}
+}  // namespace
+
+std::vector<GlslVersion> glsl_versions_from_string(const std::string& list) {
+    return parse_list(list, glsl_version_from_string);
+}
+std::vector<ShaderMode> shader_modes_from_string(const std::string& list) {
+    return parse_list(list, shader_mode_from_string);
+}
+std::vector<Precision> precisions_from_string(const std::string& list) {
+    return parse_list(list, precision_from_string);
 }
 
 Limits Limits::minimum(GlslVersion version) {
@@ -622,12 +645,9 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     }
     e.table_layout = p.layout;
     e.fragment_uniform_vectors = vectors;
-    for (const Eigen::Vector2i& px : {mat.albedo_texture_px, mat.normal_texture_px}) {
-        if (px.maxCoeff() > limits.max_texture_size) {
-            throw Error(str("GLES export ", e.name, ": a material texture is ", px.x(), "x",
-                            px.y(), ", GL_MAX_TEXTURE_SIZE is ", limits.max_texture_size));
-        }
-    }
+    // The material's own textures are the app's to size for its device: their size is stated
+    // in gl_limits_needed, not checked against the specification minimum (64 texels in ES 2.0,
+    // which no fabric texture meets and no device has).
     if (vectors > limits.max_fragment_uniform_vectors) {
         throw Error(str("GLES export ", e.name, ": needs ", vectors,
                         " fragment uniform vectors (", k_count, " lighting coefficients",
@@ -646,6 +666,43 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     e.fragment_source = fragment_source(p, e.name);
     e.manifest = make_manifest(e, p, limits);
     return e;
+}
+
+std::vector<Export> export_material(const brdf::Table* table, const MaterialInputs& material,
+                                    const ExportSet& set) {
+    std::vector<Export> out;
+    for (GlslVersion version : set.versions) {
+        for (ShaderMode mode : set.modes) {
+            const int last = mode == ShaderMode::kSeed ? 3 : set.max_sh_bands;
+            for (int bands = 3; bands <= last; ++bands) {
+                for (Precision precision : set.precisions) {
+                    out.push_back(export_variant(table, material, {version, mode, bands, precision},
+                                                 Limits::minimum(version)));
+                }
+            }
+        }
+    }
+    return out;
+}
+
+std::vector<std::string> write_exports(const std::string& dir, const std::vector<Export>& exports) {
+    std::vector<std::string> paths;
+    nlohmann::json index = {{"format", "inlight_gles_export_index"}, {"version", 1}};
+    index["variants"] = nlohmann::json::array();
+    for (const Export& e : exports) {
+        for (const auto& [name, bytes] : export_files(e)) {
+            paths.push_back(dir + "/" + name);
+            fs::write_text_atomic(paths.back(), bytes);
+        }
+        index["variants"].push_back({{"name", e.name},
+                                     {"manifest", e.name + ".json"},
+                                     {"variant", e.manifest["variant"]},
+                                     {"table_layout", to_string(e.table_layout)},
+                                     {"gl_limits_needed", e.manifest["gl_limits_needed"]}});
+    }
+    paths.push_back(dir + "/index.json");
+    fs::write_text_atomic(paths.back(), index.dump(2) + "\n");
+    return paths;
 }
 
 std::vector<std::pair<std::string, std::string>> export_files(const Export& e) {

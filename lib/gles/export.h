@@ -107,6 +107,27 @@ struct Export {
 Export export_variant(const brdf::Table* table, const MaterialInputs& material,
                       const Variant& variant, const Limits& limits);
 
+/// Which variants a tool exports for each material.
+struct ExportSet {
+    std::vector<GlslVersion> versions{GlslVersion::kEs100, GlslVersion::kEs300};
+    std::vector<ShaderMode> modes{ShaderMode::kConsistent, ShaderMode::kSeed};
+    std::vector<Precision> precisions{Precision::kHighp, Precision::kMediump};
+    int max_sh_bands = 3;  ///< consistent variants for bands 3 .. this (seed: 3 only)
+};
+/// Parses comma lists: "100,300", "consistent,seed", "highp,mediump". Throws UsageError.
+std::vector<GlslVersion> glsl_versions_from_string(const std::string& list);
+std::vector<ShaderMode> shader_modes_from_string(const std::string& list);
+std::vector<Precision> precisions_from_string(const std::string& list);
+
+/// Every variant of `set` for one material, each against Limits::minimum() of its version (an
+/// export runs on every conforming device). Throws as export_variant, naming the variant.
+std::vector<Export> export_material(const brdf::Table* table, const MaterialInputs& material,
+                                    const ExportSet& set);
+
+/// Writes export_files() of every export into `dir` (atomically, inside the run's output
+/// transaction when there is one) and `dir`/index.json listing them; returns the paths written.
+std::vector<std::string> write_exports(const std::string& dir, const std::vector<Export>& exports);
+
 /// The files of an export, name -> bytes: <name>.vert, <name>.frag, <name>.json (manifest)
 /// and <name>.brdf.bin (the table data, raw little-endian texels as the manifest describes;
 /// absent without a table).

@@ -91,6 +91,8 @@ class Scene {
     const SurfaceMaterial& material(int shape) const {
         return m_materials[static_cast<size_t>(m_material_of_shape[static_cast<size_t>(shape)])];
     }
+    /// The loaded materials (SceneDesc::materials, then two per weave object), textures loaded.
+    const std::vector<SurfaceMaterial>& materials() const { return m_materials; }
     /// Index into the scene's loaded materials (SceneDesc::materials, then two per weave object)
     /// of shape `shape`'s material.
     int material_index(int shape) const { return m_material_of_shape[static_cast<size_t>(shape)]; }

@@ -1,0 +1,38 @@
+#include "gles/cli.h"
+
+#include "brdf/bake.h"
+#include "core/validators.h"
+
+namespace inlight::gles {
+
+ExportSet ExportArgs::set() const {
+    ExportSet s;
+    s.versions = glsl_versions_from_string(versions);
+    s.modes = shader_modes_from_string(modes);
+    s.precisions = precisions_from_string(precisions);
+    s.max_sh_bands = max_sh_bands;
+    return s;
+}
+
+void add_export_options(CLI::App& app, ExportArgs& a) {
+    app.add_option("--export-gles", a.dir,
+                   "Also write GLES vertex + fragment shaders, manifests and BRDF data of every "
+                   "variant into this folder (docs/gles.md)");
+    app.add_option("--gles-versions", a.versions, "GLSL ES versions to export: 100, 300")
+        ->check(app::parses_with([](const std::string& s) { glsl_versions_from_string(s); },
+                                 "LIST"))
+        ->capture_default_str();
+    app.add_option("--gles-modes", a.modes, "Shader modes to export: consistent, seed")
+        ->check(app::parses_with([](const std::string& s) { shader_modes_from_string(s); },
+                                 "LIST"))
+        ->capture_default_str();
+    app.add_option("--gles-precisions", a.precisions, "Float precisions: highp, mediump")
+        ->check(app::parses_with([](const std::string& s) { precisions_from_string(s); }, "LIST"))
+        ->capture_default_str();
+    app.add_option("--gles-max-bands", a.max_sh_bands,
+                   "Consistent variants for lighting bands 3 .. this (seed: 3 only)")
+        ->check(CLI::Range(3, brdf::kMaxBakeBands))
+        ->capture_default_str();
+}
+
+}  // namespace inlight::gles
