@@ -116,7 +116,9 @@ int main(int argc, char** argv) {
         "--compare", a.compare,
         "Also run the real-time model (consistent and seed modes, bands 1..--rt-max-bands) "
         "and compare it with the path tracer: <output>_rt_*, _compare_*.png, _relerr_*, "
-        "_de2000_*, metrics.realtime in the report");
+        "_de2000_*, metrics.realtime in the report; and the exported GLES shaders run through "
+        "EGL: <output>_gles_*, _compare3_*.png (truth | CPU model | GLES | error), "
+        "metrics.realtime.gles");
     app.add_option("--rt-lighting", a.rt_lighting,
                    "With --compare: also run the model lit by this envmap-project JSON (SH of "
                    "the residual + extracted lights, from --max-error) beside pure SH at its "
@@ -247,6 +249,10 @@ int main(int argc, char** argv) {
             if (lighting)
                 m["realtime"]["lighting_file"] = render::compare_lighting_file(
                     *scene, r, cmp, *lighting, (p.parent_path() / p.stem()).string(), files);
+            for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
+            files.clear();
+            m["realtime"]["gles"] = gles::compare_scene(*scene, r, cmp,
+                                                        (p.parent_path() / p.stem()).string(), files);
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
         }
         if (a.decompose) {

@@ -119,10 +119,12 @@ namespace {
 
 /// GL objects of one draw, deleted on every exit path.
 struct GlObjects {
-    std::vector<GLuint> shaders, textures, buffers, framebuffers;
-    GLuint program = 0;
+    std::vector<GLuint> programs, shaders, textures, buffers, framebuffers, renderbuffers;
     ~GlObjects() {
-        if (program) glDeleteProgram(program);
+        for (GLuint p : programs) glDeleteProgram(p);
+        if (!renderbuffers.empty()) {
+            glDeleteRenderbuffers(static_cast<GLsizei>(renderbuffers.size()), renderbuffers.data());
+        }
         for (GLuint s : shaders) glDeleteShader(s);
         if (!textures.empty()) glDeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
         if (!buffers.empty()) glDeleteBuffers(static_cast<GLsizei>(buffers.size()), buffers.data());
@@ -173,28 +175,37 @@ void check_gl(const std::string& what) {
 
 }  // namespace
 
-Readback draw(const Context& context, const Export& e, const Bindings& b, const Mesh& mesh,
-              int width, int height, TargetFormat format, int repeat) {
+namespace {
+
+/// One item's program, textures and vertices, ready to draw.
+struct Prepared {
+    GLuint program = 0, buffer = 0;
+    std::vector<std::pair<int, GLuint>> textures;  ///< unit, texture
+    std::vector<std::pair<GLint, int>> attribs;    ///< location, (size << 8) | offset
+    GLsizei vertices = 0;
+};
+
+Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) {
+    const Export& e = *item.variant;
+    const Bindings& b = *item.bindings;
+    const Mesh& mesh = *item.mesh;
     const bool es3 = e.manifest["variant"]["glsl_version"] == "300 es";
-    if (format == TargetFormat::kRgba32f && !context.info().float_color_buffer) {
-        throw Error(str("GLES variant ", e.name, ": ", context.info().renderer,
-                        " cannot render to RGBA32F (no EXT_color_buffer_float)"));
-    }
-    GlObjects objs;
-    objs.program = glCreateProgram();
-    glAttachShader(objs.program, compile(objs, GL_VERTEX_SHADER, e.vertex_source, e.name));
-    glAttachShader(objs.program, compile(objs, GL_FRAGMENT_SHADER, e.fragment_source, e.name));
-    glLinkProgram(objs.program);
+    Prepared p;
+    p.program = glCreateProgram();
+    objs.programs.push_back(p.program);
+    glAttachShader(p.program, compile(objs, GL_VERTEX_SHADER, e.vertex_source, e.name));
+    glAttachShader(p.program, compile(objs, GL_FRAGMENT_SHADER, e.fragment_source, e.name));
+    glLinkProgram(p.program);
     GLint ok = 0;
-    glGetProgramiv(objs.program, GL_LINK_STATUS, &ok);
+    glGetProgramiv(p.program, GL_LINK_STATUS, &ok);
     if (!ok) {
         char log[4096] = {};
-        glGetProgramInfoLog(objs.program, sizeof(log), nullptr, log);
+        glGetProgramInfoLog(p.program, sizeof(log), nullptr, log);
         throw Error(str("GLES variant ", e.name, ": the program does not link on ",
                         context.info().renderer, ":\n", log));
     }
-    glUseProgram(objs.program);
-    auto loc = [&](const char* name) { return glGetUniformLocation(objs.program, name); };
+    glUseProgram(p.program);
+    auto loc = [&](const char* name) { return glGetUniformLocation(p.program, name); };
 
     // Uniforms.
     glUniformMatrix4fv(loc("u_clip_from_object"), 1, GL_FALSE, b.clip_from_object.data());
@@ -214,23 +225,24 @@ Readback draw(const Context& context, const Export& e, const Bindings& b, const 
     for (const auto& t : e.manifest["textures"]) {
         const std::string name = t["uniform"];
         const int unit = t["unit"];
+        GLuint tex = 0;
         if (name == "u_albedo_texture" || name == "u_normal_texture") {
             const Texture8* img = name == "u_albedo_texture" ? b.albedo_texture : b.normal_texture;
             if (!img || img->width != t["width"] || img->height != t["height"]) {
                 throw Error(str("GLES variant ", e.name, ": ", name, " needs a ", t["width"], "x",
                                 t["height"], " RGBA8 image"));
             }
-            const GLint internal = es3 ? GL_RGBA8 : GL_RGBA;
-            texture(objs, unit, internal, GL_RGBA, GL_UNSIGNED_BYTE, img->width, img->height,
-                    img->rgba.data());
+            tex = texture(objs, unit, es3 ? GL_RGBA8 : GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE,
+                          img->width, img->height, img->rgba.data());
         } else if (e.table_layout == TableLayout::kRgba8Texture) {
-            texture(objs, unit, GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, e.data_width, e.data_height,
-                    e.table_bytes.data());
+            tex = texture(objs, unit, GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, e.data_width,
+                          e.data_height, e.table_bytes.data());
         } else {
-            texture(objs, unit, GL_RGBA32F, GL_RGBA, GL_FLOAT, e.data_width, e.data_height,
-                    e.table_texels.data());
+            tex = texture(objs, unit, GL_RGBA32F, GL_RGBA, GL_FLOAT, e.data_width, e.data_height,
+                          e.table_texels.data());
         }
         glUniform1i(loc(name.c_str()), unit);
+        p.textures.emplace_back(unit, tex);
     }
     if (e.table_layout == TableLayout::kUniformArray) {
         glUniform4fv(loc("u_brdf"), e.data_width, e.table_texels.data());
@@ -244,7 +256,7 @@ Readback draw(const Context& context, const Export& e, const Bindings& b, const 
     }
     check_gl(str(e.name, ": binding uniforms and textures"));
 
-    // Vertices.
+    // Vertices: position, normal, tangent, uv interleaved.
     const size_t nv = mesh.position.size();
     std::vector<float> vbo;
     vbo.reserve(nv * 11);
@@ -254,54 +266,101 @@ Readback draw(const Context& context, const Export& e, const Bindings& b, const 
         for (int c = 0; c < 3; ++c) vbo.push_back(mesh.tangent.empty() ? 0.f : mesh.tangent[i][c]);
         for (int c = 0; c < 2; ++c) vbo.push_back(mesh.uv.empty() ? 0.f : mesh.uv[i][c]);
     }
-    GLuint buffer;
-    glGenBuffers(1, &buffer);
-    objs.buffers.push_back(buffer);
-    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    glGenBuffers(1, &p.buffer);
+    objs.buffers.push_back(p.buffer);
+    glBindBuffer(GL_ARRAY_BUFFER, p.buffer);
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vbo.size() * sizeof(float)), vbo.data(),
                  GL_STATIC_DRAW);
     const struct { const char* name; int size, offset; } attribs[] = {
         {"a_position", 3, 0}, {"a_normal", 3, 3}, {"a_tangent", 3, 6}, {"a_uv", 2, 9}};
-    std::vector<GLint> enabled;
     for (const auto& a : attribs) {
-        const GLint l = glGetAttribLocation(objs.program, a.name);
-        if (l < 0) continue;
+        const GLint l = glGetAttribLocation(p.program, a.name);
+        if (l >= 0) p.attribs.emplace_back(l, (a.size << 8) | a.offset);
+    }
+    p.vertices = static_cast<GLsizei>(nv);
+    return p;
+}
+
+void draw_prepared(const Prepared& p) {
+    glUseProgram(p.program);
+    for (const auto& [unit, tex] : p.textures) {
+        glActiveTexture(GL_TEXTURE0 + unit);
+        glBindTexture(GL_TEXTURE_2D, tex);
+    }
+    glBindBuffer(GL_ARRAY_BUFFER, p.buffer);
+    for (const auto& [l, packed] : p.attribs) {
         glEnableVertexAttribArray(static_cast<GLuint>(l));
-        glVertexAttribPointer(static_cast<GLuint>(l), a.size, GL_FLOAT, GL_FALSE, 11 * sizeof(float),
-                              reinterpret_cast<const void*>(a.offset * sizeof(float)));
-        enabled.push_back(l);
+        glVertexAttribPointer(static_cast<GLuint>(l), packed >> 8, GL_FLOAT, GL_FALSE,
+                              11 * sizeof(float),
+                              reinterpret_cast<const void*>((packed & 0xff) * sizeof(float)));
+    }
+    glDrawArrays(GL_TRIANGLES, 0, p.vertices);
+    for (const auto& [l, packed] : p.attribs) glDisableVertexAttribArray(static_cast<GLuint>(l));
+}
+
+}  // namespace
+
+Readback draw(const Context& context, const Export& e, const Bindings& b, const Mesh& mesh,
+              int width, int height, TargetFormat format, int repeat) {
+    return draw(context, {DrawItem{&e, &b, &mesh}}, width, height, format, repeat);
+}
+
+Readback draw(const Context& context, const std::vector<DrawItem>& items, int width, int height,
+              TargetFormat format, int repeat) {
+    const std::string what = items.empty() ? std::string("(nothing)") : items[0].variant->name;
+    if (format == TargetFormat::kRgba32f && !context.info().float_color_buffer) {
+        throw Error(str("GLES variant ", what, ": ", context.info().renderer,
+                        " cannot render to RGBA32F (no EXT_color_buffer_float)"));
+    }
+    GlObjects objs;
+    std::vector<Prepared> prepared;
+    int units = 0;
+    for (const DrawItem& item : items) {
+        prepared.push_back(prepare(objs, context, item));
+        units = std::max(units, static_cast<int>(item.variant->manifest["textures"].size()));
     }
 
-    // Target.
+    // Target: colour texture (the unit after every item's) and a depth renderbuffer.
     GLuint fbo;
     glGenFramebuffers(1, &fbo);
     objs.framebuffers.push_back(fbo);
     const bool f32 = format == TargetFormat::kRgba32f;
-    const GLuint target = texture(objs, static_cast<int>(e.manifest["textures"].size()), f32 ? GL_RGBA32F : (es3 ? GL_RGBA8 : GL_RGBA), GL_RGBA,
-                                  f32 ? GL_FLOAT : GL_UNSIGNED_BYTE, width, height, nullptr);
+    const bool es3 = context.info().version.find("OpenGL ES 3") != std::string::npos;
+    const GLuint target = texture(objs, units, f32 ? GL_RGBA32F : (es3 ? GL_RGBA8 : GL_RGBA),
+                                  GL_RGBA, f32 ? GL_FLOAT : GL_UNSIGNED_BYTE, width, height,
+                                  nullptr);
+    GLuint depth;
+    glGenRenderbuffers(1, &depth);
+    objs.renderbuffers.push_back(depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT16, width, height);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-        throw Error(str("GLES variant ", e.name, ": the ", f32 ? "RGBA32F" : "RGBA8",
+        throw Error(str("GLES variant ", what, ": the ", f32 ? "RGBA32F" : "RGBA8",
                         " framebuffer is incomplete on ", context.info().renderer));
     }
     glViewport(0, 0, width, height);
     glDisable(GL_BLEND);
     glDisable(GL_DITHER);  // RGBA8: round, do not dither
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
     glClearColor(0, 0, 0, 0);
+    glClearDepthf(1.0f);
     Readback out;
     for (int r = 0; r < std::max(repeat, 1); ++r) {
-        glClear(GL_COLOR_BUFFER_BIT);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glFinish();
         const auto t0 = std::chrono::steady_clock::now();
-        glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(nv));
+        for (const Prepared& p : prepared) draw_prepared(p);
         glFinish();
         const double ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count();
         out.draw_ms = r == 0 ? ms : std::min(out.draw_ms, ms);  // the least disturbed run
     }
-    check_gl(str(e.name, ": drawing"));
+    check_gl(str(what, ": drawing"));
 
     out.width = width;
     out.height = height;
@@ -314,13 +373,13 @@ Readback draw(const Context& context, const Export& e, const Bindings& b, const 
         glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
         for (size_t i = 0; i < bytes.size(); ++i) rows[i] = bytes[i] / 255.0f;
     }
-    check_gl(str(e.name, ": reading back"));
+    check_gl(str(what, ": reading back"));
     const size_t row = static_cast<size_t>(width) * 4;
     for (int y = 0; y < height; ++y) {  // GL row 0 is the bottom
         std::memcpy(&out.rgba[y * row], &rows[(height - 1 - y) * row], row * sizeof(float));
     }
-    for (GLint l : enabled) glDisableVertexAttribArray(static_cast<GLuint>(l));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDisable(GL_DEPTH_TEST);
     return out;
 }
 

@@ -86,4 +86,16 @@ struct Readback {
 Readback draw(const Context& context, const Export& variant, const Bindings& bindings,
               const Mesh& mesh, int width, int height, TargetFormat format, int repeat = 1);
 
+/// One variant with its bindings and mesh (pointers: the caller owns them).
+struct DrawItem {
+    const Export* variant = nullptr;
+    const Bindings* bindings = nullptr;
+    const Mesh* mesh = nullptr;
+};
+/// Several items into one framebuffer with a 16-bit depth test (a scene: one item per
+/// material); alpha 0 where nothing was drawn. `repeat` draws time the frame, the least
+/// disturbed is kept in draw_ms.
+Readback draw(const Context& context, const std::vector<DrawItem>& items, int width, int height,
+              TargetFormat format, int repeat = 1);
+
 }  // namespace inlight::gles

@@ -4,7 +4,11 @@
 #include <cctype>
 
 #include "brdf/bake.h"
+#include "core/conventions.h"
 #include "core/error.h"
+#include "core/log.h"
+#include "image/color.h"
+#include "render/realtime.h"
 
 namespace inlight::gles {
 
@@ -33,6 +37,307 @@ std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOp
         } else {
             const brdf::Table table = brdf::bake(m.brdf, grid, bo);
             for (Export& e : export_material(&table, in, options.set)) out.push_back(std::move(e));
+        }
+    }
+    return out;
+}
+
+
+Eigen::Matrix4f clip_from_world(const render::Camera& cam, double near, double far) {
+    const Eigen::Vector3d f = (cam.look_at - cam.position).normalized();
+    const Eigen::Vector3d r = f.cross(cam.up).normalized();
+    const Eigen::Vector3d u = r.cross(f);
+    Eigen::Matrix4d view = Eigen::Matrix4d::Identity();  // rows: right, up, forward (depth)
+    view.block<1, 3>(0, 0) = r.transpose();
+    view.block<1, 3>(1, 0) = u.transpose();
+    view.block<1, 3>(2, 0) = f.transpose();
+    view.block<3, 1>(0, 3) = -view.block<3, 3>(0, 0) * cam.position;
+    const double aspect = static_cast<double>(cam.width_px) / cam.height_px;
+    Eigen::Matrix4d proj = Eigen::Matrix4d::Zero();
+    if (cam.projection == render::Projection::kOrthographic) {
+        const double half = 0.5 * cam.ortho_height;
+        proj(0, 0) = 1.0 / (half * aspect);
+        proj(1, 1) = 1.0 / half;
+        proj(2, 2) = 2.0 / (far - near);
+        proj(2, 3) = -(far + near) / (far - near);
+        proj(3, 3) = 1.0;
+    } else {
+        const double t = std::tan(0.5 * cam.fov_deg * kPi / 180.0);
+        proj(0, 0) = 1.0 / (t * aspect);
+        proj(1, 1) = 1.0 / t;
+        proj(2, 2) = (far + near) / (far - near);
+        proj(2, 3) = -2.0 * far * near / (far - near);
+        proj(3, 2) = 1.0;
+    }
+    return (proj * view).cast<float>();
+}
+
+namespace {
+
+void add_vertex(Mesh& m, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                const Eigen::Vector3d& t, const Eigen::Vector2d& uv) {
+    m.position.push_back(p.cast<float>());
+    m.normal.push_back(n.cast<float>());
+    m.tangent.push_back(t.cast<float>());
+    m.uv.push_back(uv.cast<float>());
+}
+
+/// A unit tangent orthogonal to n: `hint` made orthogonal, else any (as accel.cpp).
+Eigen::Vector3d tangent_for(const Eigen::Vector3d& n, const Eigen::Vector3d& hint) {
+    Eigen::Vector3d t = hint - n * n.dot(hint);
+    if (t.squaredNorm() > 1e-24) return t.normalized();
+    t = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    return (t - n * n.dot(t)).normalized();
+}
+
+}  // namespace
+
+Mesh scene_mesh(const render::Scene& scene, int material, int sphere_rows) {
+    Mesh m;
+    const auto& shapes = scene.accel().shapes();
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        if (scene.material_index(static_cast<int>(i)) != material) continue;
+        const render::Shape& s = shapes[i];
+        if (s.kind == render::ShapeKind::kPatch) {
+            const double x0 = s.center.x() - 0.5 * s.size.x(), x1 = x0 + s.size.x();
+            const double y1 = s.center.y() + 0.5 * s.size.y(), y0 = y1 - s.size.y();
+            auto corner = [&](double x, double y) {
+                add_vertex(m, {x, y, s.center.z()}, Eigen::Vector3d::UnitZ(),
+                           Eigen::Vector3d::UnitX(), {(x - x0) / s.size.x(), (y1 - y) / s.size.y()});
+            };
+            for (const auto& [x, y] : {std::pair{x0, y1}, {x1, y1}, {x1, y0}, {x0, y1}, {x1, y0},
+                                       {x0, y0}}) {
+                corner(x, y);
+            }
+        } else if (s.kind == render::ShapeKind::kSphere) {
+            const int rows = sphere_rows, cols = 2 * sphere_rows;
+            auto vertex = [&](int r, int c) {
+                const Eigen::Vector2d uv(static_cast<double>(c) / cols,
+                                         static_cast<double>(r) / rows);
+                const double phi = kPi * (1.0 - 2.0 * uv.x()), theta = kPi * uv.y();
+                const Eigen::Vector3d n = direction_from_spherical(theta, phi);
+                add_vertex(m, s.center + s.radius * n, n,
+                           tangent_for(n, {std::sin(phi), -std::cos(phi), 0.0}), uv);
+            };
+            for (int r = 0; r < rows; ++r) {
+                for (int c = 0; c < cols; ++c) {
+                    for (const auto& [dr, dc] : {std::pair{0, 0}, {0, 1}, {1, 1}, {0, 0}, {1, 1},
+                                                 {1, 0}}) {
+                        vertex(r + dr, c + dc);
+                    }
+                }
+            }
+        } else {
+            const render::TriangleMesh& tm = *s.mesh;
+            for (const Eigen::Vector3i& tri : tm.triangles) {
+                const Eigen::Vector3d p[3] = {tm.positions[tri[0]], tm.positions[tri[1]],
+                                              tm.positions[tri[2]]};
+                const Eigen::Vector3d ng = (p[1] - p[0]).cross(p[2] - p[0]).normalized();
+                Eigen::Vector3d dpdu = Eigen::Vector3d::UnitX();
+                Eigen::Vector2d uv[3] = {Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
+                                         Eigen::Vector2d::Zero()};
+                if (!tm.uvs.empty()) {
+                    for (int k = 0; k < 3; ++k) uv[k] = tm.uvs[tri[k]];
+                    const Eigen::Vector2d d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
+                    const double det = d1.x() * d2.y() - d1.y() * d2.x();
+                    if (std::abs(det) > 1e-20) {
+                        dpdu = (d2.y() * (p[1] - p[0]) - d1.y() * (p[2] - p[0])) / det;
+                    }
+                }
+                for (int k = 0; k < 3; ++k) {
+                    const Eigen::Vector3d n = tm.normals.empty() ? ng : tm.normals[tri[k]];
+                    add_vertex(m, p[k], n, tangent_for(n, dpdu), uv[k]);
+                }
+            }
+        }
+    }
+    return m;
+}
+
+namespace {
+
+Texture8 to_texture8(const image::Image& img, bool srgb) {
+    Texture8 t;
+    t.width = img.width;
+    t.height = img.height;
+    t.rgba.reserve(static_cast<size_t>(img.width) * img.height * 4);
+    for (int y = 0; y < img.height; ++y) {
+        for (int x = 0; x < img.width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                // The 8-bit file's code: the CPU holds it decoded (sRGB) or as code / 255.
+                const float v = img.at(x, y, std::min(c, img.channels - 1));
+                const float e = srgb ? image::srgb_encode(v) : v;
+                t.rgba.push_back(static_cast<uint8_t>(std::clamp(std::lround(e * 255.0f), 0L, 255L)));
+            }
+            t.rgba.push_back(255);
+        }
+    }
+    return t;
+}
+
+}  // namespace
+
+SceneFrame render_scene(const Context& context, const render::Scene& scene,
+                        const std::vector<Export>& per_material, const Eigen::MatrixXd& coeffs,
+                        int repeat) {
+    const render::Camera& cam = scene.camera();
+    const auto& materials = scene.materials();
+    if (per_material.size() != materials.size()) {
+        throw Error(str("GLES scene: ", per_material.size(), " exports for ", materials.size(),
+                        " materials"));
+    }
+    std::vector<Mesh> meshes;
+    std::vector<Texture8> albedo(materials.size()), normal(materials.size());
+    std::vector<Bindings> bindings(materials.size());
+    // Depth range from the geometry, along the view.
+    const Eigen::Vector3d f = (cam.look_at - cam.position).normalized();
+    double zmin = 1e300, zmax = -1e300;
+    for (size_t i = 0; i < materials.size(); ++i) {
+        meshes.push_back(scene_mesh(scene, static_cast<int>(i)));
+        for (const Eigen::Vector3f& p : meshes.back().position) {
+            const double z = f.dot(p.cast<double>() - cam.position);
+            zmin = std::min(zmin, z);
+            zmax = std::max(zmax, z);
+        }
+    }
+    const double span = std::max(zmax - zmin, 1e-3);
+    double near = zmin - 0.01 * span, far = zmax + 0.01 * span;
+    if (cam.projection == render::Projection::kPerspective) near = std::max(near, 1e-3 * far);
+    const Eigen::Matrix4f clip = clip_from_world(cam, near, far);
+    std::vector<DrawItem> items;
+    for (size_t i = 0; i < materials.size(); ++i) {
+        if (meshes[i].position.empty()) continue;
+        const render::SurfaceMaterial& m = materials[i];
+        Bindings& b = bindings[i];
+        b.clip_from_object = clip;
+        b.sh = coeffs;
+        b.albedo = m.brdf.albedo.cast<float>();
+        b.uv_scale = m.uv_scale.cast<float>();
+        if (m.albedo_texture) {
+            albedo[i] = to_texture8(*m.albedo_texture, true);
+            b.albedo_texture = &albedo[i];
+        }
+        if (m.normal_texture) {
+            normal[i] = to_texture8(*m.normal_texture, false);
+            b.normal_texture = &normal[i];
+        }
+        items.push_back({&per_material[i], &b, &meshes[i]});
+    }
+    const Readback rb = draw(context, items, cam.width_px, cam.height_px, TargetFormat::kRgba32f,
+                             repeat);
+    SceneFrame out;
+    out.frame_ms = rb.draw_ms;
+    out.radiance = image::Image(cam.width_px, cam.height_px, 3, image::ColorSpace::kLinearSrgb);
+    for (int y = 0; y < cam.height_px; ++y) {
+        for (int x = 0; x < cam.width_px; ++x) {
+            if (rb.at(x, y, 3) > 0) {
+                for (int c = 0; c < 3; ++c) out.radiance.at(x, y, c) = rb.at(x, y, c);
+            } else {
+                const render::Ray ray = cam.generate_ray(x + 0.5, y + 0.5);
+                const Eigen::Vector3d e = scene.environment().eval(ray.dir);
+                for (int c = 0; c < 3; ++c) out.radiance.at(x, y, c) = static_cast<float>(e[c]);
+            }
+        }
+    }
+    return out;
+}
+
+nlohmann::json compare_scene(const render::Scene& scene, const render::RenderResult& truth,
+                             const render::CompareOptions& options, const std::string& prefix,
+                             std::vector<render::WrittenFile>& written) {
+    const double exposure =
+        options.exposure > 0 ? options.exposure : render::auto_exposure(truth.radiance);
+    render::RealtimeLighting lighting;
+    lighting.coeffs = render::project_environment(scene.environment(), options.max_bands);
+    brdf::BakeOptions bo;
+    bo.sh_bands = options.max_bands;
+    bo.samples = options.bake_samples;
+    const render::Camera& cam = scene.camera();
+    bo.view = (cam.position - cam.look_at).normalized();
+    const brdf::Grid grid = brdf::parse_grid(options.grid);
+    for (const render::SurfaceMaterial& m : scene.materials()) lighting.tables.push_back(brdf::bake(m.brdf, grid, bo));
+
+    nlohmann::json out = {{"exposure", exposure}, {"variants", nlohmann::json::array()}};
+    for (GlslVersion version : {GlslVersion::kEs300, GlslVersion::kEs100}) {
+        const Context context(version == GlslVersion::kEs300 ? 3 : 2);
+        out["driver"] = context.info().summary();
+        std::vector<Variant> variants;
+        for (int bands = 3; bands <= options.max_bands; ++bands) {
+            variants.push_back({version, ShaderMode::kConsistent, bands, Precision::kHighp});
+        }
+        variants.push_back({version, ShaderMode::kSeed, 3, Precision::kHighp});
+        for (const Variant& v : variants) {
+            std::vector<Export> exports;
+            render::RealtimeLighting bound = lighting;
+            std::string name;
+            for (size_t i = 0; i < scene.materials().size(); ++i) {
+                const render::SurfaceMaterial& m = scene.materials()[i];
+                MaterialInputs in;
+                in.name = "m" + std::to_string(i);
+                if (m.albedo_texture) in.albedo_texture_px = {m.albedo_texture->width, m.albedo_texture->height};
+                if (m.normal_texture) in.normal_texture_px = {m.normal_texture->width, m.normal_texture->height};
+                const bool lambert = m.brdf.specular == brdf::Model::kLambert;
+                exports.push_back(export_variant(lambert ? nullptr : &lighting.tables[i], in, v,
+                                                 context.info().limits));
+                if (exports.back().table_as_bound) bound.tables[i] = *exports.back().table_as_bound;
+                name = exports.back().name.substr(exports.back().name.find('-') + 1);
+            }
+            const SceneFrame frame = render_scene(context, scene, exports, lighting.coeffs, 3);
+            // The CPU model on the same inputs, one fragment per pixel (what the GPU shades).
+            render::RealtimeOptions ro;
+            ro.mode = v.mode == ShaderMode::kSeed ? render::RealtimeMode::kSeed
+                                                  : render::RealtimeMode::kConsistent;
+            ro.sh_bands = v.sh_bands;
+            ro.supersample = 1;
+            const image::Image cpu = render::render_realtime(scene, bound, ro);
+            int within = 0;
+            const int n = cpu.width * cpu.height;
+            for (int y = 0; y < cpu.height; ++y) {
+                for (int x = 0; x < cpu.width; ++x) {
+                    bool ok = true;
+                    for (int c = 0; c < 3; ++c) {
+                        const double want = cpu.at(x, y, c), got = frame.radiance.at(x, y, c);
+                        ok = ok && std::abs(got - want) <= 1e-3 * std::max(std::abs(want), options.rel_floor);
+                    }
+                    within += ok ? 1 : 0;
+                }
+            }
+            const render::Comparison c = render::compare_images(truth.radiance, frame.radiance, exposure, options);
+            const render::Comparison c_cpu = render::compare_images(truth.radiance, cpu, exposure, options);
+            nlohmann::json j = render::metrics_json(c.metrics);
+            j["variant"] = name;
+            j["glsl_version"] = to_string(version);
+            j["mode"] = to_string(v.mode);
+            j["sh_bands"] = v.sh_bands;
+            j["frame_time_ms"] = frame.frame_ms;
+            j["cpu_model_fraction_within_1e-3"] = static_cast<double>(within) / n;
+            j["cpu_model_vs_truth"] = render::metrics_json(c_cpu.metrics);
+            out["variants"].push_back(j);
+            const std::string base = prefix + "_gles_" + name;
+            image::write_image(base + ".exr", frame.radiance);
+            written.push_back({base + ".exr", "gles_radiance", "linear_srgb"});
+            image::write_image(base + "_relerr.exr", c.rel_error);
+            written.push_back({base + "_relerr.exr", "relative_error", "data"});
+            image::write_image(base + "_de2000.exr", c.de2000);
+            written.push_back({base + "_de2000.exr", "delta_e2000", "data"});
+            // truth | CPU model | GLES | GLES relative-error heat map.
+            const int w = cpu.width;
+            image::Image panel(4 * w, cpu.height, 3, image::ColorSpace::kLinearSrgb);
+            for (int y = 0; y < cpu.height; ++y) {
+                for (int x = 0; x < w; ++x) {
+                    for (int ch = 0; ch < 3; ++ch) {
+                        panel.at(x, y, ch) = c.side_by_side.at(x, y, ch);
+                        panel.at(w + x, y, ch) = c_cpu.side_by_side.at(w + x, y, ch);
+                        panel.at(2 * w + x, y, ch) = c.side_by_side.at(w + x, y, ch);
+                        panel.at(3 * w + x, y, ch) = c.side_by_side.at(2 * w + x, y, ch);
+                    }
+                }
+            }
+            image::write_image(prefix + "_compare3_" + name + ".png", panel);
+            written.push_back({prefix + "_compare3_" + name + ".png", "side_by_side", "srgb"});
+            log::info(str("compare gles ", name, ": mean rel ", c.metrics.mean_rel, ", mean dE2000 ",
+                          c.metrics.mean_de2000, ", ", 100.0 * within / n,
+                          "% of pixels within 1e-3 of the CPU model, ", frame.frame_ms, " ms/frame"));
         }
     }
     return out;

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "gles/export.h"
+#include "gles/harness.h"
+#include "render/compare.h"
 #include "render/scene.h"
 
 namespace inlight::gles {
@@ -21,5 +23,37 @@ struct SceneExportOptions {
 /// are not file-name safe have their other characters replaced by '_'. Throws as
 /// export_material.
 std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOptions& options);
+
+/// clip_from_world of the scene's camera (the rays of render::Camera: image row 0 at clip
+/// y = +1), depth mapping [near, far] (world distance along the view) to [-1, 1].
+Eigen::Matrix4f clip_from_world(const render::Camera& camera, double near, double far);
+
+/// The triangles of the shapes of one material (index into Scene::materials()), in world
+/// coordinates with the uv, normals and tangents the CPU shading uses: patches exact, meshes as
+/// loaded (face normals where the file has none), spheres tessellated in latitude-longitude
+/// (`sphere_rows` x 2 `sphere_rows` quads; the silhouette and normals then differ from the
+/// analytic sphere by O(1/rows^2)).
+Mesh scene_mesh(const render::Scene& scene, int material, int sphere_rows = 64);
+
+/// The scene's camera view drawn with one export per material (`per_material[i]` for
+/// Scene::materials()[i]), lighting `coeffs` (device = world frame). Pixels no surface covers
+/// show the environment along the pixel-centre ray, as render_realtime does.
+struct SceneFrame {
+    image::Image radiance;  ///< linear_srgb
+    double frame_ms = 0;    ///< least of `repeat` draws (glDrawArrays to glFinish)
+};
+SceneFrame render_scene(const Context& context, const render::Scene& scene,
+                        const std::vector<Export>& per_material, const Eigen::MatrixXd& coeffs,
+                        int repeat = 1);
+
+/// render --compare's GLES column: for ES 1.00 and 3.00 (highp), both modes at 3 bands and the
+/// consistent mode at 3 .. options.max_bands, the scene drawn on the driver (frame time: the
+/// least of 3 draws, after the first compiles) against the ground
+/// truth (the same metrics, heat maps and PNGs as the CPU model: <prefix>_gles_<variant>_*)
+/// and against the CPU model with one fragment per pixel (fraction of pixels within 1e-3
+/// relative). Writes <prefix>_compare3_<variant>.png: truth | CPU model | GLES | GLES error.
+nlohmann::json compare_scene(const render::Scene& scene, const render::RenderResult& truth,
+                             const render::CompareOptions& options, const std::string& prefix,
+                             std::vector<render::WrittenFile>& written);
 
 }  // namespace inlight::gles

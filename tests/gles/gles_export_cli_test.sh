@@ -43,6 +43,18 @@ if [ -e /usr/share/blender/datafiles/studiolights/world/city.exr ]; then
         '.textures[] | select(.uniform == "u_albedo_texture") | .width == 512 and .color_space == "srgb"' \
         "$WORK/rg/satin-es300-consistent-b3-highp.json"
     expect_true "report metrics count the variants" -- jq -e '.metrics.gles_export.variants == 2' "$WORK/r.json"
+    # render --compare's GLES column on the textured patch (sRGB albedo tiled 2x2): the scene
+    # drawn through EGL equals the CPU model on >= 99.9% of pixels within 1e-3 (the issue's
+    # criterion), for ES 1.00 and 3.00, consistent at 3 and 4 bands and seed.
+    expect_exit 0 "render --compare with the GLES column" -- "$R" "$SRC/configs/scenes/patch_city.toml" \
+        -o "$WORK/c.exr" --spp 4 --width-px 24 --height-px 24 --compare --rt-max-bands 4 \
+        --rt-bake-samples 256 --rt-grid octa:9 --report "$WORK/c.json"
+    expect_true "6 GLES variants compared" -- jq -e '.metrics.realtime.gles.variants | length == 6' "$WORK/c.json"
+    expect_true "every variant matches the CPU model on >= 99.9% of pixels" -- jq -e \
+        '[.metrics.realtime.gles.variants[] | .["cpu_model_fraction_within_1e-3"] >= 0.999] | all' "$WORK/c.json"
+    expect_true "GLES error against the truth is reported" -- jq -e \
+        '[.metrics.realtime.gles.variants[] | (.mean_rel | type == "number") and (.mean_de2000 | type == "number")] | all' "$WORK/c.json"
+    expect_true "three-way PNG written" -- test -s "$WORK/c_compare3_es300-seed-b3-highp.png"
 else
     echo "note: blender-data city.exr absent: render --export-gles not run"
 fi
