@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # validate-pair: one fabric bundle under one environment: the path-traced truth against the
-# app's real-time model (and, once issue 8 lands, the GLES output), into OUTDIR/summary.json.
+# app's real-time model and its exported GLES shaders run through EGL, into OUTDIR/summary.json.
 #   pipelines/validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR      (binaries from ${INLIGHT_BIN})
 # The scene is the app's case: the fabric on the screen (z = 0, facing +z), seen along -z by an
 # orthographic camera, a PATCH_WIDTH_M-wide patch (0.1 m) showing the bundle's textures tiled at
@@ -57,14 +57,10 @@ uv=$(jq --argjson w "$PATCH_WIDTH_M" '$w / .properties.tile_size_m' "$M")
     --rt-bake-samples "$(jq '.properties.brdf_samples_per_normal' "$M")" \
     -q --report "$OUTDIR/render.json"
 
-# GLES output (issue 8): a third column once render --export-gles and its harness are on main.
-gles=null
-if "$BIN/render" --help 2>/dev/null | grep -q -- '--export-gles'; then
-    echo "validate-pair: render --export-gles exists; its column is wired in phase 2 of issue 11" >&2
-fi
-
+# GLES output (issue 8): render --compare also draws the scene with the exported shaders through
+# EGL (metrics.realtime.gles): the third column, beside the CPU model and the truth.
 jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_name" \
-    --arg envpath "$ENV_MAP" --argjson gles "$gles" '
+    --arg envpath "$ENV_MAP" '
     $r[0].metrics as $m | $m.realtime as $rt | $b[0] as $bundle |
     {fabric: $bundle.id, fabric_name: $bundle.name, environment: $env, environment_path: $envpath,
      bundle_bytes: $bundle.total_bytes, sh_bands_shipped: $bundle.properties.sh_bands,
@@ -73,7 +69,14 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
      consistent: $rt.modes.consistent, seed: $rt.modes.seed,
      by_sh_bands: [$rt.consistent_by_sh_bands[] | {sh_bands, mean_rel, mean_de2000, max_de2000,
                                                     frame_time_ms}],
-     gles: $gles,
+     gles: (if $rt.gles then
+              {driver: $rt.gles.driver,
+               variants: [$rt.gles.variants[] | {variant, glsl_version, mode, sh_bands, mean_rel,
+                          mean_de2000, max_de2000, frame_time_ms,
+                          cpu_model_fraction_within_1e_3: .["cpu_model_fraction_within_1e-3"]}]}
+            else null end),
      images: {compare_consistent: "render_compare_consistent.png",
-              compare_seed: "render_compare_seed.png"}}' > "$OUTDIR/summary.json.tmp"
+              compare_seed: "render_compare_seed.png",
+              compare3_consistent: "render_compare3_es300-consistent-b3-highp.png",
+              compare3_seed: "render_compare3_es300-seed-b3-highp.png"}}' > "$OUTDIR/summary.json.tmp"
 mv "$OUTDIR/summary.json.tmp" "$OUTDIR/summary.json"
