@@ -46,10 +46,10 @@ done
 #    integration, interpolation and truncation errors against a converged reference.
 "$BIN/brdf-sh-bake" --config "$ROOT/configs/brdf-sh-bake.toml" \
     --material "$ROOT/configs/materials/satin-ggx.toml" -o "$OUT/brdf/satin" -q \
-    --report "$OUT/brdf/satin_report.json"
+    --export-gles "$OUT/gles/satin" --gles-versions 300 --report "$OUT/brdf/satin_report.json"
 "$BIN/brdf-sh-bake" --config "$ROOT/configs/brdf-sh-bake-report.toml" \
     --material "$ROOT/configs/materials/report-cook-torrance.toml" -o "$OUT/brdf/report_ct" -q \
-    --report "$OUT/brdf/report_ct_report.json"
+    --export-gles "$OUT/gles/report_ct" --report "$OUT/brdf/report_ct_report.json"
 echo
 echo "brdf-sh-bake: table errors (relative to the largest exact radiance of each test lighting)"
 printf '%-10s %-15s %-15s %9s %12s %14s %11s\n' table grid integrator bake_ms integration interpolation truncation
@@ -64,15 +64,25 @@ for r in "$OUT"/brdf/*_report.json; do
         done
 done
 
-# 3. Ground truth against the app's real-time model: the satin patch under the city HDRI.
+# (satin's thetaphi:9x32 table is a 96-texel-wide texture, more than the 64 texels every ES 2.0
+# device must offer, so it gets GLSL ES 3.00 only; the report's 5x5 table gets both.)
+echo "GLES shaders (consistent and seed, highp and mediump) with their manifests:"
+echo "  $OUT/gles/satin/index.json (ES 3.00), $OUT/gles/report_ct/index.json (ES 1.00 and 3.00),"
+echo "  $OUT/gles/patch_city/index.json (docs/gles.md)"
+
+# 3. Ground truth against the app's real-time model (CPU) and its exported GLES shaders run
+#    through EGL: the satin patch under the city HDRI, three columns.
 "$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/render/patch_city.exr" --spp 256 \
-    --compare -q --report "$OUT/render/patch_city_report.json"
+    --compare --export-gles "$OUT/gles/patch_city" -q --report "$OUT/render/patch_city_report.json"
 echo
 echo "render: the app's real-time model against the path-traced ground truth (patch_city)"
 jq -r '"  ground truth: \(.metrics.spp) spp, relative noise \(.metrics.rel_error * 1e4 | round / 1e4), \(.metrics.rays_per_s / 1e6 * 100 | round / 100) Mrays/s",
        "  consistent mode, 3 bands: mean rel error \(.metrics.realtime.modes.consistent.mean_rel * 1e4 | round / 1e4), mean dE2000 \(.metrics.realtime.modes.consistent.mean_de2000 * 100 | round / 100)",
        "  seed mode (the report'"'"'s shader): mean rel error \(.metrics.realtime.modes.seed.mean_rel * 1e4 | round / 1e4), mean dE2000 \(.metrics.realtime.modes.seed.mean_de2000 * 100 | round / 100)",
-       "  side by side: '"$OUT"'/render/patch_city_compare_consistent.png"' "$OUT/render/patch_city_report.json"
+       "  side by side: '"$OUT"'/render/patch_city_compare_consistent.png",
+       "  GLES on \(.metrics.realtime.gles.driver):",
+       (.metrics.realtime.gles.variants[] | "    \(.variant): mean rel error \(.mean_rel * 1e4 | round / 1e4), mean dE2000 \(.mean_de2000 * 100 | round / 100), \(.["cpu_model_fraction_within_1e-3"] * 1000 | round / 10)% of pixels within 1e-3 of the CPU model, \(.frame_time_ms * 10 | round / 10) ms/frame"),
+       "  truth | CPU model | GLES | error: '"$OUT"'/render/patch_city_compare3_es300-consistent-b3-highp.png"' "$OUT/render/patch_city_report.json"
 
 # 4. Camera to lighting on real photographs (when ../shared/data is present).
 if [ -d "$SHARED/data/fisheye-ros-mono" ]; then
