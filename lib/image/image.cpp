@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "core/check.h"
@@ -252,7 +253,11 @@ Image read_image_memory(const void* data, size_t size, const std::string& name,
     return read_from(name, options, &memory);
 }
 
-void write_image(const std::string& path, const Image& img, const WriteOptions& options) {
+namespace {
+
+/// Checks and converts `img` for the format of `path`, then calls emit(spec, type, data).
+void prepare_write(const std::string& path, const Image& img, const WriteOptions& options,
+                   const std::function<void(const OIIO::ImageSpec&, OIIO::TypeDesc, const void*)>& emit) {
     const Format format = format_for(path);
     if (img.width <= 0 || img.height <= 0 || img.channels <= 0 ||
         img.pixels.size() != img.pixel_count() * static_cast<size_t>(img.channels)) {
@@ -366,17 +371,39 @@ void write_image(const std::string& path, const Image& img, const WriteOptions& 
         }
     }
 
-    fs::write_atomic(path, [&](const std::string& tmp) {
-        auto out = OIIO::ImageOutput::create(tmp);
-        if (!out) throw Error(str(path, ": cannot write: ", clean(OIIO::geterror())));
-        if (!out->open(tmp, spec)) {
-            throw Error(str(path, ": cannot write: ", clean(out->geterror())));
-        }
-        if (!out->write_image(data_type, data)) {
-            throw Error(str(path, ": cannot write pixels: ", clean(out->geterror())));
-        }
-        if (!out->close()) throw Error(str(path, ": cannot finish: ", clean(out->geterror())));
+    emit(spec, data_type, data);
+}
+
+/// Writes prepared pixels to `file` (a path, or a name for the format when `proxy` is set).
+void write_prepared(const std::string& path, const std::string& file, const OIIO::ImageSpec& spec,
+                    OIIO::TypeDesc data_type, const void* data, OIIO::Filesystem::IOProxy* proxy) {
+    auto out = OIIO::ImageOutput::create(file, proxy);
+    if (!out) throw Error(str(path, ": cannot write: ", clean(OIIO::geterror())));
+    if (!out->open(file, spec)) throw Error(str(path, ": cannot write: ", clean(out->geterror())));
+    if (!out->write_image(data_type, data)) {
+        throw Error(str(path, ": cannot write pixels: ", clean(out->geterror())));
+    }
+    if (!out->close()) throw Error(str(path, ": cannot finish: ", clean(out->geterror())));
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const Image& img, const WriteOptions& options) {
+    prepare_write(path, img, options, [&](const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
+        fs::write_atomic(path, [&](const std::string& tmp) {
+            write_prepared(path, tmp, spec, type, data, nullptr);
+        });
     });
+}
+
+std::string encode_image(const std::string& name, const Image& img, const WriteOptions& options) {
+    std::string bytes;
+    prepare_write(name, img, options, [&](const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
+        OIIO::Filesystem::IOVecOutput proxy;
+        write_prepared(name, name, spec, type, data, &proxy);
+        bytes.assign(proxy.buffer().begin(), proxy.buffer().end());
+    });
+    return bytes;
 }
 
 }  // namespace inlight::image

@@ -107,4 +107,9 @@ struct WriteOptions {
 /// a warning); PNG takes 1-4; JPEG 1 or 3 and at most 65500 pixels per side.
 void write_image(const std::string& path, const Image& img, const WriteOptions& options = {});
 
+/// The bytes write_image would write for a file named `name` (its extension picks the format:
+/// PNG, EXR, JPEG, TIFF), in memory, so a caller can count or store them itself. Throws Error
+/// naming `name` on failure.
+std::string encode_image(const std::string& name, const Image& img, const WriteOptions& options = {});
+
 }  // namespace inlight::image

@@ -94,6 +94,22 @@ TEST(ImageIo, ExrFloatRoundTripIsExact) {
     }
 }
 
+TEST(ImageIo, EncodeImageGivesTheBytesWriteImageWrites) {
+    // A caller that stores or counts encoded bytes itself (btf-pca's streamed components) gets
+    // exactly the file write_image writes, for 8-bit PNG and half/float EXR.
+    const std::string dir = testing::temp_dir("encode-image");
+    const Image img = random_image(13, 9, 1, 0.0f, 1.0f, 3);
+    WriteOptions linear8, half;
+    linear8.encode_srgb = false;
+    half.exr_half = true;
+    for (const auto& [name, opt] : {std::pair{std::string("a.png"), linear8},
+                                    std::pair{std::string("b.exr"), half},
+                                    std::pair{std::string("c.exr"), WriteOptions{}}}) {
+        write_image(dir + "/" + name, img, opt);
+        EXPECT_EQ(encode_image(name, img, opt), fs::read_file(dir + "/" + name)) << name;
+    }
+}
+
 TEST(ImageIo, ReadsFilesHeldInMemoryLikeFilesOnDisk) {
     // A zip entry or a network buffer decodes exactly as the same bytes read from disk, for
     // every format the BTF reader takes (8/16-bit PNG, JPEG, half EXR).

@@ -1,0 +1,52 @@
+// btf-pca: compress a BTF (UBO2003 folder or Bonn zip file) with PCA per group of k neighbouring
+// views, store the components for streaming, and report Table 7.1-style errors (docs/btf.md).
+#include "btf/pca_run.h"
+#include "core/app.h"
+#include "core/validators.h"
+
+using namespace inlight;
+
+int main(int argc, char** argv) {
+    CLI::App cli{"btf-pca: PCA compression of a bidirectional texture function per group of k "
+                 "neighbouring views, components as 8-bit PNG (or EXR) ordered for streaming"};
+    app::CommonArgs common;
+    btf::PcaRunOptions o;
+    std::string method = "auto", format = "png";
+    cli.add_option("input", o.input, "BTF folder (UBO2003 names at any depth) or Bonn .zip file")
+        ->required()->check(CLI::ExistingPath);
+    cli.add_option("-o,--output", o.output, "Output folder (btf-pca.json, weights.bin, component "
+                   "images, streaming.tsv/.gp)")->required();
+    cli.add_option("-k,--view-group-size", o.pca.view_group_size, "Neighbouring views per PCA "
+                   "group (1 = PCA RF; >= the view count = one PCA)")->check(CLI::Range(1, 100000))->capture_default_str();
+    cli.add_option("-c,--components", o.pca.components, "Components per group (with --max-rmse: "
+                   "the most a group may keep)")->check(CLI::Range(1, 4096))->capture_default_str();
+    cli.add_option("--max-rmse", o.pca.max_rmse, "Error budget: each group keeps the fewest "
+                   "components whose RMS error (linear sRGB, unquantised) is at most this; -1 = off")
+        ->check(app::finite_range_or(0, 1e6, -1))->capture_default_str();
+    cli.add_option("--method", method, "auto: Gram matrix up to --gram-max-side, randomized SVD "
+                   "above; full-svd is the slow reference")
+        ->check(CLI::IsMember({"auto", "gram", "randomized", "full-svd"}))->capture_default_str();
+    cli.add_option("--gram-max-side", o.pca.gram_max_side, "Largest short side (pixels or "
+                   "columns) solved through its Gram matrix")->check(CLI::Range(1, 65536))->capture_default_str();
+    cli.add_option("--oversampling", o.pca.oversampling, "Randomized SVD: extra test vectors")
+        ->check(CLI::Range(0, 1000))->capture_default_str();
+    cli.add_option("--power-iterations", o.pca.power_iterations, "Randomized SVD: power iterations")
+        ->check(CLI::Range(0, 20))->capture_default_str();
+    cli.add_option("--format", format, "Component images: 8-bit PNG with scale/offset each, or "
+                   "half/float EXR")->check(CLI::IsMember({"png", "exr-half", "exr-float"}))->capture_default_str();
+    cli.add_option("--light-directions", o.open.light_directions, "Light direction file "
+                   "(default: the UBO2003 dome)")->check(CLI::ExistingFile);
+    cli.add_option("--view-directions", o.open.view_directions, "View direction file "
+                   "(default: the UBO2003 dome)")->check(CLI::ExistingFile);
+    bool linear = false;
+    cli.add_flag("--linear-input", linear, "8/16-bit images hold linear values (default: sRGB-encoded)");
+    cli.add_option("--color-samples", o.color_samples, "Colour triples for the CIELAB, Delta E "
+                   "2000 and 8-bit figures (evenly strided)")->check(CLI::Range(int64_t(1), int64_t(1) << 40))->capture_default_str();
+    app::setup(cli, common, "btf-pca wool_btf.zip -o out/wool -k 3 -c 8 --report wool.json");
+    if (auto code = app::parse(cli, argc, argv)) return *code;
+    o.open.decode_srgb = !linear;
+    o.pca.method = btf::pca_method_from_string(method);
+    o.encoding = btf::component_encoding_from_string(format);
+    o.pca.seed = common.seed;
+    return app::run("btf-pca", cli, common, argc, argv, [&](Report& report) { btf::run_pca(o, report); });
+}

@@ -1,0 +1,175 @@
+#include "btf/compressed.h"
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "btf/quantize.h"
+#include "core/check.h"
+#include "core/error.h"
+#include "core/fs.h"
+
+namespace inlight::btf {
+
+std::string to_string(ComponentEncoding e) {
+    switch (e) {
+        case ComponentEncoding::kPng8: return "png";
+        case ComponentEncoding::kExrHalf: return "exr-half";
+        case ComponentEncoding::kExrFloat: return "exr-float";
+    }
+    return "?";
+}
+
+ComponentEncoding component_encoding_from_string(const std::string& name) {
+    for (auto e : {ComponentEncoding::kPng8, ComponentEncoding::kExrHalf, ComponentEncoding::kExrFloat})
+        if (to_string(e) == name) return e;
+    throw UsageError("unknown component format '" + name + "' (png, exr-half, exr-float)");
+}
+
+std::string extension_of(ComponentEncoding e) { return e == ComponentEncoding::kPng8 ? "png" : "exr"; }
+
+std::string encode_column(const float* values, int width, int height, ComponentEncoding e,
+                          const std::string& file, StoredImage& meta, float* decoded) {
+    const int64_t n = int64_t(width) * height;
+    image::Image img(width, height, 1, image::ColorSpace::kData);
+    image::WriteOptions wo;
+    meta.file = file;
+    if (e == ComponentEncoding::kPng8) {
+        const Quantized8 q = quantize8(values, n);
+        meta.scale = q.scale * 255.0f;  // stored value = code / 255
+        meta.offset = q.offset;
+        for (int64_t i = 0; i < n; ++i) {
+            img.pixels[static_cast<size_t>(i)] = q.codes[static_cast<size_t>(i)] / 255.0f;
+            decoded[i] = q.value(i);
+        }
+        wo.encode_srgb = false;
+    } else {
+        meta.scale = 1;
+        meta.offset = 0;
+        wo.exr_half = e == ComponentEncoding::kExrHalf;
+        for (int64_t i = 0; i < n; ++i) {
+            img.pixels[static_cast<size_t>(i)] = values[i];
+            decoded[i] = wo.exr_half ? static_cast<float>(Eigen::half(values[i])) : values[i];
+        }
+    }
+    return image::encode_image(file, img, wo);
+}
+
+namespace {
+
+Direction direction_of(const nlohmann::json& j, const std::string& where) {
+    if (!j.is_array() || j.size() != 2 || !j[0].is_number() || !j[1].is_number())
+        throw Error(where + ": a direction must be [theta_deg, phi_deg]");
+    return Direction{j[0].get<double>(), j[1].get<double>()};
+}
+
+/// A stored column read back: value = offset + scale * stored.
+void read_column(const std::string& dir, const nlohmann::json& meta, const BtfShape& s, float* out) {
+    const std::string path = dir + "/" + meta.at("file").get<std::string>();
+    const image::Image img = image::read_image(path, {false});
+    if (img.width != s.width || img.height != s.height || img.channels != 1)
+        throw Error(str(path, ": expected a ", s.width, "x", s.height, " one-channel image, got ", img.width,
+                        "x", img.height, "x", img.channels));
+    const float scale = meta.at("scale").get<float>(), offset = meta.at("offset").get<float>();
+    for (size_t i = 0; i < img.pixels.size(); ++i) out[i] = offset + scale * img.pixels[i];
+}
+
+}  // namespace
+
+std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
+    const std::string manifest_path = dir + "/btf-pca.json";
+    std::unique_ptr<CompressedBtf> b(new CompressedBtf());
+    try {
+        b->m_manifest = nlohmann::json::parse(fs::read_file(manifest_path));
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(str(manifest_path, ": not a btf-pca manifest: ", e.what()));
+    }
+    const nlohmann::json& m = b->m_manifest;
+    try {
+        if (m.at("format").get<std::string>() != "inlight-btf-pca" || m.at("version").get<int>() != 1)
+            throw Error(str(manifest_path, ": unknown format or version"));
+        BtfShape& s = b->m_shape;
+        s.width = m.at("width").get<int>();
+        s.height = m.at("height").get<int>();
+        for (const auto& d : m.at("lights")) s.lights.push_back(direction_of(d, manifest_path));
+        for (const auto& d : m.at("views")) s.views.push_back(direction_of(d, manifest_path));
+        if (s.width < 1 || s.height < 1 || s.lights.empty() || s.views.empty())
+            throw Error(str(manifest_path, ": empty image or direction set"));
+        const std::string weights_path = dir + "/" + m.at("weights").at("file").get<std::string>();
+        const std::string weights = fs::read_file(weights_path);
+        b->m_group_of_view.assign(s.views.size(), -1);
+        b->m_index_in_group.assign(s.views.size(), -1);
+        for (const auto& gj : m.at("groups")) {
+            Group g;
+            g.views = gj.at("views").get<std::vector<int>>();
+            const int gi = static_cast<int>(b->m_groups.size());
+            for (size_t i = 0; i < g.views.size(); ++i) {
+                const int v = g.views[i];
+                if (v < 0 || v >= s.n_views() || b->m_group_of_view[static_cast<size_t>(v)] >= 0)
+                    throw Error(str(manifest_path, ": group ", gi, " names view ", v, " twice or out of range"));
+                b->m_group_of_view[static_cast<size_t>(v)] = gi;
+                b->m_index_in_group[static_cast<size_t>(v)] = static_cast<int>(i);
+            }
+            const int64_t n = s.group_columns(static_cast<int>(g.views.size()));
+            const auto& comps = gj.at("components");
+            const int c = static_cast<int>(comps.size());
+            g.mean.resize(s.pixel_count());
+            read_column(dir, gj.at("mean"), s, g.mean.data());
+            g.basis.resize(s.pixel_count(), c);
+            for (int i = 0; i < c; ++i) read_column(dir, comps[static_cast<size_t>(i)], s, g.basis.col(i).data());
+            const uint64_t offset = gj.at("weights_offset_bytes").get<uint64_t>();
+            const uint64_t bytes = uint64_t(n) * c * sizeof(float);
+            if (offset + bytes > weights.size())
+                throw Error(str(weights_path, ": ", weights.size(), " bytes, group ", gi, " needs ", offset + bytes));
+            g.weights.resize(n, c);
+            std::memcpy(g.weights.data(), weights.data() + offset, bytes);
+            if (!g.weights.allFinite() || !g.basis.allFinite() || !g.mean.allFinite())
+                throw Error(str(dir, ": group ", gi, " holds NaN or Inf"));
+            b->m_groups.push_back(std::move(g));
+        }
+        for (size_t v = 0; v < s.views.size(); ++v)
+            if (b->m_group_of_view[v] < 0) throw Error(str(manifest_path, ": view ", v, " is in no group"));
+        for (const auto& e : m.at("stream")) {
+            const int g = e.at(0).get<int>(), c = e.at(1).get<int>();
+            if (g < 0 || g >= static_cast<int>(b->m_groups.size()) || c < 0 || c >= b->components(g))
+                throw Error(str(manifest_path, ": stream entry [", g, ", ", c, "] out of range"));
+            b->m_stream.emplace_back(g, c);
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(str(manifest_path, ": malformed manifest: ", e.what()));
+    }
+    return b;
+}
+
+image::Image CompressedBtf::decode(int light, int view, const std::vector<int>& per_group) const {
+    INLIGHT_CHECK(light >= 0 && light < m_shape.n_lights() && view >= 0 && view < m_shape.n_views());
+    const int g = m_group_of_view[static_cast<size_t>(view)];
+    const Group& group = m_groups[static_cast<size_t>(g)];
+    const int c = per_group[static_cast<size_t>(g)];
+    const int64_t base = (int64_t(m_index_in_group[static_cast<size_t>(view)]) * m_shape.n_lights() + light) * 3;
+    image::Image img(m_shape.width, m_shape.height, 3);
+    for (int ch = 0; ch < 3; ++ch) {
+        Eigen::VectorXf col = group.mean;
+        if (c > 0) col.noalias() += group.basis.leftCols(c) * group.weights.row(base + ch).head(c).transpose();
+        for (int64_t p = 0; p < m_shape.pixel_count(); ++p) img.pixels[static_cast<size_t>(p * 3 + ch)] = col[p];
+    }
+    return img;
+}
+
+image::Image CompressedBtf::read_image(int light, int view) const {
+    std::vector<int> all;
+    for (const auto& g : m_groups) all.push_back(static_cast<int>(g.basis.cols()));
+    return decode(light, view, all);
+}
+
+image::Image CompressedBtf::read_image_streamed(int light, int view, int64_t sent) const {
+    std::vector<int> per_group(m_groups.size(), 0);
+    for (int64_t i = 0; i < std::min<int64_t>(sent, stream_length()); ++i) {
+        const auto [g, c] = m_stream[static_cast<size_t>(i)];
+        per_group[static_cast<size_t>(g)] = std::max(per_group[static_cast<size_t>(g)], c + 1);
+    }
+    return decode(light, view, per_group);
+}
+
+}  // namespace inlight::btf

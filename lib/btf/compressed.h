@@ -1,0 +1,83 @@
+// btf/compressed.h: the files of a PCA-compressed BTF (written by btf-pca) and their decoder.
+//
+// A folder holds:
+//   btf-pca.json  the manifest: image size, colour space (linear_srgb), light and view directions
+//                 (degrees), and per view group its views, its mean image and component images
+//                 (file, scale, offset, bytes, energy), and where its V sits in weights.bin; then
+//                 "stream": the components [group, component] in order of importance across
+//                 groups (energy removed, largest first), the order a server sends them in after
+//                 the manifest, weights.bin and the mean images.
+//   weights.bin   float32 little-endian; per group its V (N x C, column-major), N = 3 * n_lights *
+//                 views with column = (view_in_group * n_lights + light) * 3 + channel.
+//   g###-mean.png, g###-c##.png  one grey image (width x height) per column of L = [m | U Sigma]:
+//                 8-bit codes with value = offset + scale * code, or half/float EXR (scale 1,
+//                 offset 0) with --format exr-half / exr-float.
+// A pixel's value for (light, view, channel) is mean[p] + sum_c basis_c[p] * V[column, c].
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "btf/dataset.h"
+
+namespace inlight::btf {
+
+/// How component images are stored.
+enum class ComponentEncoding { kPng8, kExrHalf, kExrFloat };
+std::string to_string(ComponentEncoding e);  ///< "png", "exr-half", "exr-float"
+/// Inverse of to_string; throws UsageError naming the value otherwise.
+ComponentEncoding component_encoding_from_string(const std::string& name);
+/// The file extension of an encoding ("png" or "exr").
+std::string extension_of(ComponentEncoding e);
+
+/// One stored column of L.
+struct StoredImage {
+    std::string file;  ///< file name inside the folder
+    float scale = 1;   ///< value = offset + scale * stored (stored: code / 255 for PNG)
+    float offset = 0;
+    uint64_t bytes = 0;  ///< file size
+};
+
+/// Encodes one column of P = width * height values (finite) as an image file's bytes named
+/// `file`; fills `meta` (not `bytes`) and writes the values a decoder will read to `decoded`.
+std::string encode_column(const float* values, int width, int height, ComponentEncoding e,
+                          const std::string& file, StoredImage& meta, float* decoded);
+
+/// A compressed BTF read back: every group's mean, basis and V in memory (float).
+class CompressedBtf : public BtfSource {
+  public:
+    /// Reads the manifest and every file it names. Throws Error naming the file for a missing
+    /// or malformed manifest, a missing, truncated or wrongly sized image, or a short weights.bin.
+    static std::unique_ptr<CompressedBtf> open(const std::string& dir);
+
+    const BtfShape& shape() const override { return m_shape; }
+    /// The decompressed image with every component.
+    image::Image read_image(int light, int view) const override;
+    /// The image as a client has it after the first `sent` components of the stream (the means
+    /// always): the progressive preview. sent >= stream_length() gives read_image.
+    image::Image read_image_streamed(int light, int view, int64_t sent) const;
+    int64_t stream_length() const { return static_cast<int64_t>(m_stream.size()); }
+    int group_of_view(int view) const { return m_group_of_view[static_cast<size_t>(view)]; }
+    int components(int group) const { return static_cast<int>(m_groups[static_cast<size_t>(group)].basis.cols()); }
+    const nlohmann::json& manifest() const { return m_manifest; }
+
+  private:
+    struct Group {
+        std::vector<int> views;
+        Eigen::VectorXf mean;
+        Eigen::MatrixXf basis;    // P x C
+        Eigen::MatrixXf weights;  // N x C
+    };
+    image::Image decode(int light, int view, const std::vector<int>& components_per_group) const;
+
+    BtfShape m_shape;
+    nlohmann::json m_manifest;
+    std::vector<Group> m_groups;
+    std::vector<int> m_group_of_view, m_index_in_group;
+    std::vector<std::pair<int, int>> m_stream;
+};
+
+}  // namespace inlight::btf

@@ -1,0 +1,348 @@
+#include "btf/pca_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <numeric>
+
+#include "btf/quantize.h"
+#include "core/check.h"
+#include "core/error.h"
+#include "core/fs.h"
+#include "core/log.h"
+#include "core/memory.h"
+#include "core/parallel.h"
+#include "image/color.h"
+
+namespace inlight::btf {
+namespace {
+
+namespace stdfs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+int64_t rows_per_block(int64_t cols) { return std::clamp<int64_t>((int64_t(1) << 20) / std::max<int64_t>(cols, 1), 16, 2048); }
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// Display-referred colour errors summed over sampled triples.
+struct ColorSums {
+    double lab_abs = 0, delta_e2000 = 0, code_abs = 0, code_sq = 0;
+    int64_t triples = 0;
+    ColorSums& operator+=(const ColorSums& o) {
+        lab_abs += o.lab_abs, delta_e2000 += o.delta_e2000, code_abs += o.code_abs, code_sq += o.code_sq;
+        triples += o.triples;
+        return *this;
+    }
+    nlohmann::json to_json() const {
+        const double n = std::max<int64_t>(triples, 1);
+        return {{"mae_lab", lab_abs / (3 * n)}, {"delta_e2000_mean", delta_e2000 / n},
+                {"mae_rgb8", code_abs / (3 * n)}, {"rmse_rgb8", std::sqrt(code_sq / (3 * n))},
+                {"color_triples", triples}};
+    }
+};
+
+void add_color(ColorSums& s, const Eigen::Vector3d& truth, Eigen::Vector3d test) {
+    test = test.cwiseMax(0.0).cwiseMin(1.0);
+    const Eigen::Vector3d t = truth.cwiseMax(0.0).cwiseMin(1.0);
+    const Eigen::Vector3d lab_t = image::lab_from_linear_srgb(t), lab = image::lab_from_linear_srgb(test);
+    s.lab_abs += (lab - lab_t).cwiseAbs().sum();
+    s.delta_e2000 += image::delta_e2000(lab_t, lab);
+    for (int c = 0; c < 3; ++c) {
+        const double d = 255.0 * (image::srgb_encode(float(test[c])) - image::srgb_encode(float(t[c])));
+        s.code_abs += std::abs(d);
+        s.code_sq += d * d;
+    }
+    ++s.triples;
+}
+
+/// What the run keeps of each group after freeing its data.
+struct GroupRecord {
+    std::vector<int> views;
+    std::string method;
+    std::vector<double> sse;     // stored model, after 0..C components
+    std::vector<double> energy;  // unquantised energy of each component
+    std::vector<uint64_t> component_bytes;
+    uint64_t mean_bytes = 0;
+    double sae = 0, max_abs = 0;
+    nlohmann::json manifest;
+};
+
+std::string group_file(int g, int c, const std::string& ext) {
+    char buf[64];
+    if (c < 0) std::snprintf(buf, sizeof buf, "g%03d-mean.%s", g, ext.c_str());
+    else std::snprintf(buf, sizeof buf, "g%03d-c%02d.%s", g, c, ext.c_str());
+    return buf;
+}
+
+}  // namespace
+
+nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& o,
+                                  uint64_t input_stored_bytes, Report* report) {
+    const auto t_start = Clock::now();
+    const BtfShape& shape = source.shape();
+    const int64_t P = shape.pixel_count();
+    const double samples = shape.sample_count();
+    const double total_triples = samples / 3;
+    const int64_t stride = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(total_triples / double(std::max<int64_t>(o.color_samples, 1)))));
+    const std::string ext = extension_of(o.encoding);
+    const std::string dir = o.output;
+
+    std::vector<GroupRecord> groups;
+    std::string weights_bin;
+    ColorSums ours, thesis;
+    int sigma_overflows = 0;
+    uint64_t thesis_u_bytes = 0, thesis_v_bytes = 0;
+    double store_s = 0, measure_s = 0;
+    std::map<std::string, int> methods;
+    auto write_file = [&](const std::string& name, const std::string& bytes, const std::string& kind) {
+        fs::write_text_atomic(dir + "/" + name, bytes);
+        if (report) report->add_output(dir + "/" + name, kind, kind == "btf_pca_manifest" ? "linear_srgb" : "");
+    };
+
+    const CompressStats stats = compress_btf(source, o.pca, [&](GroupFit& fit) {
+        const GroupPca& pca = fit.pca;
+        const int C = pca.components();
+        const int64_t N = pca.columns;
+        GroupRecord rec;
+        rec.views = pca.views;
+        rec.method = to_string(pca.method);
+        ++methods[rec.method];
+        auto t0 = Clock::now();
+        // Store: mean and components as images, V into weights.bin.
+        StoredGroup q;
+        q.mean.resize(P);
+        q.basis.resize(P, C);
+        q.weights = pca.weights;
+        StoredImage meta;
+        nlohmann::json gj = {{"views", pca.views}, {"columns", N}, {"method", rec.method},
+                             {"weights_offset_bytes", weights_bin.size()}, {"components", nlohmann::json::array()}};
+        std::string bytes = encode_column(pca.mean.data(), shape.width, shape.height, o.encoding,
+                                          group_file(fit.index, -1, ext), meta, q.mean.data());
+        rec.mean_bytes = bytes.size();
+        write_file(meta.file, bytes, "btf_pca_mean");
+        gj["mean"] = {{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset}, {"bytes", bytes.size()}};
+        for (int c = 0; c < C; ++c) {
+            bytes = encode_column(pca.basis.col(c).data(), shape.width, shape.height, o.encoding,
+                                  group_file(fit.index, c, ext), meta, q.basis.col(c).data());
+            rec.component_bytes.push_back(bytes.size());
+            rec.energy.push_back(pca.component_energy(c));
+            write_file(meta.file, bytes, "btf_pca_component");
+            gj["components"].push_back({{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset},
+                                        {"bytes", bytes.size()}, {"energy", pca.component_energy(c)}});
+        }
+        weights_bin.append(reinterpret_cast<const char*>(pca.weights.data()), size_t(N) * C * sizeof(float));
+        // The thesis' packing of the same model, for the comparison.
+        int overflow = 0;
+        std::vector<std::vector<uint8_t>> u_codes;
+        const StoredGroup th = store_thesis(pca, C, &overflow, &u_codes);
+        sigma_overflows += overflow;
+        for (int c = 0; c < C; ++c) {
+            image::Image img(shape.width, shape.height, 1, image::ColorSpace::kData);
+            for (int64_t p = 0; p < P; ++p) img.pixels[static_cast<size_t>(p)] = u_codes[c][static_cast<size_t>(p)] / 255.0f;
+            image::WriteOptions wo;
+            wo.encode_srgb = false;
+            thesis_u_bytes += image::encode_image("u.png", img, wo).size();
+        }
+        thesis_v_bytes += uint64_t(N) * C + 2 * uint64_t(C);  // V as 8-bit texels, Sigma in two channels
+        store_s += seconds_since(t0);
+
+        // Exact errors of the stored model after 0..C components, row block by row block.
+        t0 = Clock::now();
+        const Eigen::VectorXf dmean = pca.mean - q.mean;
+        const std::vector<double> sums = parallel::reduce(
+            P, rows_per_block(N), std::vector<double>(size_t(C) + 3, 0.0),
+            [&](int64_t b, int64_t e) {
+                std::vector<double> s(size_t(C) + 3, 0.0);
+                Eigen::MatrixXf err = fit.centred.middleRows(b, e - b);
+                err.colwise() += dmean.segment(b, e - b);
+                auto energy = [&] {
+                    double x = 0;
+                    for (int64_t j = 0; j < N; ++j) x += err.col(j).cast<double>().squaredNorm();
+                    return x;
+                };
+                s[0] = energy();
+                for (int c = 0; c < C; ++c) {
+                    err.noalias() -= q.basis.col(c).segment(b, e - b) * q.weights.col(c).transpose();
+                    s[size_t(c) + 1] = energy();
+                }
+                for (int64_t j = 0; j < N; ++j) s[size_t(C) + 1] += err.col(j).cast<double>().cwiseAbs().sum();
+                s[size_t(C) + 2] = err.size() ? double(err.cwiseAbs().maxCoeff()) : 0.0;
+                return s;
+            },
+            [](std::vector<double> a, const std::vector<double>& b) {
+                for (size_t i = 0; i + 1 < a.size(); ++i) a[i] += b[i];
+                a.back() = std::max(a.back(), b.back());
+                return a;
+            });
+        rec.sse.assign(sums.begin(), sums.begin() + C + 1);
+        rec.sae = sums[size_t(C) + 1];
+        rec.max_abs = sums[size_t(C) + 2];
+
+        // Display-referred errors on the strided triples, ours and the thesis' packing.
+        const int64_t group_triples = P * (N / 3);
+        const int64_t picks = (group_triples + stride - 1) / stride;
+        using Pair = std::pair<ColorSums, ColorSums>;
+        const Pair cs = parallel::reduce(
+            picks, 4096, Pair{},
+            [&](int64_t b, int64_t e) {
+                Pair s;
+                for (int64_t k = b; k < e; ++k) {
+                    const int64_t t = k * stride, p = t % P, j = (t / P) * 3;
+                    Eigen::Vector3d truth, a, th3;
+                    for (int ch = 0; ch < 3; ++ch) {
+                        truth[ch] = double(fit.centred(p, j + ch)) + pca.mean[p];
+                        a[ch] = q.mean[p] + double(q.basis.row(p).dot(q.weights.row(j + ch)));
+                        th3[ch] = th.mean[p] + double(th.basis.row(p).dot(th.weights.row(j + ch)));
+                    }
+                    add_color(s.first, truth, a);
+                    add_color(s.second, truth, th3);
+                }
+                return s;
+            },
+            [](Pair x, const Pair& y) {
+                x.first += y.first;
+                x.second += y.second;
+                return x;
+            });
+        ours += cs.first;
+        thesis += cs.second;
+        measure_s += seconds_since(t0);
+        rec.manifest = std::move(gj);
+        groups.push_back(std::move(rec));
+        log::info(str("[btf-pca] group ", fit.index + 1, "/", fit.count, ": ", C, " components (", to_string(pca.method),
+                      "), rmse ", std::sqrt(groups.back().sse.back() / (double(P) * N))));
+    });
+
+    // Stream order: components by the energy they remove, largest first, across groups.
+    std::vector<std::pair<int, int>> stream;
+    for (size_t g = 0; g < groups.size(); ++g)
+        for (size_t c = 0; c < groups[g].energy.size(); ++c) stream.emplace_back(int(g), int(c));
+    std::stable_sort(stream.begin(), stream.end(), [&](const auto& x, const auto& y) {
+        return groups[size_t(x.first)].energy[size_t(x.second)] > groups[size_t(y.first)].energy[size_t(y.second)];
+    });
+
+    nlohmann::json manifest = {{"format", "inlight-btf-pca"}, {"version", 1}, {"width", shape.width},
+                               {"height", shape.height}, {"color_space", "linear_srgb"},
+                               {"view_group_size", o.pca.view_group_size}, {"component_format", to_string(o.encoding)},
+                               {"weights", {{"file", "weights.bin"}, {"dtype", "float32_le"}, {"layout", "per group N x C column-major"}}},
+                               {"lights", nlohmann::json::array()}, {"views", nlohmann::json::array()},
+                               {"groups", nlohmann::json::array()}, {"stream", nlohmann::json::array()}};
+    for (const auto& d : shape.lights) manifest["lights"].push_back({d.theta_deg, d.phi_deg});
+    for (const auto& d : shape.views) manifest["views"].push_back({d.theta_deg, d.phi_deg});
+    for (const auto& g : groups) manifest["groups"].push_back(g.manifest);
+    for (const auto& [g, c] : stream) manifest["stream"].push_back({g, c});
+    const std::string manifest_text = manifest.dump(1) + "\n";
+    write_file("weights.bin", weights_bin, "btf_pca_weights");
+    write_file("btf-pca.json", manifest_text, "btf_pca_manifest");
+
+    // The streaming curve: manifest, weights and means first, then one component at a time.
+    uint64_t means = 0, components = 0;
+    for (const auto& g : groups) {
+        means += g.mean_bytes;
+        for (uint64_t b : g.component_bytes) components += b;
+    }
+    std::vector<size_t> sent(groups.size(), 0);
+    double sse = 0;
+    for (const auto& g : groups) sse += g.sse[0];
+    uint64_t bytes = manifest_text.size() + weights_bin.size() + means;
+    nlohmann::json curve = {{"components_sent", {0}}, {"bytes_sent", {bytes}}, {"rmse_linear", {std::sqrt(sse / samples)}}};
+    std::string tsv = "# components_sent\tbytes_sent\trmse_linear\n" + str(0, "\t", bytes, "\t", std::sqrt(sse / samples), "\n");
+    for (size_t i = 0; i < stream.size(); ++i) {
+        const auto [g, c] = stream[i];
+        GroupRecord& r = groups[size_t(g)];
+        sse += r.sse[size_t(c) + 1] - r.sse[sent[size_t(g)]];
+        sent[size_t(g)] = size_t(c) + 1;
+        bytes += r.component_bytes[size_t(c)];
+        const double rmse = std::sqrt(std::max(sse, 0.0) / samples);
+        curve["components_sent"].push_back(i + 1);
+        curve["bytes_sent"].push_back(bytes);
+        curve["rmse_linear"].push_back(rmse);
+        tsv += str(i + 1, "\t", bytes, "\t", rmse, "\n");
+    }
+    write_file("streaming.tsv", tsv, "btf_pca_streaming_table");
+    write_file("streaming.gp",
+               "# gnuplot streaming.gp -> streaming.svg: RMSE after each streamed component\n"
+               "set terminal svg size 800,480\nset output 'streaming.svg'\n"
+               "set xlabel 'bytes sent (KiB)'\nset ylabel 'RMSE (linear sRGB)'\nset logscale y\nset grid\n"
+               "plot 'streaming.tsv' using ($2/1024):3 with linespoints pt 7 ps 0.4 title 'btf-pca stream'\n",
+               "btf_pca_streaming_plot");
+
+    // Totals.
+    double total_sse = 0, total_sae = 0, max_abs = 0, unquantised = stats.residual_energy;
+    std::vector<int> per_group;
+    for (const auto& g : groups) {
+        total_sse += g.sse.back();
+        total_sae += g.sae;
+        max_abs = std::max(max_abs, g.max_abs);
+        per_group.push_back(static_cast<int>(g.energy.size()));
+    }
+    const uint64_t raw8 = static_cast<uint64_t>(samples);
+    const uint64_t params32 = uint64_t(4) * (uint64_t(P) * (stats.components + stats.groups) + weights_bin.size() / 4);
+    const uint64_t stored = manifest_text.size() + weights_bin.size() + means + components;
+    const uint64_t thesis_stored = means + thesis_u_bytes + thesis_v_bytes;
+    nlohmann::json m;
+    m["btf"] = {{"width", shape.width}, {"height", shape.height}, {"lights", shape.n_lights()},
+                {"views", shape.n_views()}, {"samples", samples}};
+    m["pca"] = {{"view_group_size", o.pca.view_group_size}, {"groups", stats.groups},
+                {"components_max", o.pca.components}, {"max_rmse", o.pca.max_rmse},
+                {"components_total", stats.components}, {"components_per_group", per_group},
+                {"methods", methods}, {"component_format", to_string(o.encoding)}};
+    m["time"] = {{"read_s", stats.read_time_s}, {"fit_s", stats.fit_time_s}, {"store_s", store_s},
+                 {"measure_s", measure_s}, {"total_s", seconds_since(t_start)}};
+    m["peak_rss_bytes"] = stats.peak_rss_bytes;
+    m["peak_rss_mib"] = stats.peak_rss_bytes / 1048576.0;
+    nlohmann::json err = ours.to_json();
+    err.update({{"rmse_linear", std::sqrt(total_sse / samples)}, {"mae_linear", total_sae / samples},
+                {"max_abs_linear", max_abs}, {"rmse_linear_unquantised", std::sqrt(unquantised / samples)}});
+    m["error"] = err;
+    m["bytes"] = {{"raw_8bit", raw8}, {"parameters_float32", params32}, {"stored", stored},
+                  {"components", components}, {"means", means}, {"weights", weights_bin.size()},
+                  {"manifest", manifest_text.size()}, {"input_files", input_stored_bytes}};
+    m["compression_ratio"] = {{"raw_8bit_to_parameters_float32", double(raw8) / params32},
+                              {"raw_8bit_to_stored", double(raw8) / stored},
+                              {"input_files_to_stored", input_stored_bytes ? double(input_stored_bytes) / stored : 0.0}};
+    nlohmann::json th = thesis.to_json();
+    th.update({{"stored_bytes", thesis_stored}, {"u_png_bytes", thesis_u_bytes},
+               {"v_sigma_bytes", thesis_v_bytes}, {"sigma_overflows", sigma_overflows}});
+    m["thesis_packing"] = th;
+    m["packing_gain"] = {
+        {"rmse_rgb8_thesis_over_ours", thesis.code_sq > 0 ? std::sqrt(thesis.code_sq / std::max(ours.code_sq, 1e-300)) : 0.0},
+        {"mae_lab_thesis_over_ours", ours.lab_abs > 0 ? thesis.lab_abs / ours.lab_abs : 0.0},
+        {"stored_bytes_ours_over_thesis", double(stored) / std::max<uint64_t>(thesis_stored, 1)}};
+    m["streaming"] = curve;
+    return m;
+}
+
+void run_pca(const PcaRunOptions& o, Report& report) {
+    std::error_code ec;
+    const stdfs::path in = stdfs::weakly_canonical(o.input, ec), out = stdfs::weakly_canonical(o.output, ec);
+    if (fs::same_file(o.input, o.output))
+        throw UsageError(str("-o ", o.output, ": is the input ", o.input));
+    const std::string in_s = in.string() + "/", out_s = out.string() + "/";
+    if (out_s.compare(0, in_s.size(), in_s) == 0)
+        throw UsageError(str("-o ", o.output, ": lies inside the input folder ", o.input));
+    if (stdfs::is_directory(o.input)) fs::declare_input(o.input, "input");
+    else report.add_input(o.input);
+    for (const auto& f : {o.open.light_directions, o.open.view_directions})
+        if (!f.empty()) report.add_input(f);
+    for (const char* f : {"btf-pca.json", "weights.bin", "streaming.tsv", "streaming.gp"})
+        fs::declare_output(o.output + "/" + f, "-o");
+    std::unique_ptr<FolderBtf> btf;
+    {
+        ScopedStage stage(report, "index " + o.input);
+        btf = FolderBtf::open(o.input, o.open);
+    }
+    const auto& idx = btf->index();
+    log::info(str("[btf-pca] ", o.input, ": ", idx.shape.n_lights(), " lights x ", idx.shape.n_views(), " views of ",
+                  idx.shape.width, "x", idx.shape.height, " px (", idx.format, ", ", idx.bits_per_channel, "-bit)"));
+    ScopedStage stage(report, "compress");
+    nlohmann::json m = compress_to_folder(*btf, o, idx.stored_bytes, &report);
+    m["input"] = {{"path", o.input}, {"format", idx.format}, {"bits_per_channel", idx.bits_per_channel},
+                  {"zip", idx.is_zip}, {"stored_bytes", idx.stored_bytes}, {"ignored_files", idx.ignored.size()}};
+    report.metrics() = m;
+}
+
+}  // namespace inlight::btf

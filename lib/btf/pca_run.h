@@ -1,0 +1,45 @@
+// btf/pca_run.h: what the btf-pca tool does, as one library call: compress a BTF group by group,
+// store the components (btf/compressed.h), and measure the result the way the BTF thesis'
+// Table 7.1 does, plus the streaming curve and the thesis' packing beside ours.
+//
+// Errors are measured on the stored (quantised) model against the images read:
+//  - exactly over every sample: RMSE and MAE in linear_srgb, and the RMSE after each number of
+//    components sent in stream order (the streaming curve);
+//  - on a fixed, evenly strided subset of (pixel, light, view) colour triples (all of them when
+//    there are at most `color_samples`): MAE in CIELAB (per channel, averaged over L, a, b, as
+//    the thesis computes it), mean Delta E 2000, and MAE and RMSE of 8-bit sRGB codes (0..255,
+//    the thesis' "RGB" units), for our storage and for the thesis' packing. Reconstructions are
+//    clamped to [0, 1] for these display-referred figures.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "btf/compressed.h"
+#include "btf/pca.h"
+#include "core/report.h"
+
+namespace inlight::btf {
+
+struct PcaRunOptions {
+    std::string input;   ///< BTF folder or zip file (FolderBtf::open)
+    std::string output;  ///< output folder (created; files as in btf/compressed.h)
+    OpenOptions open;
+    PcaOptions pca;
+    ComponentEncoding encoding = ComponentEncoding::kPng8;
+    int64_t color_samples = int64_t(1) << 20;  ///< colour triples for the CIELAB/8-bit figures
+};
+
+/// Compresses `source` into options.output and returns the metrics (also the report's). Every
+/// file goes through fs::write_atomic, so inside app::run the folder appears whole or not at
+/// all. `input_stored_bytes` is the input's storage (0 when unknown): the ratio against it is
+/// reported. Throws Error on failure.
+nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& options,
+                                  uint64_t input_stored_bytes, Report* report = nullptr);
+
+/// The tool: declares input and outputs (an output folder that is the input, or inside a zip's
+/// path, is a UsageError), opens the BTF, compress_to_folder, and fills the report's metrics.
+void run_pca(const PcaRunOptions& options, Report& report);
+
+}  // namespace inlight::btf

@@ -1,0 +1,130 @@
+#include "btf/pca_run.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+
+#include "btf/compressed.h"
+#include "btf/quantize.h"
+#include "btf/synthetic.h"
+#include "testing/testing.h"
+
+namespace inlight::btf {
+namespace {
+
+/// The run sums squared errors in double over float32 residuals; the decoder recomputes them
+/// from float32 files in another order: both agree to float32 rounding of values <= 1
+/// (relative ~1e-6 of the RMSE, with margin).
+constexpr double kRmseRelTol = 1e-4;
+
+AnalyticBtfOptions small_btf() {
+    AnalyticBtfOptions o;
+    o.width = 20;
+    o.height = 14;
+    o.rank = 5;
+    o.lights = {{0, 0}, {15, 0}, {15, 120}, {30, 60}, {30, 240}, {45, 0}, {60, 90}, {75, 300}};
+    o.views = {{0, 0}, {30, 0}, {30, 120}, {45, 180}, {60, 270}};
+    return o;
+}
+
+/// RMSE over every sample between two sources (the decoder's images and the truth).
+double rmse_between(const BtfSource& a, const BtfSource& b, const std::function<image::Image(int, int)>& decode) {
+    double sse = 0;
+    const BtfShape& s = a.shape();
+    for (int v = 0; v < s.n_views(); ++v)
+        for (int l = 0; l < s.n_lights(); ++l) {
+            const image::Image x = decode(l, v), y = b.read_image(l, v);
+            for (size_t i = 0; i < x.pixels.size(); ++i) sse += std::pow(double(x.pixels[i]) - y.pixels[i], 2);
+        }
+    return std::sqrt(sse / s.sample_count());
+}
+
+TEST(Quantize8, EveryValueWithinHalfAStep) {
+    const float v[] = {-0.25f, 0.0f, 0.1f, 0.7f, 1.75f};
+    const Quantized8 q = quantize8(v, 5);
+    EXPECT_FLOAT_EQ(q.offset, -0.25f);
+    EXPECT_FLOAT_EQ(q.scale, 2.0f / 255);
+    for (int i = 0; i < 5; ++i) EXPECT_LE(std::abs(q.value(i) - v[i]), 0.5f * q.scale * (1 + 1e-5f));
+    EXPECT_EQ(q.codes.front(), 0);
+    EXPECT_EQ(q.codes.back(), 255);
+    const float c[] = {0.3f, 0.3f};
+    const Quantized8 k = quantize8(c, 2);
+    EXPECT_EQ(k.scale, 0.0f);
+    EXPECT_EQ(k.value(1), 0.3f);
+}
+
+TEST(ThesisPacking, FactorIsTheLargestPowerOfTenKeepingTheRange) {
+    EXPECT_EQ(thesis_factor(0.03), 10.0);
+    EXPECT_EQ(thesis_factor(0.5), 1.0);
+    EXPECT_EQ(thesis_factor(0.0004), 1000.0);
+    EXPECT_EQ(thesis_factor(0.0), 1.0);
+    EXPECT_EQ(thesis_factor(3.0), 1.0);
+}
+
+// The files decode to exactly the model whose error the run reports: the RMSE of the decoded
+// BTF against the source equals metrics.error.rmse_linear, and the RMSE after j streamed
+// components equals the curve's point j. PNG (quantised) and float EXR (the unquantised model).
+TEST(CompressToFolder, FilesDecodeToTheReportedErrorAndStreamingCurve) {
+    const AnalyticBtf btf(small_btf());
+    for (ComponentEncoding e : {ComponentEncoding::kPng8, ComponentEncoding::kExrFloat}) {
+        SCOPED_TRACE(to_string(e));
+        PcaRunOptions o;
+        o.output = testing::temp_dir("btf_pca_run_" + to_string(e));
+        o.pca.view_group_size = 2;
+        o.pca.components = 3;
+        o.encoding = e;
+        const nlohmann::json m = compress_to_folder(btf, o, 0);
+        const auto dec = CompressedBtf::open(o.output);
+        ASSERT_EQ(dec->shape().n_views(), 5);
+        EXPECT_EQ(m["pca"]["groups"], 3);  // 5 views in pairs: 2 + 2 + 1
+        const double rmse = m["error"]["rmse_linear"];
+        EXPECT_NEAR(rmse_between(*dec, btf, [&](int l, int v) { return dec->read_image(l, v); }), rmse, kRmseRelTol * rmse);
+        if (e == ComponentEncoding::kExrFloat) {
+            EXPECT_NEAR(rmse, m["error"]["rmse_linear_unquantised"].get<double>(), kRmseRelTol * rmse);
+        } else {
+            EXPECT_GT(rmse, m["error"]["rmse_linear_unquantised"].get<double>());  // 8 bits cost
+        }
+        const auto& curve = m["streaming"];
+        ASSERT_EQ(dec->stream_length(), 9);
+        ASSERT_EQ(curve["rmse_linear"].size(), 10u);
+        for (int j : {0, 1, 4, 9}) {
+            const double want = curve["rmse_linear"][j];
+            EXPECT_NEAR(rmse_between(*dec, btf, [&](int l, int v) { return dec->read_image_streamed(l, v, j); }),
+                        want, kRmseRelTol * want) << j;
+        }
+        for (size_t j = 1; j < curve["bytes_sent"].size(); ++j)
+            EXPECT_GT(curve["bytes_sent"][j].get<double>(), curve["bytes_sent"][j - 1].get<double>());
+        EXPECT_LT(curve["rmse_linear"][9].get<double>(), curve["rmse_linear"][0].get<double>());
+    }
+}
+
+// Our 8-bit storage against the thesis' packing on the same model: ours uses each component's
+// own range, so its error is smaller; the thesis' power-of-ten scaling leaves unit-norm U
+// columns on few of the 256 levels.
+TEST(CompressToFolder, OurPackingBeatsTheThesisPacking) {
+    const AnalyticBtf btf(small_btf());
+    PcaRunOptions o;
+    o.output = testing::temp_dir("btf_pca_run_packing");
+    o.pca.view_group_size = 5;
+    o.pca.components = 5;
+    const nlohmann::json m = compress_to_folder(btf, o, 0);
+    EXPECT_LT(m["error"]["rmse_rgb8"].get<double>(), m["thesis_packing"]["rmse_rgb8"].get<double>());
+    EXPECT_EQ(m["error"]["color_triples"], 20 * 14 * 8 * 5);  // all triples: below color_samples
+}
+
+TEST(CompressedBtf, BadFolderNamesTheFile) {
+    const std::string dir = testing::temp_dir("btf_pca_bad");
+    EXPECT_NE(testing::error_of([&] { CompressedBtf::open(dir); }).find("btf-pca.json"), std::string::npos);
+    const AnalyticBtf btf(small_btf());
+    PcaRunOptions o;
+    o.output = dir;
+    o.pca.components = 2;
+    compress_to_folder(btf, o, 0);
+    std::filesystem::remove(dir + "/g001-c01.png");
+    EXPECT_NE(testing::error_of([&] { CompressedBtf::open(dir); }).find("g001-c01.png"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace inlight::btf

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# btf-pca: compress an analytic BTF folder and zip end to end; bad input and all-or-nothing outputs.
+# shellcheck source=tests/cli/lib.sh
+source "$(dirname "$0")/lib.sh"
+PCA="$BIN/btf-pca"
+MK="$TBIN/inlight_make_test_btf"
+
+printf '0 0\n15 0\n15 120\n30 60\n30 240\n45 0\n60 90\n75 300\n' >"$WORK/lights.txt"
+printf '0 0\n30 0\n30 120\n45 180\n60 270\n' >"$WORK/views.txt"
+DIRS=(--light-directions "$WORK/lights.txt" --view-directions "$WORK/views.txt")
+"$MK" "$WORK/btf" 24 16 4 1.0 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf"
+
+expect_exit 0 "--help" -- "$PCA" --help
+for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples; do
+    grep -q -- "$opt" "$WORK/stdout" || fail "--help lacks $opt"
+done
+
+expect_exit 0 "compress k=3 C=4" -- "$PCA" "$WORK/btf" -o "$WORK/out" -k 3 -c 4 "${DIRS[@]}" --report "$WORK/r.json"
+expect_true "5 views in groups of 3: 2 groups of 4 components" -- \
+    jq -e '.status == "ok" and .metrics.pca.groups == 2 and .metrics.pca.components_per_group == [4, 4]' "$WORK/r.json"
+expect_true "one mean and 4 component PNGs per group, manifest, weights, streaming table and plot" -- \
+    test "$(find "$WORK/out" -name 'g*.png' | wc -l)" -eq 10 -a -s "$WORK/out/btf-pca.json" -a -s "$WORK/out/weights.bin" \
+    -a -s "$WORK/out/streaming.tsv" -a -s "$WORK/out/streaming.gp"
+# weights.bin holds V of each group: N = 3 channels * 8 lights * views, 4 components, float32.
+expect_true "weights.bin size = (3 + 2 views) * 24 * 4 components * 4 bytes" -- test "$(stat -c %s "$WORK/out/weights.bin")" -eq 1920
+expect_true "report: Table 7.1 figures, memory, time, ratios, thesis packing" -- jq -e '.metrics |
+    (.error | .mae_lab > 0 and .rmse_rgb8 > 0 and .delta_e2000_mean > 0 and .rmse_linear > 0) and
+    .peak_rss_bytes > 0 and .time.total_s > 0 and .compression_ratio.raw_8bit_to_stored > 1 and
+    .thesis_packing.rmse_rgb8 > .error.rmse_rgb8' "$WORK/r.json"
+expect_true "streaming curve: 9 points, bytes rising, error falling to the final figure" -- jq -e '.metrics as $m |
+    $m.streaming | (.rmse_linear | length) == 9 and (.bytes_sent | . == sort) and
+    .rmse_linear[0] > .rmse_linear[8] and ((.rmse_linear[8] - $m.error.rmse_linear) | fabs) < 1e-9' "$WORK/r.json"
+expect_true "streaming.tsv has a header and 9 rows" -- test "$(grep -vc '^#' "$WORK/out/streaming.tsv")" -eq 9
+
+# An error budget: a rank-4 BTF needs at most 4 components above the 8-bit noise.
+expect_exit 0 "error budget" -- "$PCA" "$WORK/btf" -o "$WORK/budget" -k 5 -c 16 --max-rmse 0.01 "${DIRS[@]}" --report "$WORK/b.json"
+expect_true "budget: C chosen <= 4 and met" -- \
+    jq -e '.metrics | .pca.components_per_group[0] <= 4 and .error.rmse_linear_unquantised <= 0.01' "$WORK/b.json"
+
+# The same BTF as a zip file, read in place, gives the same components.
+(cd "$WORK" && zip -qr btf.zip btf) || fail "zip"
+expect_exit 0 "zip input" -- "$PCA" "$WORK/btf.zip" -o "$WORK/zout" -k 3 -c 4 "${DIRS[@]}" --report "$WORK/z.json"
+expect_true "zip and folder give identical component files" -- cmp "$WORK/out/g001-c03.png" "$WORK/zout/g001-c03.png"
+expect_true "1 and 2 threads give identical outputs" -- bash -c \
+    "'$PCA' '$WORK/btf' -o '$WORK/t1' -k 3 -c 4 --threads 1 ${DIRS[*]} -q && '$PCA' '$WORK/btf' -o '$WORK/t2' -k 3 -c 4 --threads 2 ${DIRS[*]} -q && diff -r '$WORK/t1' '$WORK/t2'"
+
+# Bad input: usage errors (exit 2) name the option; nothing is written.
+expect_exit 2 "-k 0" -- "$PCA" "$WORK/btf" -o "$WORK/bad" -k 0 "${DIRS[@]}"
+expect_stderr "view-group-size" "-k 0 names the option"
+expect_exit 2 "--max-rmse nan" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --max-rmse nan "${DIRS[@]}"
+expect_exit 2 "--format jpeg" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --format jpeg "${DIRS[@]}"
+expect_exit 2 "output inside the input folder" -- "$PCA" "$WORK/btf" -o "$WORK/btf/pca" "${DIRS[@]}"
+expect_stderr "inside the input" "output inside the input is refused"
+expect_true "no output folder after usage errors" -- test ! -e "$WORK/bad" -a ! -e "$WORK/btf/pca"
+
+# Runtime errors (exit 1) name the file, and leave no partial output.
+cp -r "$WORK/btf" "$WORK/holed"
+rm "$WORK/holed/tv045_pv180/tl030 pl060 tv045 pv180.png" 2>/dev/null || rm "$(find "$WORK/holed" -name '*tl030*pl060*tv045*pv180*' | head -1)"
+expect_exit 1 "a missing image" -- "$PCA" "$WORK/holed" -o "$WORK/holed_out" "${DIRS[@]}" --report "$WORK/h.json"
+expect_stderr "tv045" "the missing image is named"
+expect_true "failed run: no output folder, report says failed" -- bash -c \
+    "test ! -e '$WORK/holed_out' && jq -e '.status == \"failed\" and .exit_code == 1' '$WORK/h.json'"
+cp -r "$WORK/btf" "$WORK/corrupt"
+f=$(find "$WORK/corrupt" -name '*.png' | sort | sed -n 7p)
+head -c 100 "$f" >"$f.tmp" && mv "$f.tmp" "$f"
+expect_exit 1 "a truncated image" -- "$PCA" "$WORK/corrupt" -o "$WORK/corrupt_out" "${DIRS[@]}"
+expect_true "no output after a failure mid-run" -- test ! -e "$WORK/corrupt_out"
+finish
