@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
     cli.add_flag("--linear-input", linear, "8/16-bit images hold linear values (default: sRGB-encoded)");
     cli.add_option("--color-samples", o.color_samples, "Colour triples for the CIELAB, Delta E "
                    "2000 and 8-bit figures (evenly strided)")->check(CLI::Range(int64_t(1), int64_t(1) << 40))->capture_default_str();
+    cli.add_option("--table-components", o.table_components, "Also report the model cut to each of "
+                   "these component counts (Table 7.1 rows from one run), e.g. 1,2,4,8")
+        ->delimiter(',')->check(CLI::Range(1, 4096));
     app::setup(cli, common, "btf-pca wool_btf.zip -o out/wool -k 3 -c 8 --report wool.json");
     if (auto code = app::parse(cli, argc, argv)) return *code;
     o.open.decode_srgb = !linear;

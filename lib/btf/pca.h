@@ -47,7 +47,10 @@ struct PcaOptions {
     /// `components`).
     double max_rmse = -1;
     PcaMethod method = PcaMethod::kAuto;
-    int gram_max_side = 2048;  ///< kAuto: the largest short side solved through its Gram matrix
+    /// kAuto: the largest short side solved through its Gram matrix. 512: at C = 8 on Bonn-size
+    /// groups the Gram path is 1.7x faster than the randomized SVD at 243 columns and 1.7x
+    /// slower at 729 (docs/benchmarks.md).
+    int gram_max_side = 512;
     int oversampling = 10;     ///< randomized: extra test vectors p (HMT section 4.2)
     int power_iterations = 2;  ///< randomized: q (HMT Algorithm 4.4)
     uint64_t seed = 1;         ///< randomized: test matrices (each group mixes in its index)

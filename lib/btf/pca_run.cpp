@@ -93,6 +93,10 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     std::vector<GroupRecord> groups;
     std::string weights_bin;
     ColorSums ours, thesis;
+    const std::vector<int>& table = o.table_components;
+    std::vector<ColorSums> table_sums(table.size());
+    std::vector<double> table_sse(table.size(), 0.0);
+    std::vector<uint64_t> table_bytes(table.size(), 0), table_params(table.size(), 0);
     int sigma_overflows = 0;
     uint64_t thesis_u_bytes = 0, thesis_v_bytes = 0;
     double store_s = 0, measure_s = 0;
@@ -184,31 +188,43 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         // Display-referred errors on the strided triples, ours and the thesis' packing.
         const int64_t group_triples = P * (N / 3);
         const int64_t picks = (group_triples + stride - 1) / stride;
-        using Pair = std::pair<ColorSums, ColorSums>;
-        const Pair cs = parallel::reduce(
-            picks, 4096, Pair{},
+        // Sums: [0] ours with all components, [1] the thesis' packing, [2 + i] ours cut to table[i].
+        using Sums = std::vector<ColorSums>;
+        const Sums cs = parallel::reduce(
+            picks, 4096, Sums(2 + table.size()),
             [&](int64_t b, int64_t e) {
-                Pair s;
+                Sums s(2 + table.size());
                 for (int64_t k = b; k < e; ++k) {
                     const int64_t t = k * stride, p = t % P, j = (t / P) * 3;
-                    Eigen::Vector3d truth, a, th3;
+                    Eigen::Vector3d truth, th3;
+                    Eigen::Matrix<double, 3, Eigen::Dynamic> prefix(3, C + 1);  // after 0..C components
                     for (int ch = 0; ch < 3; ++ch) {
                         truth[ch] = double(fit.centred(p, j + ch)) + pca.mean[p];
-                        a[ch] = q.mean[p] + double(q.basis.row(p).dot(q.weights.row(j + ch)));
+                        prefix(ch, 0) = q.mean[p];
+                        for (int c = 0; c < C; ++c)
+                            prefix(ch, c + 1) = prefix(ch, c) + double(q.basis(p, c)) * q.weights(j + ch, c);
                         th3[ch] = th.mean[p] + double(th.basis.row(p).dot(th.weights.row(j + ch)));
                     }
-                    add_color(s.first, truth, a);
-                    add_color(s.second, truth, th3);
+                    add_color(s[0], truth, prefix.col(C));
+                    add_color(s[1], truth, th3);
+                    for (size_t i = 0; i < table.size(); ++i) add_color(s[2 + i], truth, prefix.col(std::min(table[i], C)));
                 }
                 return s;
             },
-            [](Pair x, const Pair& y) {
-                x.first += y.first;
-                x.second += y.second;
+            [](Sums x, const Sums& y) {
+                for (size_t i = 0; i < x.size(); ++i) x[i] += y[i];
                 return x;
             });
-        ours += cs.first;
-        thesis += cs.second;
+        ours += cs[0];
+        thesis += cs[1];
+        for (size_t i = 0; i < table.size(); ++i) {
+            const int c = std::min(table[i], C);
+            table_sums[i] += cs[2 + i];
+            table_sse[i] += rec.sse[size_t(c)];
+            table_bytes[i] += rec.mean_bytes + uint64_t(N) * c * sizeof(float);
+            for (int x = 0; x < c; ++x) table_bytes[i] += rec.component_bytes[size_t(x)];
+            table_params[i] += uint64_t(4) * (uint64_t(P) * (c + 1) + uint64_t(N) * c);
+        }
         measure_s += seconds_since(t0);
         rec.manifest = std::move(gj);
         groups.push_back(std::move(rec));
@@ -313,6 +329,18 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         {"mae_lab_thesis_over_ours", ours.lab_abs > 0 ? thesis.lab_abs / ours.lab_abs : 0.0},
         {"stored_bytes_ours_over_thesis", double(stored) / std::max<uint64_t>(thesis_stored, 1)}};
     m["streaming"] = curve;
+    nlohmann::json rows = nlohmann::json::array();
+    for (size_t i = 0; i < table.size(); ++i) {
+        const uint64_t b = table_bytes[i] + manifest_text.size();
+        nlohmann::json row = table_sums[i].to_json();
+        row.update({{"components", table[i]}, {"rmse_linear", std::sqrt(table_sse[i] / samples)},
+                    {"stored_bytes", b}, {"parameters_float32_bytes", table_params[i]},
+                    {"raw_8bit_to_parameters_float32", double(raw8) / table_params[i]},
+                    {"raw_8bit_to_stored", double(raw8) / b},
+                    {"input_files_to_stored", input_stored_bytes ? double(input_stored_bytes) / b : 0.0}});
+        rows.push_back(row);
+    }
+    m["table"] = rows;
     return m;
 }
 

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,10 @@ struct PcaRunOptions {
     PcaOptions pca;
     ComponentEncoding encoding = ComponentEncoding::kPng8;
     int64_t color_samples = int64_t(1) << 20;  ///< colour triples for the CIELAB/8-bit figures
+    /// Also measure the stored model cut to each of these component counts (a prefix of every
+    /// group's components, as a client holding that many has): the rows of the Table 7.1-style
+    /// table ("table" in the metrics). Counts above a group's C use all of its components.
+    std::vector<int> table_components;
 };
 
 /// Compresses `source` into options.output and returns the metrics (also the report's). Every

@@ -29,6 +29,14 @@ AnalyticBtfOptions small_btf() {
     return o;
 }
 
+PcaRunOptions run_options(const std::string& name, int k, int c) {
+    PcaRunOptions o;
+    o.output = testing::temp_dir(name);
+    o.pca.view_group_size = k;
+    o.pca.components = c;
+    return o;
+}
+
 /// RMSE over every sample between two sources (the decoder's images and the truth).
 double rmse_between(const BtfSource& a, const BtfSource& b, const std::function<image::Image(int, int)>& decode) {
     double sse = 0;
@@ -70,10 +78,7 @@ TEST(CompressToFolder, FilesDecodeToTheReportedErrorAndStreamingCurve) {
     const AnalyticBtf btf(small_btf());
     for (ComponentEncoding e : {ComponentEncoding::kPng8, ComponentEncoding::kExrFloat}) {
         SCOPED_TRACE(to_string(e));
-        PcaRunOptions o;
-        o.output = testing::temp_dir("btf_pca_run_" + to_string(e));
-        o.pca.view_group_size = 2;
-        o.pca.components = 3;
+        PcaRunOptions o = run_options("btf_pca_run_" + to_string(e), 2, 3);
         o.encoding = e;
         const nlohmann::json m = compress_to_folder(btf, o, 0);
         const auto dec = CompressedBtf::open(o.output);
@@ -105,13 +110,34 @@ TEST(CompressToFolder, FilesDecodeToTheReportedErrorAndStreamingCurve) {
 // columns on few of the 256 levels.
 TEST(CompressToFolder, OurPackingBeatsTheThesisPacking) {
     const AnalyticBtf btf(small_btf());
-    PcaRunOptions o;
-    o.output = testing::temp_dir("btf_pca_run_packing");
-    o.pca.view_group_size = 5;
-    o.pca.components = 5;
+    const PcaRunOptions o = run_options("btf_pca_run_packing", 5, 5);
     const nlohmann::json m = compress_to_folder(btf, o, 0);
     EXPECT_LT(m["error"]["rmse_rgb8"].get<double>(), m["thesis_packing"]["rmse_rgb8"].get<double>());
     EXPECT_EQ(m["error"]["color_triples"], 20 * 14 * 8 * 5);  // all triples: below color_samples
+}
+
+// A table row cut to c components is the run with C = c: the Gram fit's leading components do
+// not depend on C, and each component is quantised on its own, so the figures agree.
+TEST(CompressToFolder, TableRowsEqualRunsWithThatManyComponents) {
+    const AnalyticBtf btf(small_btf());
+    PcaRunOptions o = run_options("btf_pca_table_all", 2, 4);
+    o.table_components = {1, 2, 4};
+    const nlohmann::json all = compress_to_folder(btf, o, 0);
+    ASSERT_EQ(all["table"].size(), 3u);
+    for (int i : {0, 1}) {
+        PcaRunOptions one = o;
+        one.output = testing::temp_dir("btf_pca_table_" + std::to_string(i));
+        one.pca.components = o.table_components[static_cast<size_t>(i)];
+        one.table_components.clear();
+        const nlohmann::json m = compress_to_folder(btf, one, 0);
+        const auto& row = all["table"][static_cast<size_t>(i)];
+        for (const char* key : {"rmse_linear", "mae_lab", "delta_e2000_mean", "rmse_rgb8"})
+            EXPECT_NEAR(row[key].get<double>(), m["error"][key].get<double>(), kRmseRelTol * m["error"][key].get<double>()) << key << " C=" << one.pca.components;
+        // the same files but the manifest (which lists the other components)
+        EXPECT_EQ(row["stored_bytes"].get<int64_t>() - all["bytes"]["manifest"].get<int64_t>(),
+                  m["bytes"]["stored"].get<int64_t>() - m["bytes"]["manifest"].get<int64_t>());
+    }
+    EXPECT_NEAR(all["table"][2]["mae_lab"].get<double>(), all["error"]["mae_lab"].get<double>(), 1e-12);
 }
 
 TEST(CompressedBtf, BadFolderNamesTheFile) {

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # btf-pca: compress an analytic BTF folder and zip end to end; bad input and all-or-nothing outputs.
+# jq programs use $-variables inside single quotes on purpose.
+# shellcheck disable=SC2016
 # shellcheck source=tests/cli/lib.sh
 source "$(dirname "$0")/lib.sh"
 PCA="$BIN/btf-pca"

@@ -1,0 +1,120 @@
+// btf-pca's speed on a Bonn-size BTF (81 x 81 directions, 256 x 256 px, RGB): one view group
+// fitted by each method (Gram, randomized SVD, full SVD) at the same C, with its error, and the
+// whole BTF compressed group by group. The data is the analytic BTF of btf/synthetic.h with
+// highlights pushed past 1 and clipped there, as 8-bit captures saturate, so it is not of low
+// rank. Run with `make bench` (docs/benchmarks.md). Counters: group_s (one group), btf_s (all
+// groups of that k: group_s x group count, or measured in BM_CompressBonnBtf), *_cpu_s (CPU time
+// of all threads: the figure to trust on a shared machine), rmse (linear, unquantised, C = 8),
+// peak_rss_mib.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <chrono>
+#include <ctime>
+#include <map>
+#include <memory>
+
+#include "btf/pca.h"
+#include "btf/synthetic.h"
+#include "core/memory.h"
+#include "core/parallel.h"
+
+namespace {
+
+using namespace inlight::btf;
+
+constexpr int kComponents = 8;
+
+/// The analytic BTF at Bonn size, clipped at 1 like a saturated 8-bit capture.
+class ClippedBtf : public BtfSource {
+  public:
+    ClippedBtf() {
+        AnalyticBtfOptions o;
+        o.width = o.height = 256;
+        o.rank = 6;
+        o.scale = 4.0;
+        m_btf = std::make_unique<AnalyticBtf>(o);
+    }
+    const BtfShape& shape() const override { return m_btf->shape(); }
+    inlight::image::Image read_image(int light, int view) const override {
+        inlight::image::Image img = m_btf->read_image(light, view);
+        for (float& v : img.pixels) v = std::min(v, 1.0f);
+        return img;
+    }
+
+  private:
+    std::unique_ptr<AnalyticBtf> m_btf;
+};
+
+const ClippedBtf& btf() {
+    static const ClippedBtf b;
+    return b;
+}
+
+/// The first view group of size k (read once).
+const Eigen::MatrixXf& group(int k) {
+    static std::map<int, Eigen::MatrixXf> cache;
+    auto it = cache.find(k);
+    if (it == cache.end()) {
+        Eigen::MatrixXf a;
+        btf().read_group(view_groups(btf().shape().views, k).front(), a);
+        it = cache.emplace(k, std::move(a)).first;
+    }
+    return it->second;
+}
+
+// args: k, method (0 gram, 1 randomized, 2 full SVD)
+void BM_FitGroup(benchmark::State& state) {
+    const int k = static_cast<int>(state.range(0));
+    PcaOptions o;
+    o.components = kComponents;
+    o.method = state.range(1) == 0 ? PcaMethod::kGram : state.range(1) == 1 ? PcaMethod::kRandomized : PcaMethod::kFullSvd;
+    const Eigen::MatrixXf& a0 = group(k);
+    double rmse = 0, wall_s = 0, cpu_s = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        Eigen::MatrixXf a = a0;
+        state.ResumeTiming();
+        const auto t0 = std::chrono::steady_clock::now();
+        const std::clock_t c0 = std::clock();
+        const GroupPca g = fit_group(a, {0}, o, 1);
+        cpu_s += double(std::clock() - c0) / CLOCKS_PER_SEC;
+        wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        rmse = g.rmse(g.components());
+    }
+    const double groups = static_cast<double>(view_groups(btf().shape().views, k).size());
+    const double n = static_cast<double>(state.iterations());
+    state.counters["group_s"] = wall_s / n;
+    state.counters["group_cpu_s"] = cpu_s / n;  // all threads of the process
+    state.counters["btf_s"] = groups * wall_s / n;
+    state.counters["btf_cpu_s"] = groups * cpu_s / n;
+    state.counters["rmse"] = rmse;
+    state.SetLabel(to_string(o.method) + " k=" + std::to_string(k));
+}
+
+// The whole BTF, streamed by view group (generation of the images counts as reading).
+void BM_CompressBonnBtf(benchmark::State& state) {
+    PcaOptions o;
+    o.components = kComponents;
+    o.view_group_size = static_cast<int>(state.range(0));
+    CompressStats stats;
+    double cpu_s = 0;
+    for (auto _ : state) {
+        const std::clock_t c0 = std::clock();
+        stats = compress_btf(btf(), o, [](GroupFit&) {});
+        cpu_s = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    }
+    state.counters["cpu_s"] = cpu_s;
+    state.counters["read_s"] = stats.read_time_s;
+    state.counters["fit_s"] = stats.fit_time_s;
+    state.counters["rmse"] = std::sqrt(stats.residual_energy / btf().shape().sample_count());
+    state.counters["peak_rss_mib"] = static_cast<double>(inlight::peak_rss_bytes()) / 1048576.0;
+}
+
+}  // namespace
+
+BENCHMARK(BM_FitGroup)->Args({1, 0})->Args({1, 1})->Args({1, 2})->Args({3, 0})->Args({3, 1})->Args({9, 0})
+    ->Args({9, 1})->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK(BM_CompressBonnBtf)->Arg(1)->Arg(3)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK_MAIN();
