@@ -156,7 +156,7 @@ Manifest read_bundle(const std::string& dir) {
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(fs::read_file(manifest_path));
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range (overflow)
         throw Error(str(manifest_path, ": not valid JSON: ", e.what()));
     }
     Manifest m = manifest_from_json(j, manifest_path);

@@ -311,7 +311,7 @@ ResponseCurve read_response(const std::string& path) {
     } catch (const nlohmann::json::exception& e) {
         throw Error(str(path, ": not JSON (", e.what(), ")"));
     }
-    if (j.value("format", "") != "inlight_response") {
+    if (!j.is_object() || j.value("format", "") != "inlight_response") {
         throw Error(str(path, ": not an inlight response file (format != inlight_response)"));
     }
     ResponseCurve curve;
