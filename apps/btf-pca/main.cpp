@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
     cli.add_option("--table-components", o.table_components, "Also report the model cut to each of "
                    "these component counts (Table 7.1 rows from one run), e.g. 1,2,4,8")
         ->delimiter(',')->check(CLI::Range(1, 4096));
+    cli.add_option("--reference", o.reference, "A second BTF of the same directions and size (e.g. "
+                   "an independent capture): the input and the table rows are also measured against it")
+        ->check(CLI::ExistingPath);
     app::setup(cli, common, "btf-pca wool_btf.zip -o out/wool -k 3 -c 8 --report wool.json");
     if (auto code = app::parse(cli, argc, argv)) return *code;
     o.open.decode_srgb = !linear;

@@ -80,9 +80,22 @@ std::string group_file(int g, int c, const std::string& ext) {
 }  // namespace
 
 nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& o,
-                                  uint64_t input_stored_bytes, Report* report) {
+                                  uint64_t input_stored_bytes, Report* report, const BtfSource* reference) {
     const auto t_start = Clock::now();
     const BtfShape& shape = source.shape();
+    if (reference) {
+        const BtfShape& r = reference->shape();
+        auto same = [](const std::vector<Direction>& a, const std::vector<Direction>& b) {
+            if (a.size() != b.size()) return false;
+            for (size_t i = 0; i < a.size(); ++i)
+                if (a[i].theta_deg != b[i].theta_deg || a[i].phi_deg != b[i].phi_deg) return false;
+            return true;
+        };
+        if (r.width != shape.width || r.height != shape.height || !same(r.lights, shape.lights) || !same(r.views, shape.views))
+            throw Error(str("--reference ", o.reference, ": ", r.n_lights(), " lights x ", r.n_views(), " views of ", r.width,
+                            "x", r.height, " px, the input has ", shape.n_lights(), " x ", shape.n_views(), " of ", shape.width,
+                            "x", shape.height, " (or other directions)"));
+    }
     const int64_t P = shape.pixel_count();
     const double samples = shape.sample_count();
     const double total_triples = samples / 3;
@@ -92,9 +105,9 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
 
     std::vector<GroupRecord> groups;
     std::string weights_bin;
-    ColorSums ours, thesis;
+    ColorSums ours, thesis, ref_input;
     const std::vector<int>& table = o.table_components;
-    std::vector<ColorSums> table_sums(table.size());
+    std::vector<ColorSums> table_sums(table.size()), table_ref(table.size());
     std::vector<double> table_sse(table.size(), 0.0);
     std::vector<uint64_t> table_bytes(table.size(), 0), table_params(table.size(), 0);
     int sigma_overflows = 0;
@@ -186,14 +199,18 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         rec.max_abs = sums[size_t(C) + 2];
 
         // Display-referred errors on the strided triples, ours and the thesis' packing.
+        Eigen::MatrixXf ref;
+        if (reference) reference->read_group(pca.views, ref);
+        const size_t T = table.size(), n_sums = 2 + T + (reference ? 1 + T : 0);
         const int64_t group_triples = P * (N / 3);
         const int64_t picks = (group_triples + stride - 1) / stride;
-        // Sums: [0] ours with all components, [1] the thesis' packing, [2 + i] ours cut to table[i].
+        // Sums: [0] ours with all components, [1] the thesis' packing, [2 + i] ours cut to
+        // table[i]; with a reference: [2 + T] the input against it, [3 + T + i] row i against it.
         using Sums = std::vector<ColorSums>;
         const Sums cs = parallel::reduce(
-            picks, 4096, Sums(2 + table.size()),
+            picks, 4096, Sums(n_sums),
             [&](int64_t b, int64_t e) {
-                Sums s(2 + table.size());
+                Sums s(n_sums);
                 for (int64_t k = b; k < e; ++k) {
                     const int64_t t = k * stride, p = t % P, j = (t / P) * 3;
                     Eigen::Vector3d truth, th3;
@@ -207,7 +224,12 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                     }
                     add_color(s[0], truth, prefix.col(C));
                     add_color(s[1], truth, th3);
-                    for (size_t i = 0; i < table.size(); ++i) add_color(s[2 + i], truth, prefix.col(std::min(table[i], C)));
+                    for (size_t i = 0; i < T; ++i) add_color(s[2 + i], truth, prefix.col(std::min(table[i], C)));
+                    if (reference) {
+                        const Eigen::Vector3d r3(ref(p, j), ref(p, j + 1), ref(p, j + 2));
+                        add_color(s[2 + T], r3, truth);
+                        for (size_t i = 0; i < T; ++i) add_color(s[3 + T + i], r3, prefix.col(std::min(table[i], C)));
+                    }
                 }
                 return s;
             },
@@ -217,9 +239,11 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             });
         ours += cs[0];
         thesis += cs[1];
+        if (reference) ref_input += cs[2 + T];
         for (size_t i = 0; i < table.size(); ++i) {
             const int c = std::min(table[i], C);
             table_sums[i] += cs[2 + i];
+            if (reference) table_ref[i] += cs[3 + T + i];
             table_sse[i] += rec.sse[size_t(c)];
             table_bytes[i] += rec.mean_bytes + uint64_t(N) * c * sizeof(float);
             for (int x = 0; x < c; ++x) table_bytes[i] += rec.component_bytes[size_t(x)];
@@ -338,9 +362,11 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                     {"raw_8bit_to_parameters_float32", double(raw8) / table_params[i]},
                     {"raw_8bit_to_stored", double(raw8) / b},
                     {"input_files_to_stored", input_stored_bytes ? double(input_stored_bytes) / b : 0.0}});
+        if (reference) row["vs_reference"] = table_ref[i].to_json();
         rows.push_back(row);
     }
     m["table"] = rows;
+    if (reference) m["reference"] = {{"path", o.reference}, {"input", ref_input.to_json()}};
     return m;
 }
 
@@ -356,6 +382,11 @@ void run_pca(const PcaRunOptions& o, Report& report) {
     else report.add_input(o.input);
     for (const auto& f : {o.open.light_directions, o.open.view_directions})
         if (!f.empty()) report.add_input(f);
+    if (!o.reference.empty()) {
+        if (fs::same_file(o.reference, o.output)) throw UsageError(str("-o ", o.output, ": is the --reference ", o.reference));
+        if (stdfs::is_directory(o.reference)) fs::declare_input(o.reference, "--reference");
+        else report.add_input(o.reference);
+    }
     for (const char* f : {"btf-pca.json", "weights.bin", "streaming.tsv", "streaming.gp"})
         fs::declare_output(o.output + "/" + f, "-o");
     std::unique_ptr<FolderBtf> btf;
@@ -366,8 +397,13 @@ void run_pca(const PcaRunOptions& o, Report& report) {
     const auto& idx = btf->index();
     log::info(str("[btf-pca] ", o.input, ": ", idx.shape.n_lights(), " lights x ", idx.shape.n_views(), " views of ",
                   idx.shape.width, "x", idx.shape.height, " px (", idx.format, ", ", idx.bits_per_channel, "-bit)"));
+    std::unique_ptr<FolderBtf> ref;
+    if (!o.reference.empty()) {
+        ScopedStage stage(report, "index " + o.reference);
+        ref = FolderBtf::open(o.reference, o.open);
+    }
     ScopedStage stage(report, "compress");
-    nlohmann::json m = compress_to_folder(*btf, o, idx.stored_bytes, &report);
+    nlohmann::json m = compress_to_folder(*btf, o, idx.stored_bytes, &report, ref.get());
     m["input"] = {{"path", o.input}, {"format", idx.format}, {"bits_per_channel", idx.bits_per_channel},
                   {"zip", idx.is_zip}, {"stored_bytes", idx.stored_bytes}, {"ignored_files", idx.ignored.size()}};
     report.metrics() = m;

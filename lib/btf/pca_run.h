@@ -34,14 +34,23 @@ struct PcaRunOptions {
     /// group's components, as a client holding that many has): the rows of the Table 7.1-style
     /// table ("table" in the metrics). Counts above a group's C use all of its components.
     std::vector<int> table_components;
+    /// A second BTF of the same shape (e.g. an independent capture of the same fabric): the
+    /// input and every table row are also measured against it on the same colour triples
+    /// ("reference" and each row's "vs_reference" in the metrics). Against an independent
+    /// capture with the same noise the input's error is the noise floor times sqrt(2) in RMSE.
+    /// "" = none.
+    std::string reference;
 };
 
 /// Compresses `source` into options.output and returns the metrics (also the report's). Every
 /// file goes through fs::write_atomic, so inside app::run the folder appears whole or not at
 /// all. `input_stored_bytes` is the input's storage (0 when unknown): the ratio against it is
-/// reported. Throws Error on failure.
+/// reported. `reference` (may be null): the BTF of options.reference, read one view group at a
+/// time beside the input; its shape must equal the input's (Error naming options.reference).
+/// Throws Error on failure.
 nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& options,
-                                  uint64_t input_stored_bytes, Report* report = nullptr);
+                                  uint64_t input_stored_bytes, Report* report = nullptr,
+                                  const BtfSource* reference = nullptr);
 
 /// The tool: declares input and outputs (an output folder that is the input, or inside a zip's
 /// path, is a UsageError), opens the BTF, compress_to_folder, and fills the report's metrics.

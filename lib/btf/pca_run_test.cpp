@@ -140,6 +140,39 @@ TEST(CompressToFolder, TableRowsEqualRunsWithThatManyComponents) {
     EXPECT_NEAR(all["table"][2]["mae_lab"].get<double>(), all["error"]["mae_lab"].get<double>(), 1e-12);
 }
 
+// --reference: measured against itself the input has no error and every row's figures against
+// the reference are the row's own (the same triples); another BTF of the same shape gives an
+// error; another shape is an Error naming the option.
+TEST(CompressToFolder, ReferenceMeasuresInputAndRowsAgainstASecondBtf) {
+    // The run's input value is float(a - m) + m, one float rounding (<= 6e-8) from the value read;
+    // times the steepest slopes (8-bit sRGB code 255 x 12.92, L* 903.3) that is < 1e-4 units.
+    constexpr double kRoundTrip = 1e-3;
+    const AnalyticBtf btf(small_btf());
+    PcaRunOptions o = run_options("btf_pca_ref_self", 2, 4);
+    o.table_components = {1, 4};
+    o.reference = "self";
+    const nlohmann::json m = compress_to_folder(btf, o, 0, nullptr, &btf);
+    for (const char* key : {"mae_lab", "mae_rgb8", "rmse_rgb8", "delta_e2000_mean"}) {
+        EXPECT_NEAR(m["reference"]["input"][key].get<double>(), 0.0, kRoundTrip) << key;
+        for (const auto& row : m["table"])
+            EXPECT_NEAR(row["vs_reference"][key].get<double>(), row[key].get<double>(), kRoundTrip) << key;
+    }
+    AnalyticBtfOptions brighter = small_btf();
+    brighter.scale = 1.5;
+    const AnalyticBtf other(brighter);
+    o.output = testing::temp_dir("btf_pca_ref_other");
+    const nlohmann::json x = compress_to_folder(btf, o, 0, nullptr, &other);
+    EXPECT_GT(x["reference"]["input"]["mae_rgb8"].get<double>(), 1.0);  // scale 1.5: codes differ by more than 1
+    EXPECT_EQ(x["table"][1]["mae_lab"].get<double>(), m["table"][1]["mae_lab"].get<double>());
+    AnalyticBtfOptions wide = small_btf();
+    wide.width = 21;
+    const AnalyticBtf bad(wide);
+    o.output = testing::temp_dir("btf_pca_ref_bad");
+    o.reference = "wide/";
+    const std::string err = testing::error_of([&] { compress_to_folder(btf, o, 0, nullptr, &bad); });
+    EXPECT_NE(err.find("--reference wide/"), std::string::npos) << err;
+}
+
 TEST(CompressedBtf, BadFolderNamesTheFile) {
     const std::string dir = testing::temp_dir("btf_pca_bad");
     EXPECT_NE(testing::error_of([&] { CompressedBtf::open(dir); }).find("btf-pca.json"), std::string::npos);
