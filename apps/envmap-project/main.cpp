@@ -102,7 +102,7 @@ nlohmann::json process(const Args& a, const envmap::BudgetSetup* budget, const s
             const auto plan = envmap::plan_budget(env, bo, saturated.pixels.empty() ? nullptr : &saturated);
             result = plan.projection;
             sh_bands = plan.sh_bands;
-            lights.assign(plan.extraction.lights.begin(), plan.extraction.lights.begin() + plan.lights);
+            lights = plan.chosen_lights;
             m["budget"] = envmap::to_json(plan, bo);
             m["sh_bands"] = sh_bands;
         } else {

@@ -253,16 +253,41 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
         }
     }
 
+    // Fit the lights of every candidate (light_fit.h) where the brute force sees the whole
+    // sphere unclipped and the SH are the plain truncation the fit models.
+    const bool fit = options.fit_normals > 0 && max_k > 0 && env.full_sphere() && !saturated &&
+                     options.project.window == sh::Window::kNone;
+    std::vector<Eigen::Vector3d> fit_set;
+    Eigen::MatrixXd e_fit;
+    if (fit) {
+        fit_set = fit_normals(options.fit_normals);
+        t0 = std::chrono::steady_clock::now();
+        e_fit = brute_force_irradiance(env, fit_set);
+        plan.reference_time_s += seconds_since(t0);
+    }
+
     std::unique_ptr<ObservedIrradiance> observed;
     if (!env.full_sphere()) observed = std::make_unique<ObservedIrradiance>(env);
     for (int k = 0; k <= max_k; ++k) {
-        const Eigen::MatrixXd e_lights = lights_irradiance(lights, k, normals);
-        const std::vector<DirectionalLight> used(lights.begin(), lights.begin() + k);
+        const std::vector<DirectionalLight> found(lights.begin(), lights.begin() + k);
         for (int b = 1; b <= options.max_bands; ++b) {
-            const ProjectResult& r = proj[static_cast<size_t>(k)][static_cast<size_t>(b - 1)];
+            ProjectResult& r = proj[static_cast<size_t>(k)][static_cast<size_t>(b - 1)];
             BudgetCandidate c;
             c.lights = k;
             c.sh_bands = b;
+            c.light_set = found;
+            if (fit && k > 0) {
+                // The map minus the fitted lights replaces the residual of the regions.
+                const LightFitResult f =
+                    fit_lights(found, b, proj[0][static_cast<size_t>(b - 1)].coeffs_unwindowed,
+                               fit_set, e_fit);
+                c.light_set = f.lights;
+                c.lights_fitted = true;
+                r.coeffs = r.coeffs_unwindowed = f.coeffs;
+            }
+            const std::vector<DirectionalLight>& used = c.light_set;
+            const Eigen::MatrixXd e_lights =
+                lights_irradiance(used, static_cast<int>(used.size()), normals);
             const Eigen::MatrixXd e_sh =
                 observed ? (*observed)(r.coeffs, b, normals) : sh_irradiance(r.coeffs, b, normals);
             c.irradiance = irradiance_error(e_sh + e_lights, e_ref);
@@ -297,10 +322,11 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
     const BudgetCandidate& best = plan.candidates[static_cast<size_t>(plan.chosen)];
     plan.lights = best.lights;
     plan.sh_bands = best.sh_bands;
+    plan.chosen_lights = best.light_set;
     plan.projection =
         proj[static_cast<size_t>(best.lights)][static_cast<size_t>(best.sh_bands - 1)];
     for (int j = 0; j < plan.lights; ++j) {
-        const DirectionalLight& l = lights[static_cast<size_t>(j)];
+        const DirectionalLight& l = plan.chosen_lights[static_cast<size_t>(j)];
         if (!l.flux_is_lower_bound) continue;
         double theta, phi;
         spherical_from_direction(l.direction, theta, phi);
@@ -344,6 +370,17 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
                             {"meets", c.meets},
                             {"cost", cost_json(c.cost)}};
         if (c.has_radiance) j["radiance"] = error_json(c.radiance);
+        if (c.lights > 0) {
+            j["lights_fitted"] = c.lights_fitted;
+            j["light_set"] = nlohmann::json::array();
+            for (const auto& l : c.light_set) {
+                const nlohmann::json lj = to_json(l);
+                j["light_set"].push_back({{"theta_deg", lj["theta_deg"]},
+                                          {"phi_deg", lj["phi_deg"]},
+                                          {"luminance_flux", lj["luminance_flux"]},
+                                          {"angular_radius_deg", lj["angular_radius_deg"]}});
+            }
+        }
         cands.push_back(j);
     }
     nlohmann::json lights = nlohmann::json::array();
@@ -356,8 +393,10 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
              {{"sh_bands", plan.sh_bands},
               {"lights", plan.lights},
               {"error", best.error},
+              {"lights_fitted", best.lights_fitted},
               {"cost", cost_json(best.cost)}}},
             {"lights_found", lights},
+            {"fit_normals", options.fit_normals},
             {"median_luminance", plan.extraction.median_luminance},
             {"regions_examined", plan.extraction.regions_examined},
             {"normals", plan.normals},

@@ -33,6 +33,7 @@
 #include "brdf/brdf.h"
 #include "brdf/table.h"
 #include "envmap/environment.h"
+#include "envmap/light_fit.h"
 #include "envmap/lights.h"
 #include "envmap/project.h"
 #include "envmap/validate.h"
@@ -95,6 +96,11 @@ struct BudgetOptions {
     ExtractOptions extract;      ///< extract.max_lights = 0 gives pure SH
     int validate_normals = 128;  ///< Fibonacci normals (+6 axes); fisheye: within 60 deg of +z
     ProjectOptions project;      ///< partial-sphere method and lambda (sh_bands is set per b)
+    /// Full-sphere maps (no clipped pixels, no window): fit each (lights, bands) candidate's
+    /// lights by least squares against the brute-force irradiance (light_fit.h) over this many
+    /// fit normals (+6), distinct from the validation normals; 0 = shade the extracted regions'
+    /// caps as found (the only way for camera frames).
+    int fit_normals = 512;
     const RadianceCheck* radiance = nullptr;  ///< optional
 };
 
@@ -105,6 +111,8 @@ struct BudgetCandidate {
     bool has_radiance = false;
     IrradianceError radiance;  ///< outgoing radiance, when a RadianceCheck was given
     ShaderCost cost;
+    std::vector<DirectionalLight> light_set;  ///< the lights shaded (fitted, or as extracted)
+    bool lights_fitted = false;
     double error = 0;  ///< the budget's value: max of the metric over irradiance and radiance
     bool meets = false;
 };
@@ -115,6 +123,7 @@ struct BudgetPlan {
     int chosen = -1;                          ///< index into candidates
     bool met = false;              ///< the chosen candidate meets max_error (else: the least error)
     int lights = 0, sh_bands = 0;  ///< the chosen configuration
+    std::vector<DirectionalLight> chosen_lights;  ///< the chosen candidate's light_set
     ProjectResult projection;      ///< SH of the chosen residual at sh_bands
     int normals = 0;
     int radiance_normals = 0;  ///< normals facing the table's view

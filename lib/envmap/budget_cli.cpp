@@ -29,6 +29,13 @@ void add_budget_options(CLI::App& app, BudgetArgs& a) {
     app.add_option("--budget-max-bands", a.max_bands, "Budget: largest SH band count considered")
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
+    app.add_option("--light-fit-normals", a.fit_normals,
+                   "Budget: fit each candidate's lights by least squares against the brute-force "
+                   "irradiance at this many normals (other than the validation normals; "
+                   "full-sphere maps without clipped pixels or window); 0 = shade the extracted "
+                   "regions as found")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
     auto* table = app.add_option("--brdf-table", a.brdf_table,
                                  "Budget: a brdf-sh-bake table (.bin); the outgoing radiance "
                                  "toward its view must meet the budget too")
@@ -46,6 +53,7 @@ BudgetSetup::BudgetSetup(const BudgetArgs& a, int validate_normals) {
     m_options.metric = error_metric_from_string(a.metric);
     m_options.max_bands = a.max_bands;
     m_options.extract.max_lights = a.max_lights;
+    m_options.fit_normals = a.fit_normals;
     m_options.validate_normals = validate_normals;
     if (!a.brdf_table.empty()) {
         m_radiance = std::make_unique<RadianceCheck>();

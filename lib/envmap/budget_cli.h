@@ -16,14 +16,15 @@ struct BudgetArgs {
     std::string metric = "abs-over-mean";
     int max_lights = 3;
     int max_bands = 9;
+    int fit_normals = 512;   ///< --light-fit-normals: 0 = shade the extracted regions' caps
     std::string brdf_table;  ///< brdf-sh-bake .bin table (with --material)
     std::string material;    ///< the material file the table was baked from
 
     bool enabled() const { return max_error > 0; }
 };
 
-/// Registers --max-error, --error-metric, --max-lights, --budget-max-bands, --brdf-table and
-/// --material on `app`.
+/// Registers --max-error, --error-metric, --max-lights, --budget-max-bands, --light-fit-normals,
+/// --brdf-table and --material on `app`.
 void add_budget_options(CLI::App& app, BudgetArgs& args);
 
 /// BudgetOptions built from the flags (options().project is left for the caller), owning the

@@ -362,7 +362,8 @@ nlohmann::json to_json(const DirectionalLight& light) {
             {"saturated_samples", light.saturated_samples},
             {"saturated_flux_fraction", light.saturated_flux_fraction},
             {"at_field_edge", light.at_field_edge},
-            {"flux_is_lower_bound", light.flux_is_lower_bound}};
+            {"flux_is_lower_bound", light.flux_is_lower_bound},
+            {"fitted", light.fitted}};
 }
 
 DirectionalLight light_from_json(const nlohmann::json& j, const std::string& where) {

@@ -47,6 +47,9 @@ struct DirectionalLight {
     /// of the observed field (a fisheye frame's rim) so part of the light is not seen.
     bool flux_is_lower_bound = false;
     bool at_field_edge = false;  ///< the region touches unobserved pixels
+    /// direction, flux and radius were fitted to the brute-force irradiance (light_fit.h); the
+    /// fields above it then describe the extracted region the fit started from.
+    bool fitted = false;
 };
 
 /// Luminance flux Phi_Y of a light.

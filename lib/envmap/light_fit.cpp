@@ -1,0 +1,240 @@
+#include "envmap/light_fit.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "core/conventions.h"
+#include "core/error.h"
+#include "envmap/validate.h"
+#include "sh/sh.h"
+
+namespace inlight::envmap {
+
+namespace {
+
+/// P_0 .. P_n at t (Bonnet's recurrence).
+std::vector<double> legendre(int n, double t) {
+    std::vector<double> p(static_cast<size_t>(n + 1));
+    p[0] = 1;
+    if (n > 0) p[1] = t;
+    for (int l = 2; l <= n; ++l)
+        p[static_cast<size_t>(l)] = ((2 * l - 1) * t * p[static_cast<size_t>(l - 1)] -
+                                     (l - 1) * p[static_cast<size_t>(l - 2)]) /
+                                    l;
+    return p;
+}
+
+// Below this radius the closed form of k_l cancels (P_{l-1} - P_{l+1} over 1 - cos alpha ~ 5e-7):
+// the cap's mean of P_l(t) ~ 1 - l(l+1)(1 - t)/2 gives k_l = 1 - l(l+1)(1 - cos alpha)/4, whose
+// next term, O((l^2 (1 - cos alpha))^2) < 1e-8 for l < 64, is below double-rounded use.
+constexpr double kSeriesRadius = 1e-3;
+
+/// One light's geometry and its high-pass irradiance per unit flux.
+struct Lobe {
+    Eigen::Vector3d direction;
+    double alpha;
+    std::vector<double> low;  ///< A_l k_l(alpha) (2l + 1) / (4 pi), l < sh_bands
+
+    Lobe(const Eigen::Vector3d& d, double a, int sh_bands) : direction(d), alpha(a) {
+        const std::vector<double> k = cap_zonal_factors(sh_bands, a);
+        for (int l = 0; l < sh_bands; ++l)
+            low.push_back(sh::cosine_zonal(l) * k[static_cast<size_t>(l)] * (2 * l + 1) /
+                          (4 * kPi));
+    }
+    /// H_b[e](n . d) for unit flux.
+    double high_pass(const Eigen::Vector3d& n) const {
+        DirectionalLight unit;
+        unit.direction = direction;
+        unit.flux = Eigen::Vector3d::Ones();
+        unit.angular_radius = alpha;
+        const double t = std::clamp(n.dot(direction), -1.0, 1.0);
+        const std::vector<double> p = legendre(static_cast<int>(low.size()), t);
+        double e = light_irradiance(unit, n)[0];
+        for (size_t l = 0; l < low.size(); ++l) e -= low[l] * p[l];
+        return e;
+    }
+};
+
+/// Columns H_b[e_j](n_i) for each light.
+Eigen::MatrixXd design(const std::vector<Lobe>& lobes, const std::vector<Eigen::Vector3d>& normals) {
+    Eigen::MatrixXd h(static_cast<Eigen::Index>(normals.size()),
+                      static_cast<Eigen::Index>(lobes.size()));
+    for (size_t j = 0; j < lobes.size(); ++j)
+        for (size_t i = 0; i < normals.size(); ++i)
+            h(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
+                lobes[j].high_pass(normals[i]);
+    return h;
+}
+
+/// Per light: direction, radius and luminance flux; the LM moves them.
+struct Geometry {
+    std::vector<Eigen::Vector3d> direction;
+    std::vector<double> alpha, flux_y;
+};
+
+}  // namespace
+
+std::vector<double> cap_zonal_factors(int sh_bands, double alpha) {
+    if (sh_bands < 1) throw UsageError("cap_zonal_factors: sh_bands must be >= 1");
+    std::vector<double> k(static_cast<size_t>(sh_bands), 1.0);
+    const double one_minus_c = 1 - std::cos(alpha);
+    if (alpha < kSeriesRadius) {
+        for (int l = 1; l < sh_bands; ++l)
+            k[static_cast<size_t>(l)] = 1 - l * (l + 1) * one_minus_c / 4;
+        return k;
+    }
+    const std::vector<double> p = legendre(sh_bands, std::cos(alpha));
+    for (int l = 1; l < sh_bands; ++l)
+        k[static_cast<size_t>(l)] =
+            (p[static_cast<size_t>(l - 1)] - p[static_cast<size_t>(l + 1)]) /
+            ((2 * l + 1) * one_minus_c);
+    return k;
+}
+
+Eigen::MatrixXd cap_coefficients(const DirectionalLight& light, int sh_bands) {
+    const std::vector<double> k = cap_zonal_factors(sh_bands, light.angular_radius);
+    const std::vector<double> y = sh::eval(sh_bands, light.direction);
+    Eigen::MatrixXd c(sh::count(sh_bands), 3);
+    for (int l = 0; l < sh_bands; ++l)
+        for (int m = -l; m <= l; ++m) {
+            const auto i = static_cast<size_t>(sh::index(l, m));
+            c.row(static_cast<Eigen::Index>(i)) =
+                (k[static_cast<size_t>(l)] * y[i]) * light.flux.transpose();
+        }
+    return c;
+}
+
+std::vector<Eigen::Vector3d> fit_normals(int count) {
+    // Any rotation that moves the axes and the Fibonacci lattice off themselves will do.
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    std::vector<Eigen::Vector3d> out = validation_normals(count);
+    for (auto& n : out) n = turn * n;
+    return out;
+}
+
+LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_bands,
+                          const Eigen::MatrixXd& map_coeffs,
+                          const std::vector<Eigen::Vector3d>& normals,
+                          const Eigen::MatrixXd& e_ref, const LightFitOptions& options) {
+    const int k = static_cast<int>(start.size());
+    const auto nn = static_cast<Eigen::Index>(normals.size());
+    if (k < 1 || sh_bands < 1 || map_coeffs.rows() < sh::count(sh_bands) ||
+        map_coeffs.cols() != 3 || e_ref.rows() != nn || e_ref.cols() != 3 || nn < 4 * k)
+        throw UsageError("fit_lights: lights, bands, coefficients or normals do not agree");
+    const double alpha_max = options.max_radius_deg * kPi / 180;
+
+    // What the lights must carry: the reference minus the map's own b bands, per channel.
+    const Eigen::MatrixXd high =
+        e_ref - sh_irradiance(map_coeffs.topRows(sh::count(sh_bands)), sh_bands, normals);
+    Eigen::VectorXd high_y(nn);
+    for (Eigen::Index i = 0; i < nn; ++i)
+        high_y[i] = luminance(high(i, 0), high(i, 1), high(i, 2));
+
+    auto lobes_of = [&](const Geometry& g) {
+        std::vector<Lobe> lobes;
+        for (int j = 0; j < k; ++j)
+            lobes.emplace_back(g.direction[static_cast<size_t>(j)], g.alpha[static_cast<size_t>(j)],
+                               sh_bands);
+        return lobes;
+    };
+    auto residual = [&](const Geometry& g) {
+        const Eigen::MatrixXd h = design(lobes_of(g), normals);
+        Eigen::VectorXd r = high_y;
+        for (int j = 0; j < k; ++j) r -= g.flux_y[static_cast<size_t>(j)] * h.col(j);
+        return r;
+    };
+    // Parameters per light: tangent offsets (u, v) of d, alpha offset, log-scale of Phi_Y.
+    auto moved = [&](const Geometry& g, const Eigen::VectorXd& p) {
+        Geometry o = g;
+        for (int j = 0; j < k; ++j) {
+            const auto js = static_cast<size_t>(j);
+            const Eigen::Vector3d t1 = g.direction[js].unitOrthogonal();
+            const Eigen::Vector3d t2 = g.direction[js].cross(t1);
+            o.direction[js] = (g.direction[js] + p[4 * j] * t1 + p[4 * j + 1] * t2).normalized();
+            o.alpha[js] = std::clamp(g.alpha[js] + p[4 * j + 2], 0.0, alpha_max);
+            o.flux_y[js] = g.flux_y[js] * std::exp(std::clamp(p[4 * j + 3], -5.0, 5.0));
+        }
+        return o;
+    };
+
+    Geometry g;
+    for (const auto& l : start) {
+        g.direction.push_back(l.direction.normalized());
+        g.alpha.push_back(std::clamp(l.angular_radius, 0.0, alpha_max));
+        g.flux_y.push_back(std::max(luminance_flux(l), 1e-12));
+    }
+    LightFitResult out;
+    double cost = residual(g).squaredNorm();
+    out.rms_start = std::sqrt(cost / static_cast<double>(nn));
+    const int np = 4 * k;
+    // Central differences: the step (radians, or relative flux) is far above the rounding of the
+    // residual (~1e-16 relative) and below the curvature's scale (the cap's horizon band, >= the
+    // radius; radii under the step act as points).
+    constexpr double kStep = 1e-4;
+    double damping = 1e-3;
+    for (int it = 0; it < options.max_iterations; ++it) {
+        const Eigen::VectorXd r0 = residual(g);
+        Eigen::MatrixXd jac(nn, np);
+        for (int q = 0; q < np; ++q) {
+            Eigen::VectorXd p = Eigen::VectorXd::Zero(np);
+            p[q] = kStep;
+            const Eigen::VectorXd rp = residual(moved(g, p));
+            p[q] = -kStep;
+            jac.col(q) = (rp - residual(moved(g, p))) / (2 * kStep);
+        }
+        const Eigen::MatrixXd a = jac.transpose() * jac;
+        const Eigen::VectorXd grad = jac.transpose() * r0;
+        bool improved = false;
+        for (int attempt = 0; attempt < 12 && !improved; ++attempt) {
+            Eigen::MatrixXd ad = a;
+            for (int q = 0; q < np; ++q) ad(q, q) = a(q, q) * (1 + damping) + 1e-15;
+            const Eigen::VectorXd step = -ad.ldlt().solve(grad);
+            if (!step.allFinite()) break;
+            const Geometry trial = moved(g, step);
+            const double c = residual(trial).squaredNorm();
+            if (c < cost) {
+                // Stop once a step gains under 1e-9 of the cost: the optimum to double precision.
+                const bool converged = cost - c < 1e-9 * cost;
+                g = trial;
+                cost = c;
+                damping = std::max(damping * 0.3, 1e-9);
+                improved = !converged;
+                if (converged) it = options.max_iterations;
+            } else {
+                damping *= 10;
+            }
+        }
+        out.iterations = it + 1;
+        if (!improved) break;
+    }
+
+    // Each channel's flux at the fitted geometry (linear least squares, negatives clamped).
+    const Eigen::MatrixXd h = design(lobes_of(g), normals);
+    const Eigen::MatrixXd hth = h.transpose() * h;
+    out.lights = start;
+    Eigen::MatrixXd flux(k, 3);
+    for (int c = 0; c < 3; ++c) flux.col(c) = hth.ldlt().solve(h.transpose() * high.col(c));
+    for (int j = 0; j < k; ++j) {
+        auto& l = out.lights[static_cast<size_t>(j)];
+        l.direction = g.direction[static_cast<size_t>(j)];
+        l.angular_radius = g.alpha[static_cast<size_t>(j)];
+        l.fitted = true;
+        for (int c = 0; c < 3; ++c) l.flux[c] = std::max(0.0, flux(j, c));
+        if (!l.flux.allFinite()) l.flux = Eigen::Vector3d::Zero();
+    }
+    Eigen::VectorXd r = high_y;
+    for (int j = 0; j < k; ++j) r -= luminance_flux(out.lights[static_cast<size_t>(j)]) * h.col(j);
+    out.rms_fitted = std::sqrt(r.squaredNorm() / static_cast<double>(nn));
+    if (!(out.rms_fitted <= out.rms_start)) {  // clamped negative channels: keep the start
+        out.lights = start;
+        out.rms_fitted = out.rms_start;
+    }
+    out.coeffs = map_coeffs.topRows(sh::count(sh_bands));
+    for (const auto& l : out.lights) out.coeffs -= cap_coefficients(l, sh_bands);
+    return out;
+}
+
+}  // namespace inlight::envmap

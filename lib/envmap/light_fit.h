@@ -1,0 +1,58 @@
+// envmap/light_fit.h: the extracted lights' parameters fitted by least squares against the
+// brute-force irradiance, with the SH of the map minus the lights (docs/budget.md, "The fit").
+//
+// A light of flux Phi, direction d and angular radius alpha is taken as a uniform cap: its
+// radiance has the SH coefficients Phi k_l(alpha) Y_lm(d) (Funk-Hecke), with
+//   k_l(alpha) = (integral over [cos alpha, 1] of P_l(t) dt) / (1 - cos alpha)
+//              = (P_{l-1}(cos alpha) - P_{l+1}(cos alpha)) / ((2l + 1)(1 - cos alpha)),
+// k_0 = 1 and k_l -> 1 as alpha -> 0 (a point light). The model of b bands and k lights is
+//   SH_b(map - lights)(n) + sum_j E_j(n) = SH_b(map)(n) + sum_j Phi_j H_b[e(n.d_j; alpha_j)],
+// where e is the unit-flux light's irradiance (lights.h) and H_b removes its bands l < b:
+//   H_b[e](t) = e(t) - sum_{l<b} A_l k_l(alpha) (2l + 1) / (4 pi) P_l(t).
+// Its error against the reference is H_b[E_ref] - sum_j Phi_j H_b[e_j]: the lights must carry
+// the part of the irradiance that b bands cannot. The fit minimises its sum of squares over a
+// set of normals DISTINCT from the validation normals (so the reported error is not the fitted
+// one) by Levenberg-Marquardt on (tangent offset of d, alpha, Phi_Y) per light, from the
+// extracted lights; then each channel's flux by linear least squares at the fitted geometry.
+// The SH written out are SH_b(map) - sum_j (cap coefficients of light j): the residual of the
+// map with the fitted lights removed, to any band count (the specular term uses them too).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "envmap/lights.h"
+
+namespace inlight::envmap {
+
+/// k_l(alpha) for l = 0 .. sh_bands - 1 (above).
+std::vector<double> cap_zonal_factors(int sh_bands, double alpha);
+
+/// SH coefficients (count(sh_bands) x 3) of a light's radiance as a uniform cap (above).
+Eigen::MatrixXd cap_coefficients(const DirectionalLight& light, int sh_bands);
+
+struct LightFitOptions {
+    int max_iterations = 60;
+    double max_radius_deg = 30;  ///< the fitted cap's radius stays in [0, this]
+};
+
+struct LightFitResult {
+    std::vector<DirectionalLight> lights;  ///< fitted (the fit-set description fields kept)
+    Eigen::MatrixXd coeffs;                ///< count(sh_bands) x 3: SH_b(map) - sum of caps
+    double rms_start = 0, rms_fitted = 0;  ///< luminance RMS of the error on the fit normals
+    int iterations = 0;
+};
+
+/// Fits `start` (k >= 1 lights) for a model of `sh_bands` bands. `map_coeffs` are the map's own
+/// SH (at least count(sh_bands) rows x 3), `e_ref` the brute-force irradiance (normals x 3) at
+/// `normals`. Deterministic. The fitted lights never raise the fit-set RMS above the start.
+LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_bands,
+                          const Eigen::MatrixXd& map_coeffs,
+                          const std::vector<Eigen::Vector3d>& normals,
+                          const Eigen::MatrixXd& e_ref, const LightFitOptions& options = {});
+
+/// The fit normals: `count` Fibonacci normals turned by a fixed rotation off the validation set
+/// (validate.h), so no fit normal is a validation normal.
+std::vector<Eigen::Vector3d> fit_normals(int count);
+
+}  // namespace inlight::envmap

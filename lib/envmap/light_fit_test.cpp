@@ -1,0 +1,160 @@
+// Tests of envmap/light_fit.h: the cap's SH against a quadrature exact for it, the fit recovering a
+// cap from a poor start. The fit on real maps: tests/cli/envmap_budget_fit_test.sh.
+#include "envmap/light_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <vector>
+
+#include "core/conventions.h"
+#include "core/error.h"
+#include "envmap/envmap_testing.h"
+#include "envmap/project.h"
+#include "envmap/validate.h"
+#include "sh/quadrature.h"
+#include "sh/sh.h"
+
+namespace inlight::envmap {
+namespace {
+
+// Sums of ~1e4 double terms of O(1): rounding only.
+constexpr double kRounding = 1e-11;
+
+TEST(CapCoefficients, MatchTheCapIntegratedByAQuadratureExactForIt) {
+    // In the cap's own frame, Y_lm(R w) is a polynomial of degree l in w; over rings of constant
+    // t = cos(angle from the centre) the odd powers of sqrt(1 - t^2) meet odd cos/sin(phi) and
+    // vanish on 2l + 2 equally spaced phi, the rest is a polynomial in t: Gauss-Legendre with 16
+    // nodes is exact for it up to l = 9.
+    const int bands = 9;
+    std::vector<double> x, w;
+    sh::gauss_legendre(16, x, w);
+    for (double alpha_deg : {0.02, 0.5, 8.0, 30.0, 89.0}) {
+        const double alpha = alpha_deg * kPi / 180, c0 = std::cos(alpha);
+        DirectionalLight light;
+        light.direction = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+        light.flux = Eigen::Vector3d(2.0, 1.0, 0.5);
+        light.angular_radius = alpha;
+        const Eigen::Matrix3d frame = Eigen::Quaterniond::FromTwoVectors(
+                                          Eigen::Vector3d::UnitZ(), light.direction)
+                                          .toRotationMatrix();
+        const int nphi = 2 * bands + 2;
+        const double omega = 2 * kPi * (1 - c0);
+        Eigen::VectorXd ref = Eigen::VectorXd::Zero(sh::count(bands));
+        for (size_t k = 0; k < x.size(); ++k) {
+            const double t = 0.5 * (1 + c0) + 0.5 * (1 - c0) * x[k], s = std::sqrt(1 - t * t);
+            for (int p = 0; p < nphi; ++p) {
+                const double phi = 2 * kPi * (p + 0.5) / nphi;
+                const auto y = sh::eval(bands, frame * Eigen::Vector3d(s * std::cos(phi),
+                                                                       s * std::sin(phi), t));
+                for (int i = 0; i < sh::count(bands); ++i)
+                    ref[i] += 0.5 * (1 - c0) * w[k] * (2 * kPi / nphi) * y[static_cast<size_t>(i)];
+            }
+        }
+        ref /= omega;  // unit flux spread uniformly over the cap
+        const Eigen::MatrixXd c = cap_coefficients(light, bands);
+        for (int i = 0; i < sh::count(bands); ++i)
+            for (int ch = 0; ch < 3; ++ch)
+                EXPECT_NEAR(c(i, ch), light.flux[ch] * ref[i], kRounding * 10)
+                    << "alpha " << alpha_deg << " deg, coefficient " << i;
+    }
+}
+
+TEST(CapZonalFactors, SeriesAndClosedFormAgreeAtTheirJoinAndAPointIsOne) {
+    // Either side of the 1e-3 rad join: the series' next term is O((l^2 (1 - cos a))^2) ~ 4e-9 at
+    // l = 8 and the closed form loses ~1e-16 / 5e-7 = 2e-10 to cancellation.
+    const auto below = cap_zonal_factors(9, 1e-3 * (1 - 1e-9));
+    const auto above = cap_zonal_factors(9, 1e-3 * (1 + 1e-9));
+    for (int l = 0; l < 9; ++l) EXPECT_NEAR(below[l], above[l], 1e-8) << "l " << l;
+    for (double k : cap_zonal_factors(9, 0.0)) EXPECT_EQ(k, 1.0);
+}
+
+// A band-limited sky (l <= 2) and a uniform cap, the cap's pixels weighted by their covered
+// fraction (8 x 8 sub-samples), so the map is the cap to a 64th of a boundary pixel.
+struct CapScene {
+    Eigen::Vector3d direction = Eigen::Vector3d(0.35, 0.55, 0.6).normalized();
+    double alpha = 8 * kPi / 180;
+    Eigen::Vector3d radiance{60, 50, 40};
+    Environment env;
+    CapScene(int w, int h) {
+        env.layout = Layout::kLatLong;
+        env.source = "cap-scene";
+        env.radiance = image::Image(w, h, 3);
+        const double cos_a = std::cos(alpha);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const Eigen::Vector3d d = latlong_direction((x + 0.5) / w, (y + 0.5) / h);
+                const double sky = 1.0 + 0.4 * d.z() + 0.2 * d.x() + 0.3 * d.x() * d.y();
+                int inside = 0;
+                for (int sy = 0; sy < 8; ++sy)
+                    for (int sx = 0; sx < 8; ++sx)
+                        inside += latlong_direction((x + (sx + 0.5) / 8) / w,
+                                                    (y + (sy + 0.5) / 8) / h)
+                                      .dot(direction) >= cos_a;
+                for (int c = 0; c < 3; ++c)
+                    env.radiance.at(x, y, c) =
+                        static_cast<float>(sky * (1 - 0.1 * c) + radiance[c] * inside / 64.0);
+            }
+    }
+    DirectionalLight truth() const {
+        DirectionalLight l;
+        l.direction = direction;
+        l.angular_radius = alpha;
+        l.flux = radiance * 2 * kPi * (1 - std::cos(alpha));
+        return l;
+    }
+};
+
+TEST(FitLights, RecoverACapFromAPoorStart) {
+    const CapScene scene(512, 256);
+    const double pitch = kPi / 256;  // a pixel's angular size at the equator
+    ProjectOptions po;
+    po.sh_bands = 3;
+    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
+    const auto normals = fit_normals(256);
+    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    // The true light's misfit: the brute force's pixel quadrature and the cap's rasterisation.
+    LightFitOptions none;
+    none.max_iterations = 0;
+    const double rms_truth = fit_lights({scene.truth()}, 3, map, normals, e_ref, none).rms_start;
+
+    DirectionalLight start = scene.truth();  // 3 degrees off, half the radius, 60% of the flux
+    start.direction =
+        Eigen::AngleAxisd(3 * kPi / 180, start.direction.unitOrthogonal()) * start.direction;
+    start.angular_radius *= 0.5;
+    start.flux *= 0.6;
+    const LightFitResult f = fit_lights({start}, 3, map, normals, e_ref);
+    ASSERT_EQ(f.lights.size(), 1u);
+    EXPECT_GT(f.rms_start, 10 * rms_truth);  // the start is poor: a fit that does nothing fails
+    // The fit ends at least as close to the reference as the truth (it minimises this RMS; the
+    // truth is one of the points it could reach).
+    EXPECT_LE(f.rms_fitted, rms_truth * (1 + 1e-6));
+    // The rasterised cap's edge is known to a pixel: direction and radius to half a pitch, the
+    // flux to the ring of half a pitch around the edge, 2 (pitch / 2) / alpha relative.
+    const DirectionalLight& l = f.lights[0];
+    EXPECT_LT(std::acos(std::min(1.0, l.direction.dot(scene.direction))), pitch / 2);
+    EXPECT_NEAR(l.angular_radius, scene.alpha, pitch / 2);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(l.flux[c] / scene.truth().flux[c], 1.0, pitch / scene.alpha) << "channel " << c;
+    // The coefficients are the map's minus the fitted cap's.
+    EXPECT_LT((f.coeffs - (map - cap_coefficients(l, 3))).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(FitLights, NeverEndsAboveItsStart) {
+    const CapScene scene(256, 128);
+    ProjectOptions po;
+    po.sh_bands = 5;
+    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
+    const auto normals = fit_normals(128);
+    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    for (int b : {1, 3, 5}) {
+        const LightFitResult f = fit_lights({scene.truth()}, b, map, normals, e_ref);
+        EXPECT_LE(f.rms_fitted, f.rms_start * (1 + 1e-12)) << b << " bands";
+    }
+    EXPECT_THROW(fit_lights({}, 3, map, normals, e_ref), UsageError);
+    EXPECT_THROW(fit_lights({scene.truth()}, 6, map, normals, e_ref), UsageError);
+}
+
+}  // namespace
+}  // namespace inlight::envmap

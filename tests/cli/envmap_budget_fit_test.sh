@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# envmap-project --max-error on real maps: the extracted lights fitted by least squares against the
+# brute-force irradiance (--light-fit-normals, docs/budget.md "The fit") meet 1% with one light over
+# 3 bands where the extracted region's cap and 5 bands of pure SH do not (figures:
+# docs/budget/tradeoff.md).
+# shellcheck disable=SC2016  # $vars in the single-quoted jq programs are jq's own
+# shellcheck source=tests/cli/lib.sh
+source "$(dirname "$0")/lib.sh"
+EP="$BIN/envmap-project"
+
+# budget_case NAME MAP: one light over at most 5 bands, fitted and as found.
+budget_case() {
+    local name=$1 map=$2
+    expect_exit 0 "$name: 1% met with the fitted light" -- "$EP" "$map" -o "$WORK/${name}_sh.json" \
+        --max-error 0.01 --max-lights 1 --budget-max-bands 5 --report "$WORK/$name.json" -q
+    expect_true "$name: one fitted light over 3 bands, within 1%" -- jq -e '.metrics.environments[0].budget
+        | .met and .chosen.lights == 1 and .chosen.sh_bands == 3 and .chosen.lights_fitted
+          and .chosen.error <= 0.01 and .chosen.cost.operations <= ([.candidates[]
+          | select(.lights == 0 and .sh_bands == 5) | .cost.operations] | first)' "$WORK/$name.json"
+    expect_true "$name: the output holds the fitted light" -- jq -e --slurpfile r "$WORK/$name.json" \
+        '(.lights | length) == 1 and .lights[0].angular_radius_deg
+          == ($r[0].metrics.environments[0].budget.candidates[] | select(.lights == 1 and .sh_bands == 3)
+              | .light_set[0].angular_radius_deg)' "$WORK/${name}_sh.json"
+    expect_exit 0 "$name: the region's cap as found" -- "$EP" "$map" \
+        -o "$WORK/${name}_region.json" --max-error 0.01 --max-lights 1 --budget-max-bands 5 \
+        --light-fit-normals 0 --report "$WORK/${name}_r.json" -q
+    expect_true "$name: as found, nothing within 5 bands' cost meets 1% (region cap + 3 bands, pure 5 bands)" -- \
+        jq -e '.metrics.environments[0].budget.candidates
+          | ([.[] | select(.lights == 0 and .sh_bands == 5) | .cost.operations] | first) as $cap
+          | [.[] | select(.cost.operations <= $cap) | .error > 0.01] | all' "$WORK/${name}_r.json"
+}
+
+if have_shared_data probes-latlong/ennis.hdr; then
+    budget_case ennis "$INLIGHT_SHARED_DIR/data/probes-latlong/ennis.hdr"
+fi
+SUNRISE=/usr/share/blender/datafiles/studiolights/world/sunrise.exr
+if have_package_file "$SUNRISE" blender-data; then
+    budget_case sunrise "$SUNRISE"
+fi
+finish
