@@ -23,6 +23,8 @@ namespace {
 
 struct Args {
     std::string scene, output, stderr_output, strategy = "mis", rt_lighting, sampler = "sobol";
+    std::string convergence_ref_image;
+    bool convergence_ref_irradiance = false;
     int width_px = 0, height_px = 0, convergence_ref_spp = 0, decompose_map_height = 128;
     double max_rel_error = 0;
     bool no_jitter = false, compare = false, decompose = false;
@@ -108,6 +110,16 @@ int main(int argc, char** argv) {
                    "at 1, 4, 16, ... up to --spp; slope into the report (0 = off)")
         ->check(CLI::Range(0, 1 << 20))
         ->capture_default_str();
+    auto* ref_image = app.add_option("--convergence-ref-image", a.convergence_ref_image,
+                                     "Error against samples, against this EXR (a converged "
+                                     "render; its _stderr.exr is used when present)")
+                          ->check(CLI::ExistingFile)
+                          ->excludes("--convergence-ref-spp");
+    app.add_flag("--convergence-ref-irradiance", a.convergence_ref_irradiance,
+                 "Error against samples, against the exact image of a Lambert sphere from "
+                 "brute-force irradiance (needs --no-jitter)")
+        ->excludes("--convergence-ref-spp")
+        ->excludes(ref_image);
     app.add_option("--max-rel-error", a.max_rel_error,
                    "Quality gate: exit 3 if the final relative noise exceeds this (0 = off)")
         ->check(app::finite_non_negative())
@@ -165,6 +177,9 @@ int main(int argc, char** argv) {
     if (auto code = app::parse(app, argc, argv)) return *code;
 
     return app::run("render", app, common, argc, argv, [&](Report& report) {
+        if (a.convergence_ref_irradiance && !a.no_jitter)
+            throw UsageError("--convergence-ref-irradiance needs --no-jitter (the brute force "
+                             "gives each pixel centre's value)");
         opt.seed = common.seed;
         opt.jitter = !a.no_jitter;
         opt.strategy = render::strategy_from_string(a.strategy);
@@ -231,12 +246,18 @@ int main(int argc, char** argv) {
         log::info(str("render: ", r.spp, " spp in ", r.render_time_s, " s, ",
                       r.rays / std::max(r.render_time_s, 1e-9) / 1e6, " Mrays/s, rel_error ",
                       r.rel_error, " (", r.stop_reason, ")"));
-        if (a.convergence_ref_spp > 0) {
+        if (a.convergence_ref_spp > 0 || a.convergence_ref_irradiance ||
+            !a.convergence_ref_image.empty()) {
             ScopedStage stage(report, "convergence");
             std::vector<int> spps;
             for (int s = 1; s <= opt.spp; s *= 4) spps.push_back(s);
             if (spps.back() != opt.spp) spps.push_back(opt.spp);
-            const auto c = render::convergence_study(*scene, opt, a.convergence_ref_spp, spps);
+            const render::ConvergenceReference ref =
+                a.convergence_ref_irradiance ? render::irradiance_reference(*scene)
+                : a.convergence_ref_image.empty()
+                    ? render::render_reference(*scene, opt, a.convergence_ref_spp)
+                    : render::file_reference(*scene, a.convergence_ref_image);
+            const auto c = render::convergence_study(*scene, opt, ref, spps);
             m["convergence"] = render::to_json(c);
             log::info(str("render: error ~ spp^", c.slope, " (expected -0.5)"));
         }

@@ -446,18 +446,41 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
     return result;
 }
 
-ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
-                                    int reference_spp, const std::vector<int>& spp_list) {
-    INLIGHT_CHECK(!spp_list.empty());
-    ConvergenceResult out;
-    out.reference_spp = reference_spp;
+ConvergenceReference render_reference(const Scene& scene, const RenderOptions& options,
+                                      int reference_spp) {
     RenderOptions ref_opt = options;
     ref_opt.spp = reference_spp;
     ref_opt.seed = mix64(options.seed ^ 0x7265666572656e63ull);  // "referenc": independent
     ref_opt.time_budget_s = ref_opt.target_rel_error = 0;
     ref_opt.snapshot_spp.clear();
     ref_opt.adaptive = false;  // a uniform reference: its noise is even over the image
-    const RenderResult ref = render(scene, ref_opt);
+    RenderResult r = render(scene, ref_opt);
+    ConvergenceReference ref;
+    ref.kind = "render";
+    ref.spp = reference_spp;
+    ref.rel_error = r.rel_error;
+    ref.radiance = std::move(r.radiance);
+    ref.std_error = std::move(r.std_error);
+    ref.object_mask = object_pixels(scene);
+    return ref;
+}
+
+ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
+                                    int reference_spp, const std::vector<int>& spp_list) {
+    return convergence_study(scene, options, render_reference(scene, options, reference_spp),
+                             spp_list);
+}
+
+ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
+                                    const ConvergenceReference& ref,
+                                    const std::vector<int>& spp_list) {
+    INLIGHT_CHECK(!spp_list.empty());
+    INLIGHT_CHECK_EQ(ref.radiance.width, scene.camera().width_px);
+    INLIGHT_CHECK_EQ(ref.radiance.height, scene.camera().height_px);
+    INLIGHT_CHECK_EQ(ref.radiance.channels, 3);
+    ConvergenceResult out;
+    out.reference_kind = ref.kind;
+    out.reference_spp = ref.spp;
     out.reference_rel_error = ref.rel_error;
     double ref_mean = 0, ref_var = 0;
     for (size_t i = 0; i < ref.radiance.pixels.size(); ++i) {
@@ -467,6 +490,10 @@ ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& opt
     const double count = static_cast<double>(ref.radiance.pixels.size());
     ref_mean /= count;
     ref_var /= count;
+    auto lum = [](const image::Image& img, size_t i) {
+        return luminance(Eigen::Vector3d(img.pixels[i * 3], img.pixels[i * 3 + 1],
+                                         img.pixels[i * 3 + 2]));
+    };
 
     RenderOptions run_opt = options;
     run_opt.spp = *std::max_element(spp_list.begin(), spp_list.end());
@@ -483,6 +510,14 @@ ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& opt
         }
         mse /= count;
         var /= count;
+        double rel_sum = 0;
+        int64_t objects = 0;
+        for (size_t i = 0; i < ref.object_mask.size(); ++i) {
+            const double y_ref = lum(ref.radiance, i);
+            if (!ref.object_mask[i] || !(y_ref != 0)) continue;
+            rel_sum += std::abs(lum(s.radiance, i) - y_ref) / std::abs(y_ref);
+            ++objects;
+        }
         ConvergencePoint p;
         p.spp = s.spp;
         p.mean_spp = s.mean_spp;
@@ -491,6 +526,8 @@ ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& opt
         p.time_s = s.time_s;
         p.rel_rmse = std::sqrt(mse) / std::abs(ref_mean);
         p.rel_rmse_corrected = std::sqrt(std::max(0.0, mse - ref_var)) / std::abs(ref_mean);
+        p.mean_rel_error = objects > 0 ? rel_sum / static_cast<double>(objects)
+                                       : std::numeric_limits<double>::quiet_NaN();
         out.points.push_back(p);
         if (p.rel_rmse_corrected > 0) {
             xs.push_back(std::log(p.mean_spp));
@@ -549,9 +586,11 @@ nlohmann::json to_json(const ConvergenceResult& c) {
                        {"cpu_time_s", p.cpu_time_s},
                        {"rel_rmse", p.rel_rmse},
                        {"rel_rmse_corrected", p.rel_rmse_corrected},
-                       {"predicted_rel_rmse", p.predicted_rel_rmse}});
+                       {"predicted_rel_rmse", p.predicted_rel_rmse},
+                       {"mean_rel_error", finite_or_null(p.mean_rel_error)}});
     }
-    return {{"reference_spp", c.reference_spp},
+    return {{"reference_kind", c.reference_kind},
+            {"reference_spp", c.reference_spp},
             {"reference_rel_error", finite_or_null(c.reference_rel_error)},
             {"points", pts},
             {"slope", finite_or_null(c.slope)}};

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "render/reference.h"
 #include "render/sampler.h"
 #include "render/sampling.h"
 #include "render/scene.h"
@@ -137,8 +138,13 @@ struct ConvergencePoint {
     /// The error the noise map predicts: sqrt(mean se^2 + mean se_ref^2) / mean(ref), to set
     /// against rel_rmse (their ratio is 1 for an honest map).
     double predicted_rel_rmse = 0;
+    /// Mean over the object pixels (ConvergenceReference::object_mask) of |Y - Y_ref| / Y_ref,
+    /// Y = Rec.709 luminance (the metric; with a noisy reference it includes the
+    /// reference's noise). NaN when no pixel sees an object.
+    double mean_rel_error = 0;
 };
 struct ConvergenceResult {
+    std::string reference_kind;  ///< ConvergenceReference::kind
     int reference_spp = 0;
     double reference_rel_error = 0;
     std::vector<ConvergencePoint> points;
@@ -146,8 +152,15 @@ struct ConvergenceResult {
     /// unbiased Monte Carlo estimator with independent samples.
     double slope = 0;
 };
-/// Renders a reference with `reference_spp` (seed ^ a constant, independent of the measured
-/// run), then the measured run with snapshots at `spp_list`, and fits the slope.
+/// A uniform render with `reference_spp` (seed ^ a constant: independent of the measured run).
+ConvergenceReference render_reference(const Scene& scene, const RenderOptions& options,
+                                      int reference_spp);
+/// Renders the measured run with snapshots at `spp_list`, compares each with `reference` (same
+/// size as the camera) and fits the slope.
+ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
+                                    const ConvergenceReference& reference,
+                                    const std::vector<int>& spp_list);
+/// The same against render_reference(scene, options, reference_spp).
 ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& options,
                                     int reference_spp, const std::vector<int>& spp_list);
 
@@ -155,8 +168,9 @@ ConvergenceResult convergence_study(const Scene& scene, const RenderOptions& opt
 /// cpu_time_s, samples_per_s,
 /// rays_per_s, rel_error (null when undefined), stop_reason, nonfinite_samples.
 nlohmann::json to_json(const RenderResult& result);
-/// Report metrics of a convergence study: reference_spp, reference_rel_error, points
-/// [{spp, mean_spp, time_s, cpu_time_s, rel_rmse, rel_rmse_corrected, predicted_rel_rmse}], slope.
+/// Report metrics of a convergence study: reference_kind, reference_spp, reference_rel_error,
+/// points [{spp, mean_spp, time_s, cpu_time_s, rel_rmse, rel_rmse_corrected,
+/// predicted_rel_rmse, mean_rel_error}], slope.
 nlohmann::json to_json(const ConvergenceResult& result);
 
 }  // namespace inlight::render

@@ -10,6 +10,8 @@
 #include "core/conventions.h"
 #include "core/parallel.h"
 #include "render/path_tracer.h"
+#include "render/reference.h"
+#include "render/render_testing.h"
 #include "testing/testing.h"
 
 namespace inlight::render {
@@ -26,15 +28,7 @@ constexpr double kSigmas = 6.0;
 /// 4 is used.
 constexpr double kAggregateSigmas = 4.0;
 
-SceneDesc base_scene(int px) {
-    SceneDesc d;
-    d.camera.projection = Projection::kOrthographic;
-    d.camera.position = {0, 0, 2};
-    d.camera.look_at = {0, 0, 0};
-    d.camera.ortho_height = 1.2;
-    d.camera.width_px = d.camera.height_px = px;
-    return d;
-}
+using testscenes::base_scene;
 
 SurfaceMaterial lambert(const std::string& name, const Eigen::Vector3d& albedo) {
     SurfaceMaterial m;
@@ -173,35 +167,6 @@ TEST(PathTracer, WhiteFurnaceBsdfSamplingIsExact) {
     }
 }
 
-/// Brute-force irradiance of a lat-long map (piecewise constant, as the renderer looks it up)
-/// at normal n: each pixel split into sub x sub cells of equal solid angle, clamped cosine at
-/// the cell centre.
-Eigen::Vector3d brute_force_irradiance(const EnvironmentLight& env, const Eigen::Vector3d& n,
-                                       int sub) {
-    const int w = env.width(), h = env.height();
-    const Eigen::Vector3d n_env = env.world_from_env().transpose() * n;
-    Eigen::Vector3d e = Eigen::Vector3d::Zero();
-    for (int row = 0; row < h; ++row) {
-        const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
-        const double cell = env.pixel_solid_angle(row) / (sub * sub);
-        for (int col = 0; col < w; ++col) {
-            double cos_sum = 0;
-            for (int a = 0; a < sub; ++a) {
-                const double z = z0 + (a + 0.5) / sub * (z1 - z0);
-                const double r = std::sqrt(std::max(0.0, 1 - z * z));
-                for (int b = 0; b < sub; ++b) {
-                    const double phi = kPi * (1.0 - 2.0 * (col + (b + 0.5) / sub) / w);
-                    const double c =
-                        n_env.dot(Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
-                    if (c > 0) cos_sum += c;
-                }
-            }
-            if (cos_sum > 0) e += env.pixel(col, row) * (cos_sum * cell);
-        }
-    }
-    return e;
-}
-
 /// Box-filters a lat-long map by an integer factor (the test's own environment).
 image::Image downsample(const image::Image& img, int f) {
     image::Image out(img.width / f, img.height / f, 3);
@@ -235,23 +200,16 @@ TEST(PathTracer, LambertSphereUnderHdriEqualsBruteForceIrradiance) {
     o.spp = 256;
     o.jitter = false;  // one normal per pixel, so the brute force is a single integral
 
+    // The exact image at pixel centres (render/reference.h: each 5.6-degree pixel of the
+    // 64 x 32 map split into 8 x 8 cells of 0.7 degrees, kMaxCellDeg).
+    const ConvergenceReference ref = irradiance_reference(scene);
     std::vector<Eigen::Vector3d> exact(24 * 24);
     std::vector<bool> on_sphere(24 * 24, false);
-    for (int y = 0; y < 24; ++y) {
-        for (int x = 0; x < 24; ++x) {
-            const Ray ray = scene.camera().generate_ray(x + 0.5, y + 0.5);
-            SurfaceHit hit;
-            const size_t i = static_cast<size_t>(y) * 24 + x;
-            if (scene.accel().intersect(ray, &hit)) {
-                on_sphere[i] = true;
-                exact[i] =
-                    albedo.cwiseProduct(brute_force_irradiance(scene.environment(), hit.ng, 8)) /
-                    kPi;
-            }
-        }
+    for (size_t i = 0; i < exact.size(); ++i) {
+        on_sphere[i] = ref.object_mask[i] != 0;
+        for (int c = 0; c < 3; ++c) exact[i][c] = ref.radiance.pixels[i * 3 + static_cast<size_t>(c)];
     }
-    // 8x8 midpoint cells of 0.7 deg: the clamped cosine's kink at the horizon costs < 1e-4
-    // relative (checked against sub = 16 while writing the test: differences ~2e-6).
+    // The clamped cosine's kink at the horizon, midpoint rule on 0.7-degree cells (kMaxCellDeg).
     constexpr double kQuadratureRel = 1e-4;
     o.sampler = SamplerKind::kIndependent;
     expect_within_noise(render(scene, o), exact, on_sphere, kQuadratureRel,

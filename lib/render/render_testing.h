@@ -12,6 +12,18 @@
 
 namespace inlight::render::testscenes {
 
+/// An empty scene seen by an orthographic camera at (0, 0, 2) looking down -z, 1.2 units high,
+/// px x px pixels: a unit-diameter sphere at the origin fills its centre.
+inline SceneDesc base_scene(int px) {
+    SceneDesc d;
+    d.camera.projection = Projection::kOrthographic;
+    d.camera.position = {0, 0, 2};
+    d.camera.look_at = {0, 0, 0};
+    d.camera.ortho_height = 1.2;
+    d.camera.width_px = d.camera.height_px = px;
+    return d;
+}
+
 /// Band-limited lighting (l <= 2 only), positive everywhere, as a lat-long map.
 inline image::Image band_limited_sky(int w, int h) {
     image::Image img(w, h, 3);

@@ -94,6 +94,22 @@ expect_true "gate failure reported, outputs kept" -- \
 expect_exit 0 "convergence study" -- "$R" "$FURNACE" -o "$WORK/c.exr" "${SMALL[@]}" --spp 64 \
     --sampler independent --convergence-ref-spp 1024 --report "$WORK/c.json"
 expect_true "slope within 0.15 of -1/2" -- jq -e '(.metrics.convergence.slope + 0.5 | fabs) < 0.15' "$WORK/c.json"
+# Against the exact image (brute-force irradiance): BSDF sampling of the furnace is exact.
+expect_exit 2 "irradiance reference needs --no-jitter" -- "$R" "$FURNACE" -o "$WORK/x.exr" "${SMALL[@]}" \
+    --convergence-ref-irradiance
+expect_exit 2 "one reference at a time" -- "$R" "$FURNACE" -o "$WORK/x.exr" "${SMALL[@]}" --no-jitter \
+    --convergence-ref-irradiance --convergence-ref-spp 64
+expect_exit 0 "convergence against brute force" -- "$R" "$FURNACE" -o "$WORK/e.exr" "${SMALL[@]}" \
+    --spp 4 --no-jitter --strategy bsdf --convergence-ref-irradiance --report "$WORK/e.json"
+# 1e-4: the brute force's quadrature bound (render/reference.h).
+expect_true "exact render, exact reference" -- jq -e '.metrics.convergence.reference_kind == "brute_force_irradiance"
+    and ([.metrics.convergence.points[].mean_rel_error] | max) < 1e-4' "$WORK/e.json"
+expect_exit 0 "convergence against a file" -- "$R" "$FURNACE" -o "$WORK/g.exr" "${SMALL[@]}" --spp 4 \
+    --convergence-ref-image "$WORK/c.exr" --report "$WORK/g.json"
+expect_true "file reference reported" -- jq -e '.metrics.convergence.reference_kind == "file"' "$WORK/g.json"
+expect_exit 1 "reference of another size" -- "$R" "$FURNACE" -o "$WORK/h.exr" --width-px 8 --height-px 8 \
+    --convergence-ref-image "$WORK/c.exr"
+expect_stderr "c.exr: reference is 16x16" "error names the reference file and both sizes"
 
 # Scene-file errors name the file, the line, the table and the key; exit 1; no output.
 sed 's/width_px = 64/widht_px = 64/' "$FURNACE" > "$WORK/typo.toml"
