@@ -144,6 +144,40 @@ struct Accel::Impl {
             throw Error(str("Embree: ", what, ": ", errors.first_error));
         }
     }
+
+    /// A geometry of `type` whose Embree buffers hold `vertices` vertices of Dim floats
+    /// (vertex(k): x, y, z[, radius] in double) and `prims` primitives of IndexDim indices
+    /// (index(k, c)); [lo, hi] grows by each vertex's box (+- the radius when Dim is 4).
+    template <int Dim, int IndexDim, typename Vertex, typename Index>
+    RTCGeometry new_buffered_geometry(RTCGeometryType type, size_t vertices, size_t prims,
+                                      Vertex vertex, Index index, const std::string& what,
+                                      Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+        static_assert((Dim == 3 || Dim == 4) && (IndexDim == 1 || IndexDim == 3));
+        RTCGeometry geom = rtcNewGeometry(device, type);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, Dim == 3 ? RTC_FORMAT_FLOAT3 : RTC_FORMAT_FLOAT4,
+            Dim * sizeof(float), vertices));
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, IndexDim == 3 ? RTC_FORMAT_UINT3 : RTC_FORMAT_UINT,
+            IndexDim * sizeof(unsigned), prims));
+        try {
+            throw_if_error(str("allocating ", what, " buffers"));
+        } catch (...) {
+            rtcReleaseGeometry(geom);
+            throw;
+        }
+        for (size_t k = 0; k < vertices; ++k) {
+            const Eigen::Matrix<double, Dim, 1> q = vertex(k);
+            for (int j = 0; j < Dim; ++j) v[Dim * k + j] = static_cast<float>(q[j]);
+            const Eigen::Vector3d r = Eigen::Vector3d::Constant(Dim == 4 ? q[Dim - 1] : 0.0);
+            lo = lo.cwiseMin(q.template head<3>() - r);
+            hi = hi.cwiseMax(q.template head<3>() + r);
+        }
+        for (size_t k = 0; k < prims; ++k) {
+            for (int c = 0; c < IndexDim; ++c) idx[IndexDim * k + c] = index(k, c);
+        }
+        return geom;
+    }
 };
 
 Accel::Accel(std::vector<Shape> shapes) : m(std::make_unique<Impl>()) {
@@ -168,46 +202,25 @@ Accel::Accel(std::vector<Shape> shapes) : m(std::make_unique<Impl>()) {
                 throw Error(str("shape ", i, ": mesh without triangles"));
             }
             const TriangleMesh& mesh = *s.mesh;
-            geom = rtcNewGeometry(m->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-            auto* v = static_cast<float*>(
-                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                        3 * sizeof(float), mesh.positions.size()));
-            auto* idx = static_cast<unsigned*>(
-                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                        3 * sizeof(unsigned), mesh.triangles.size()));
-            m->throw_if_error("allocating mesh buffers");
-            for (size_t k = 0; k < mesh.positions.size(); ++k) {
-                for (int c = 0; c < 3; ++c) v[3 * k + c] = static_cast<float>(mesh.positions[k][c]);
-                lo = lo.cwiseMin(mesh.positions[k]);
-                hi = hi.cwiseMax(mesh.positions[k]);
-            }
-            for (size_t k = 0; k < mesh.triangles.size(); ++k) {
-                for (int c = 0; c < 3; ++c)
-                    idx[3 * k + c] = static_cast<unsigned>(mesh.triangles[k][c]);
-            }
+            geom = m->new_buffered_geometry<3, 3>(
+                RTC_GEOMETRY_TYPE_TRIANGLE, mesh.positions.size(), mesh.triangles.size(),
+                [&mesh](size_t k) { return mesh.positions[k]; },
+                [&mesh](size_t k, int c) { return static_cast<unsigned>(mesh.triangles[k][c]); },
+                "mesh", lo, hi);
         } else if (s.kind == ShapeKind::kCurves) {
             if (!s.curves || s.curves->first.empty()) {
                 throw Error(str("shape ", i, ": curves without segments"));
             }
             const CurveSet& c = *s.curves;
-            geom = rtcNewGeometry(m->device, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
-            auto* v = static_cast<float*>(
-                rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                        4 * sizeof(float), c.control_points.size()));
-            auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-                geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), c.first.size()));
-            m->throw_if_error("allocating curve buffers");
-            for (size_t k = 0; k < c.control_points.size(); ++k) {
-                const Eigen::Vector4f& q = c.control_points[k];
-                for (int j = 0; j < 4; ++j) v[4 * k + j] = q[j];
-                const Eigen::Vector3d centre = q.head<3>().cast<double>();
-                lo = lo.cwiseMin(centre - Eigen::Vector3d::Constant(q[3]));
-                hi = hi.cwiseMax(centre + Eigen::Vector3d::Constant(q[3]));
-            }
-            for (size_t k = 0; k < c.first.size(); ++k) {
-                INLIGHT_CHECK_LT(c.first[k] + 3, c.control_points.size());
-                idx[k] = c.first[k];
-            }
+            // Each vertex is (x, y, z, radius); segment k uses control points first[k] .. + 3.
+            geom = m->new_buffered_geometry<4, 1>(
+                RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE, c.control_points.size(), c.first.size(),
+                [&c](size_t k) { return Eigen::Vector4d(c.control_points[k].cast<double>()); },
+                [&c](size_t k, int) {
+                    INLIGHT_CHECK_LT(c.first[k] + 3, c.control_points.size());
+                    return c.first[k];
+                },
+                "curve", lo, hi);
         } else if (s.kind == ShapeKind::kWeave) {
             throw Error(str("shape ", i, ": a weave must be turned into curves first (Scene)"));
         } else {
