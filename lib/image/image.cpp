@@ -136,12 +136,22 @@ std::vector<T> quantise(const std::vector<float>& v, double max_code) {
     return out;
 }
 
+// OpenImageIO's own worker threads (its pool and OpenEXR's decode/encode threads) follow the
+// tool's --threads (core/parallel.h), so that --threads 1 runs on one core and scalability
+// figures measure what they say. Set before every read and write: cheap, and always current.
+void follow_thread_count() {
+    const int n = parallel::thread_count();
+    OIIO::attribute("threads", n);
+    OIIO::attribute("exr_threads", n);
+}
+
 // Opens `name` from disk, or from `memory` (an in-memory file whose format OpenImageIO picks by
 // the extension of `name`) when it is non-null.
 std::unique_ptr<OIIO::ImageInput> open_input(const std::string& name, OIIO::ImageSpec& config,
                                              OIIO::Filesystem::IOProxy* memory) {
     void* proxy = memory;
     if (memory) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+    follow_thread_count();
     auto in = OIIO::ImageInput::open(name, &config);
     if (!in) throw Error(str(name, ": cannot open: ", clean(OIIO::geterror())));
     return in;
@@ -377,6 +387,7 @@ void prepare_write(const std::string& path, const Image& img, const WriteOptions
 /// Writes prepared pixels to `file` (a path, or a name for the format when `proxy` is set).
 void write_prepared(const std::string& path, const std::string& file, const OIIO::ImageSpec& spec,
                     OIIO::TypeDesc data_type, const void* data, OIIO::Filesystem::IOProxy* proxy) {
+    follow_thread_count();
     auto out = OIIO::ImageOutput::create(file, proxy);
     if (!out) throw Error(str(path, ": cannot write: ", clean(OIIO::geterror())));
     if (!out->open(file, spec)) throw Error(str(path, ": cannot write: ", clean(out->geterror())));

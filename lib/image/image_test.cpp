@@ -4,6 +4,7 @@
 #include <thread>
 
 #include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/log.h"
+#include "core/parallel.h"
 #include "image/color.h"
 #include "testing/testing.h"
 
@@ -70,6 +72,27 @@ TEST(Image, ZeroFilledRowMajorInterleaved) {
     img.at(3, 2, 1) = 5;
     EXPECT_EQ(img.pixels.back(), 5);
     EXPECT_EQ(img.color_space, ColorSpace::kLinearSrgb);
+}
+
+TEST(ImageIo, OpenImageIoThreadsFollowTheToolsThreadCount) {
+    // --threads N (parallel::set_thread_count) must also bound OpenImageIO's pool and
+    // OpenEXR's decoder threads, which read_image / write_image set before every file.
+    const std::string dir = testing::temp_dir("oiio-threads");
+    const Image img = random_image(64, 32, 3, 0.0f, 1.0f);
+    for (int threads : {1, 2, 1}) {
+        parallel::set_thread_count(threads);
+        write_image(dir + "/t.exr", img);
+        int oiio = -1, exr = -1;
+        ASSERT_TRUE(OIIO::getattribute("threads", oiio));
+        ASSERT_TRUE(OIIO::getattribute("exr_threads", exr));
+        EXPECT_EQ(oiio, threads) << "after write_image";
+        EXPECT_EQ(exr, threads) << "after write_image";
+        OIIO::attribute("threads", 7);  // something else changed it: the next read resets it
+        EXPECT_EQ(read_image(dir + "/t.exr").pixels, img.pixels);
+        ASSERT_TRUE(OIIO::getattribute("threads", oiio));
+        EXPECT_EQ(oiio, threads) << "after read_image";
+    }
+    parallel::set_thread_count(0);
 }
 
 TEST(ImageIo, ExrFloatRoundTripIsExact) {
