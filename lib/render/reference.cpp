@@ -50,7 +50,7 @@ Eigen::Vector3d brute_force_irradiance(const EnvironmentLight& env, const Eigen:
 IrradianceTable::IrradianceTable(const EnvironmentLight& env, int sub)
     : m_cols(env.width() * sub), m_rows(env.height() * sub),
       m_env_from_world(env.world_from_env().transpose()) {
-    const int w = env.width(), h = env.height();
+    const int h = env.height();
     m_z.resize(static_cast<size_t>(m_rows));
     m_prefix.assign(static_cast<size_t>(m_rows) * (m_cols + 1) * 9, 0.0);
     for (int row = 0; row < h; ++row) {
