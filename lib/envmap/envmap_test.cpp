@@ -39,12 +39,28 @@ Eigen::Vector3d smooth(const Eigen::Vector3d& d) {
     return {a, 0.5 * a + 0.2 * d.z(), 1.0 + 0.3 * d.x()};
 }
 
+// The float path's derived bound per coefficient (project.h): |L_lm(float) - L_lm| <=
+// kFloatRowSumBound sqrt(2l + 1) L_00(|map|), plus the double path's own rounding (kExactRel).
+Eigen::MatrixXd float_path_bound(const image::Image& img, int bands) {
+    image::Image abs_img = img;
+    for (float& p : abs_img.pixels) p = std::abs(p);
+    const Eigen::MatrixXd abs00 = project_latlong(abs_img, 1, LatlongPrecision::kDouble);
+    Eigen::MatrixXd bound(sh::count(bands), 3);
+    for (int l = 0; l < bands; ++l)
+        for (int m = -l; m <= l; ++m)
+            for (int c = 0; c < 3; ++c)
+                bound(sh::index(l, m), c) =
+                    (kFloatRowSumBound * std::sqrt(2.0 * l + 1) + kExactRel) * abs00(0, c);
+    return bound;
+}
+
 TEST(ProjectLatLong, ConstantMapIsExactAtAnyResolution) {
     const double value = 0.75;  // exact in float32, the pixel type
     for (int h : {1, 2, 3, 32, 256}) {
         const Environment env = latlong(2 * h, h, constant(value));
         ProjectOptions opt;
         opt.sh_bands = 9;
+        opt.latlong_precision = LatlongPrecision::kDouble;
         const ProjectResult r = project(env, opt);
         EXPECT_NEAR(r.coeffs(0, 0), 2 * std::sqrt(kPi) * value, kExactRel) << "h=" << h;
         for (int k = 1; k < sh::count(9); ++k) EXPECT_NEAR(r.coeffs(k, 1), 0.0, kExactRel);
@@ -52,6 +68,15 @@ TEST(ProjectLatLong, ConstantMapIsExactAtAnyResolution) {
             const Eigen::MatrixXd e = sh_irradiance(r.coeffs, 9, {n});
             EXPECT_NEAR(e(0, 2), kPi * value, kExactRel);
         }
+        // The float path (the default) within its bound; L_00 within kExactRel, since its m = 0
+        // weights are exactly 1 and sums of 0.75 are exact in float.
+        opt.sh_bands = kMaxFloatBands;
+        opt.latlong_precision = LatlongPrecision::kFloatRowSums;
+        const Eigen::MatrixXd f = project(env, opt).coeffs;
+        const Eigen::MatrixXd bound = float_path_bound(env.radiance, 8);
+        EXPECT_NEAR(f(0, 0), 2 * std::sqrt(kPi) * value, kExactRel) << "h=" << h;
+        for (int k = 1; k < sh::count(8); ++k)
+            EXPECT_NEAR(f(k, 1), 0.0, bound(k, 1)) << "h=" << h << " k=" << k;
     }
 }
 
@@ -64,7 +89,7 @@ TEST(ProjectLatLong, SeparableSchemeEqualsPerPixelBoxIntegral) {
     std::uniform_real_distribution<double> u(-0.2, 3);
     Environment env = latlong(w, h, constant(0));
     for (float& p : env.radiance.pixels) p = static_cast<float>(u(rng));
-    const Eigen::MatrixXd fast = project_latlong(env.radiance, bands);
+    const Eigen::MatrixXd fast = project_latlong(env.radiance, bands, LatlongPrecision::kDouble);
     std::vector<double> gx, gw;
     sh::gauss_legendre(16, gx, gw);
     Eigen::MatrixXd ref = Eigen::MatrixXd::Zero(n, 3);
@@ -89,6 +114,11 @@ TEST(ProjectLatLong, SeparableSchemeEqualsPerPixelBoxIntegral) {
         }
     }
     EXPECT_LT((fast - ref).cwiseAbs().maxCoeff(), 1e-12);
+    // The float path against the same reference, within its derived bound.
+    const Eigen::MatrixXd f = project_latlong(env.radiance, bands, LatlongPrecision::kFloatRowSums);
+    const Eigen::MatrixXd bound = float_path_bound(env.radiance, bands);
+    for (int k = 0; k < n; ++k)
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(f(k, c), ref(k, c), bound(k, c)) << k << " " << c;
 }
 
 TEST(ProjectLatLong, FloatRowSumsMatchDouble) {
@@ -121,6 +151,11 @@ TEST(ProjectLatLong, FloatRowSumsMatchDouble) {
             const double err = (fast - ref).cwiseAbs().maxCoeff() / ref.cwiseAbs().maxCoeff();
             EXPECT_LT(err, kFloatRel) << name << ", " << bands << " bands";
             EXPECT_GT(err, 0.0) << name << ": the float path did not run";
+            const Eigen::MatrixXd bound = float_path_bound(img, bands);
+            EXPECT_TRUE(((fast - ref).cwiseAbs().array() <= bound.array()).all())
+                << name << ", " << bands << " bands: outside the derived bound";
+            std::printf("%-14s %d bands: float path error %.2e of the largest coefficient\n",
+                        name.c_str(), bands, err);
         }
     }
 }
@@ -169,6 +204,12 @@ TEST(ProjectLatLong, IdenticalForAnyThreadCount) {
     const Eigen::MatrixXd two = project_latlong(env.radiance, 9);
     parallel::set_thread_count(0);
     EXPECT_EQ((one - two).cwiseAbs().maxCoeff(), 0.0);
+    parallel::set_thread_count(1);
+    const Eigen::MatrixXd one_f = project_latlong(env.radiance, 3, LatlongPrecision::kFloatRowSums);
+    parallel::set_thread_count(2);
+    const Eigen::MatrixXd two_f = project_latlong(env.radiance, 3, LatlongPrecision::kFloatRowSums);
+    parallel::set_thread_count(0);
+    EXPECT_EQ((one_f - two_f).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(Layouts, CubeAndAngularAgreeWithLatLong) {

@@ -22,12 +22,26 @@ enum class PartialMethod {
 /// "fit" | "zero-fill"; throws UsageError otherwise.
 PartialMethod partial_method_from_string(const std::string& name);
 
-/// Precision of project_latlong's row sums: kFloatRowSums (opt-in, up to kMaxFloatBands bands) sums in float over blocks of 64 columns, vectorised, and adds the
-/// blocks in double (error <= 1e-6 of the largest coefficient,
-/// `ProjectLatLong.FloatRowSumsMatchDouble`); kDouble sums everything in double (the reference,
+/// Precision of project_latlong's row sums (per row, sum over columns of pixel x weight, the
+/// weight being the exact azimuthal integral of cos(m phi) or sin(m phi) over the pixel):
+/// kFloatRowSums (the default, up to kMaxFloatBands bands) sums in float over blocks of
+/// kFloatBlock columns, vectorised, and adds the block sums in double: every row sum is within
+/// kFloatRowSumBound of sum_c |pixel| |weight| (measured: <= 1e-6 of the largest coefficient on
+/// HDR maps, `ProjectLatLong.FloatRowSums*`). kDouble sums everything in double (the reference,
 /// exact to ~1e-15; used above kMaxFloatBands).
 enum class LatlongPrecision { kFloatRowSums, kDouble };
 constexpr int kMaxFloatBands = 8;
+/// Columns summed in float before a block sum is added in double.
+constexpr int kFloatBlock = 16;
+/// Relative bound on a float row sum: gamma_B (1 + u) + u with u = 2^-24 and B = kFloatBlock,
+/// i.e. a length-B float inner product (Higham 2002, eq. 3.5: gamma_B = B u / (1 - B u)) of
+/// weights that were rounded to float (u), ~1.01e-6. It bounds the coefficients by linearity:
+/// |L_lm(float) - L_lm| <= kFloatRowSumBound * sum over pixels |pixel| |row factor_lm| |weight_m|,
+/// which for non-negative maps is <= kFloatRowSumBound sqrt(2l + 1) L_00 (|Y_lm| <= sqrt(2l + 1)
+/// Y_00 pointwise), and equal to kFloatRowSumBound L_00 for L_00 itself. The double arithmetic
+/// around it adds ~1e-15 relative.
+constexpr double kFloatRowSumBound =
+    kFloatBlock * 0x1p-24 / (1.0 - kFloatBlock * 0x1p-24) * (1.0 + 0x1p-24) + 0x1p-24;
 
 struct ProjectOptions {
     int sh_bands = 3;                       ///< max l + 1, 1..sh::kMaxBands
@@ -39,9 +53,9 @@ struct ProjectOptions {
     /// band-limited clamped-cosine kernel and flux = 2 sqrt(pi) L_00 > 0 (any non-negative
     /// radiance satisfies this; a wild extrapolation into the unseen directions does not).
     double fit_lambda = -1;
-    /// Lat-long input: the double reference (default: the CLI's exactness checks hold to
-    /// 1e-12) or float row sums (fast, <= 1e-6 of the largest coefficient).
-    LatlongPrecision latlong_precision = LatlongPrecision::kDouble;
+    /// Lat-long input: float row sums (default, fast, within kFloatRowSumBound) or the double
+    /// reference (exact to ~1e-15, 2-5x slower).
+    LatlongPrecision latlong_precision = LatlongPrecision::kFloatRowSums;
 };
 
 struct ProjectResult {
@@ -67,10 +81,13 @@ ProjectResult project(const Environment& env, const ProjectOptions& options);
 /// constant over its exact area (box filter): the integral of Y_lm over every pixel is exact in
 /// phi (dphi sinc(m dphi/2) cos(m phi_c)) and Gauss-Legendre over the row (in z, exact, for
 /// even m; in theta, to ~1e-15, for odd m). A constant map therefore gives L_00 = 2 sqrt(pi) value and L_lm = 0 for
-/// l > 0 for any resolution, a 2x1 map included. Separable: per row the column sums
+/// l > 0 for any resolution, a 2x1 map included (kDouble to ~1e-15; kFloatRowSums within its
+/// bound: its m = 0 weights are exactly 1, so only m != 0 terms see the weights' rounding). Separable: per row the column sums
 /// f cos(m phi), f sin(m phi) cost O(W sh_bands), the row factors O(sh_bands^2).
 ///
 Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands,
-                                LatlongPrecision precision = LatlongPrecision::kDouble);
+                                LatlongPrecision precision = LatlongPrecision::kFloatRowSums);
+/// "float" | "double"; throws UsageError otherwise.
+LatlongPrecision latlong_precision_from_string(const std::string& name);
 
 }  // namespace inlight::envmap

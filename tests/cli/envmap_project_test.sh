@@ -19,12 +19,25 @@ expect_exit 2 "missing input file is a usage error" -- "$EP" "$WORK/none.exr" -o
 expect_exit 2 "bands out of range" -- "$EP" "$WORK/const.exr" -o "$WORK/x.json" --sh-bands 0
 
 # Constant environment: L00 = 2 sqrt(pi) * 0.75, irradiance = pi * 0.75 exactly.
+# The default float row sums: each row sum within B = kFloatRowSumBound = 1.0133e-6 (rounded up)
+# of the sum of |terms| (envmap/project.h), so |dL00| <= B L00 and |dL20| <= B sqrt(5) L00 (all
+# pixels >= 0), and M33 = c4 L00 - c5 L20 is within (c4 + sqrt(5) c5) B L00.
+FLOAT_B=1.0133e-6
 expect_exit 0 "constant map" -- "$EP" "$WORK/const.exr" -o "$WORK/const_sh.json" --sh-bands 4 \
     --validate --report "$WORK/r.json"
-expect_true "L00 = 2 sqrt(pi) v to 1e-12" -- \
-    jq -e '(.coefficients[0][0] - 2*(3.141592653589793|sqrt)*0.75 | fabs) < 1e-12' "$WORK/const_sh.json"
-expect_true "irradiance matrix M33 = c4 L00 = pi v" -- \
-    jq -e '(.irradiance_matrices.r[3][3] - 3.141592653589793*0.75 | fabs) < 1e-12' "$WORK/const_sh.json"
+expect_true "L00 = 2 sqrt(pi) v within the float bound B L00" -- \
+    jq -e --argjson b "$FLOAT_B" '(2*(3.141592653589793|sqrt)*0.75) as $l00 | (.coefficients[0][0] - $l00 | fabs) <= $b * $l00' "$WORK/const_sh.json"
+expect_true "irradiance matrix M33 = c4 L00 = pi v within (c4 + sqrt(5) c5) B L00" -- \
+    jq -e --argjson b "$FLOAT_B" '(2*(3.141592653589793|sqrt)*0.75) as $l00 | (.irradiance_matrices.r[3][3] - 3.141592653589793*0.75 | fabs) <= (0.886227 + (5|sqrt)*0.247708) * $b * $l00' "$WORK/const_sh.json"
+expect_true "report names the float row sums" -- jq -e '.metrics.environments[0].latlong_precision == "float"' "$WORK/r.json"
+# The double path: exact to rounding (1e-12: ~1e3 double operations on O(1) values).
+expect_exit 0 "constant map, double row sums" -- "$EP" "$WORK/const.exr" -o "$WORK/const_d_sh.json" \
+    --sh-bands 4 --latlong-precision double
+expect_true "double: L00 = 2 sqrt(pi) v to 1e-12" -- \
+    jq -e '(.coefficients[0][0] - 2*(3.141592653589793|sqrt)*0.75 | fabs) < 1e-12' "$WORK/const_d_sh.json"
+expect_true "double: irradiance matrix M33 = c4 L00 = pi v to 1e-12" -- \
+    jq -e '(.irradiance_matrices.r[3][3] - 3.141592653589793*0.75 | fabs) < 1e-12' "$WORK/const_d_sh.json"
+expect_exit 2 "bad --latlong-precision is a usage error" -- "$EP" "$WORK/const.exr" -o "$WORK/x.json" --latlong-precision half
 expect_true "convention stated in the output" -- jq -e '.convention.basis | test("Condon-Shortley")' "$WORK/const_sh.json"
 expect_true "binary written beside the JSON (20 + 16*3*4 bytes)" -- test "$(stat -c %s "$WORK/const_sh.bin")" -eq 212
 for key in tool version status exit_code argv config seed threads wall_time_s inputs outputs metrics warnings stage_time_s; do
