@@ -6,11 +6,11 @@
 #include <map>
 #include <sstream>
 
-#include "core/bits.h"
 #include "core/check.h"
 #include "core/error.h"
 #include "core/number.h"
 #include "core/parallel.h"
+#include "core/sobol.h"
 #include "sh/quadrature.h"
 #include "sh/sh.h"
 
@@ -49,14 +49,6 @@ class Rng {
     uint64_t m_state;
 };
 
-// Second Sobol dimension (primitive polynomial x + 1): V_1 = 2^31, V_k = V_{k-1} ^ (V_{k-1} >> 1).
-uint32_t sobol_dim1(uint32_t i) {
-    uint32_t r = 0;
-    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1) {
-        if (i & 1u) r ^= v;
-    }
-    return r;
-}
 double u32_to_unit(uint32_t x) { return (static_cast<double>(x) + 0.5) * 0x1.0p-32; }
 
 // Accumulates sum_i weight_i * value_i * Y(world_from_local * wi_i) into B (3 x count).
@@ -374,8 +366,8 @@ Eigen::MatrixXd project_normal(const Material& m, const Eigen::Vector3d& n, cons
             const double inv_n = 1.0 / o.samples;
             for (int i = 0; i < o.samples; ++i) {
                 const uint32_t idx = static_cast<uint32_t>(i);
-                const Eigen::Vector2d u(u32_to_unit(bits::reverse_bits32(idx) ^ shift0),
-                                        u32_to_unit(sobol_dim1(idx) ^ shift1));
+                const Eigen::Vector2d u(u32_to_unit(sobol::sample_u32(idx, 0) ^ shift0),
+                                        u32_to_unit(sobol::sample_u32(idx, 1) ^ shift1));
                 const Sample s = fv.edge_on ? sample_baked_lobe_edge_on(m, fv.wo, u)
                                             : sample_baked_lobe(m, fv.wo, u);
                 if (!s.valid) continue;

@@ -7,6 +7,7 @@
 #include "core/bits.h"
 #include "core/check.h"
 #include "core/error.h"
+#include "core/sobol.h"
 
 namespace inlight::render {
 namespace {
@@ -23,34 +24,6 @@ const std::array<std::array<uint8_t, 4>, 24>& digit_permutations() {
         return t;
     }();
     return table;
-}
-
-/// Sobol dimension 1 (polynomial x + 1) by bytes of the index: table[b][v] is the xor of the
-/// generator columns of the set bits of v placed at byte b. The columns are V_1 = 2^31,
-/// V_k = V_{k-1} xor (V_{k-1} >> 1) (the Pascal matrix mod 2), as 32-bit fixed point; each bit of
-/// V_k depends only on the bits above it, so truncating to 32 bits is exact.
-using SobolByteTable = std::array<std::array<uint32_t, 256>, 8>;
-const SobolByteTable& sobol_dim1_bytes() {
-    static const auto table = [] {
-        std::array<uint32_t, 64> cols{};
-        uint32_t v = 1u << 31;
-        for (auto& c : cols) {
-            c = v;
-            v ^= v >> 1;
-        }
-        auto t = std::make_unique<SobolByteTable>();
-        for (size_t b = 0; b < 8; ++b) {
-            for (size_t x = 0; x < 256; ++x) {
-                uint32_t r = 0;
-                for (size_t k = 0; k < 8; ++k) {
-                    if ((x >> k) & 1u) r ^= cols[b * 8 + k];
-                }
-                (*t)[b][x] = r;
-            }
-        }
-        return t;
-    }();
-    return *table;
 }
 
 /// Scramble seeds of dimension `dim` of a group: two independent 32-bit halves.
@@ -84,14 +57,7 @@ uint32_t owen_scramble(uint32_t v, uint32_t seed) {
     return bits::reverse_bits32(v);
 }
 
-uint32_t sobol_u32(uint64_t index, int dim) {
-    INLIGHT_DCHECK(dim == 0 || dim == 1);
-    if (dim == 0) return bits::reverse_bits32(static_cast<uint32_t>(index));
-    const SobolByteTable& t = sobol_dim1_bytes();
-    uint32_t r = 0;
-    for (size_t b = 0; index; ++b, index >>= 8) r ^= t[b][index & 0xFFu];
-    return r;
-}
+uint32_t sobol_u32(uint64_t index, int dim) { return sobol::sample_u32(index, dim); }
 
 Sampler::Sampler(SamplerKind kind, uint64_t seed, int width_px, int height_px, int max_spp,
                  int groups)

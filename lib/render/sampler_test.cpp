@@ -27,21 +27,6 @@ bool is_02_net(const std::vector<Eigen::Vector2d>& pts, int m) {
     return true;
 }
 
-TEST(Sampler, SobolDimensionOneIsThePascalMatrixModTwo) {
-    // Generator column k has bit (31 - r) set iff binom(k, r) is odd, i.e. (r & k) == r.
-    for (uint64_t i : {1ull, 2ull, 3ull, 7ull, 12345ull, 0xdeadbeefull, 0x123456789abcull}) {
-        uint32_t expect = 0;
-        for (int k = 0; k < 64; ++k) {
-            if (!((i >> k) & 1u)) continue;
-            for (int r = 0; r < 32 && r <= k; ++r) {
-                if ((r & k) == r) expect ^= 1u << (31 - r);
-            }
-        }
-        EXPECT_EQ(sobol_u32(i, 1), expect) << i;
-    }
-    EXPECT_EQ(sobol_u32(5, 0), 0xA0000000u);  // van der Corput: 0.101b
-}
-
 TEST(Sampler, EachPixelsPointsAreA02Net) {
     // m even and odd (the odd case ends in a binary digit), one and four scramble groups: the
     // points of one group of one pixel in one dimension are a (0,m,2)-net.
