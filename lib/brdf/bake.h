@@ -18,7 +18,9 @@
 //  - gauss-legendre: a product rule in the lobe's own variables: Gauss-Legendre in u x uniform
 //    phi, mapped through the inverse CDF of the lobe's D(h)(n.h) (half-vector h, local frame;
 //    Jacobian 4 (wo.h)); for Lambert, Gauss-Legendre in cos(theta_i) x uniform phi (exact for
-//    the polynomial integrand). n = max(1, round(sqrt(samples / 2))) x 2n nodes.
+//    the polynomial integrand). n = max(1, round(sqrt(samples / 2))) x 2n nodes. For the
+//    report's model the lines and the phi halves are split at the kinks of its V-cavity G's
+//    min() (docs/brdf.md), so each piece's integrand is smooth; the node count is then ~n x 2n.
 //  - sobol-is: the first N points of the 2-D Sobol sequence with a random digital shift per
 //    normal, through sample_baked_lobe() (GGX: visible normals, Heitz 2018).
 // Random numbers derive from (seed, the normal's quantised coordinates) only: identical output

@@ -7,6 +7,7 @@
 // 2 sobol-is) / sh_bands / samples per normal / threads.
 #include <benchmark/benchmark.h>
 
+#include <ctime>
 #include <map>
 #include <mutex>
 
@@ -24,19 +25,25 @@ Material bench_material() {
     return m;
 }
 
-const Table& reference(int bands) {
+// make(key) computed once per key and type, kept for the process.
+template <typename T, typename Make>
+const T& cached(int key, Make&& make) {
     static std::mutex mu;
-    static std::map<int, Table> cache;
+    static std::map<int, T> cache;
     std::lock_guard<std::mutex> lock(mu);
-    auto it = cache.find(bands);
-    if (it == cache.end()) {
+    auto it = cache.find(key);
+    if (it == cache.end()) it = cache.emplace(key, make(key)).first;
+    return it->second;
+}
+
+const Table& reference(int bands) {
+    return cached<Table>(bands, [](int b) {
         BakeOptions o;
-        o.sh_bands = bands;
+        o.sh_bands = b;
         o.integrator = Integrator::kGaussLegendre;
         o.samples = 2 * 256 * 256;
-        it = cache.emplace(bands, bake(bench_material(), parse_grid("thetaphi:5x16@80"), o)).first;
-    }
-    return it->second;
+        return bake(bench_material(), parse_grid("thetaphi:5x16@80"), o);
+    });
 }
 
 void BM_Bake(benchmark::State& state) {
@@ -90,7 +97,66 @@ void args(benchmark::internal::Benchmark* b) {
     }
 }
 
+// The report's grid (report5x5, edge-on row included) against the independent cubature reference
+// (validate(): Genz-Malik in plain theta-phi, to 1e-7 of each node's largest coefficient):
+// error of the stored float32 table relative to its largest coefficient, and the process CPU
+// time of one bake (all threads), the figure that survives a shared machine. Arguments: model
+// (0 the report's Cook-Torrance f 0.04 r 0.3, 1 GGX alpha 1 f0 1) / integrator / samples.
+Material report_grid_material(int model) {
+    Material m;
+    if (model == 0) {
+        m.specular = Model::kCookTorranceReport;
+        m.report_f = 0.04;
+        m.report_r = 0.3;
+    } else {
+        m.specular = Model::kGgx;
+        m.alpha = 1.0;
+        m.f0 = Eigen::Vector3d::Ones();
+    }
+    return m;
+}
+
+const ReferenceSet& report_grid_reference(int model) {
+    return cached<ReferenceSet>(model, [](int mdl) {
+        ValidateOptions v;
+        v.max_nodes = 0;
+        v.test_normals = 4;
+        return make_reference(report_grid_material(mdl), parse_grid("report5x5"),
+                              Eigen::Vector3d::UnitZ(), v);
+    });
+}
+
+double process_cpu_s() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void BM_ReportGrid(benchmark::State& state) {
+    const int model = static_cast<int>(state.range(0));
+    const ReferenceSet& ref = report_grid_reference(model);
+    BakeOptions o;
+    o.integrator = static_cast<Integrator>(state.range(1));
+    o.samples = static_cast<int>(state.range(2));
+    Table t;
+    const double cpu0 = process_cpu_s();
+    for (auto _ : state) {
+        t = bake(report_grid_material(model), ref.grid, o);
+        benchmark::DoNotOptimize(t.coeffs.data());
+    }
+    state.counters["cpu_ms"] = 1e3 * (process_cpu_s() - cpu0) / state.iterations();
+    state.counters["err_rel"] = validate(ref, t).integration_coeff_max_rel;
+    state.counters["ref_err_rel"] = ref.error_max_rel;
+    state.SetLabel(std::string(model == 0 ? "report f0.04 r0.3 " : "ggx a1 f0 1 ") +
+                   to_string(o.integrator));
+}
+
 }  // namespace
 
 BENCHMARK(BM_Bake)->Apply(args)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ReportGrid)
+    ->ArgsProduct({{0, 1}, {0, 1}, {1024, 4096, 10000}})
+    ->ArgNames({"model", "integrator", "samples"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_MAIN();
