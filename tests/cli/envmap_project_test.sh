@@ -25,8 +25,10 @@ expect_exit 2 "bands out of range" -- "$EP" "$WORK/const.exr" -o "$WORK/x.json" 
 FLOAT_B=1.0133e-6
 expect_exit 0 "constant map" -- "$EP" "$WORK/const.exr" -o "$WORK/const_sh.json" --sh-bands 4 \
     --validate --report "$WORK/r.json"
+# shellcheck disable=SC2016  # $l00 and $b are jq variables
 expect_true "L00 = 2 sqrt(pi) v within the float bound B L00" -- \
     jq -e --argjson b "$FLOAT_B" '(2*(3.141592653589793|sqrt)*0.75) as $l00 | (.coefficients[0][0] - $l00 | fabs) <= $b * $l00' "$WORK/const_sh.json"
+# shellcheck disable=SC2016  # $l00 and $b are jq variables
 expect_true "irradiance matrix M33 = c4 L00 = pi v within (c4 + sqrt(5) c5) B L00" -- \
     jq -e --argjson b "$FLOAT_B" '(2*(3.141592653589793|sqrt)*0.75) as $l00 | (.irradiance_matrices.r[3][3] - 3.141592653589793*0.75 | fabs) <= (0.886227 + (5|sqrt)*0.247708) * $b * $l00' "$WORK/const_sh.json"
 expect_true "report names the float row sums" -- jq -e '.metrics.environments[0].latlong_precision == "float"' "$WORK/r.json"
