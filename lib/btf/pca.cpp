@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <random>
 
@@ -97,15 +98,43 @@ Eigen::MatrixXd leading_eigenvectors(const Eigen::MatrixXd& g, int c) {
     return es.eigenvectors().rightCols(c).rowwise().reverse();
 }
 
+/// The centred matrix A_c of a group, seen only through the products the methods need: held in
+/// memory (InCore) or streamed from the BTF a block of views at a time (Streamed).
+class CentredOp {
+  public:
+    virtual ~CentredOp() = default;
+    virtual int64_t rows() const = 0;
+    virtual int64_t cols() const = 0;
+    virtual Eigen::MatrixXd times(const Eigen::MatrixXd& x) const = 0;             ///< A_c X
+    virtual Eigen::MatrixXd times_transposed(const Eigen::MatrixXd& y) const = 0;  ///< A_c^T Y
+    virtual Eigen::MatrixXd gram_rows() const = 0;                                 ///< A_c A_c^T
+    virtual Eigen::MatrixXd gram_columns() const = 0;                              ///< A_c^T A_c
+    virtual const Eigen::MatrixXf* dense() const { return nullptr; }  ///< the matrix, if held
+};
+
+class InCore : public CentredOp {
+  public:
+    explicit InCore(const Eigen::MatrixXf& a) : m_a(a) {}
+    int64_t rows() const override { return m_a.rows(); }
+    int64_t cols() const override { return m_a.cols(); }
+    Eigen::MatrixXd times(const Eigen::MatrixXd& x) const override { return btf::times(m_a, x); }
+    Eigen::MatrixXd times_transposed(const Eigen::MatrixXd& y) const override { return btf::times_transposed(m_a, y); }
+    Eigen::MatrixXd gram_rows() const override { return btf::gram_of_rows(m_a); }
+    Eigen::MatrixXd gram_columns() const override { return gram_of_columns(m_a); }
+    const Eigen::MatrixXf* dense() const override { return &m_a; }
+
+  private:
+    const Eigen::MatrixXf& m_a;
+};
+
 /// Right singular vectors V (N x c) of the centred matrix by each method.
-Eigen::MatrixXd right_vectors(const Eigen::MatrixXf& a, PcaMethod method, int c,
-                              const PcaOptions& o, uint64_t seed) {
+Eigen::MatrixXd right_vectors(const CentredOp& a, PcaMethod method, int c, const PcaOptions& o, uint64_t seed) {
     const int64_t p = a.rows(), n = a.cols();
     switch (method) {
         case PcaMethod::kGram:
-            if (n <= p) return leading_eigenvectors(gram_of_columns(a), c);
+            if (n <= p) return leading_eigenvectors(a.gram_columns(), c);
             {   // short side is the pixels: V = A^T U, normalised; zero where A^T u vanishes
-                Eigen::MatrixXd v = times_transposed(a, leading_eigenvectors(gram_of_rows(a), c));
+                Eigen::MatrixXd v = a.times_transposed(leading_eigenvectors(a.gram_rows(), c));
                 const double largest = v.colwise().norm().maxCoeff();
                 for (int i = 0; i < c; ++i) {
                     const double norm = v.col(i).norm();
@@ -122,15 +151,16 @@ Eigen::MatrixXd right_vectors(const Eigen::MatrixXf& a, PcaMethod method, int c,
             Eigen::MatrixXd omega(n, l);
             for (Eigen::Index j = 0; j < omega.cols(); ++j)
                 for (Eigen::Index i = 0; i < omega.rows(); ++i) omega(i, j) = normal(rng);
-            Eigen::MatrixXd q = orthonormal(times(a, omega));
+            Eigen::MatrixXd q = orthonormal(a.times(omega));
             for (int it = 0; it < o.power_iterations; ++it)
-                q = orthonormal(times(a, orthonormal(times_transposed(a, q))));
-            const Eigen::MatrixXd bt = times_transposed(a, q);  // B^T = A^T Q = V S U_B^T
+                q = orthonormal(a.times(orthonormal(a.times_transposed(q))));
+            const Eigen::MatrixXd bt = a.times_transposed(q);  // B^T = A^T Q = V S U_B^T
             Eigen::BDCSVD<Eigen::MatrixXd> svd(bt, Eigen::ComputeThinU);
             return svd.matrixU().leftCols(c);
         }
         case PcaMethod::kFullSvd: {
-            const Eigen::MatrixXd ad = a.cast<double>();
+            INLIGHT_CHECK(a.dense() != nullptr) << "the full SVD needs the group in memory";
+            const Eigen::MatrixXd ad = a.dense()->cast<double>();
             Eigen::BDCSVD<Eigen::MatrixXd> svd(ad, Eigen::ComputeThinV);
             return svd.matrixV().leftCols(c);
         }
@@ -140,6 +170,141 @@ Eigen::MatrixXd right_vectors(const Eigen::MatrixXf& a, PcaMethod method, int c,
     INLIGHT_CHECK(false) << "unresolved PCA method";
     return {};
 }
+
+void check_options(const PcaOptions& o) {
+    INLIGHT_CHECK(o.components >= 1 && o.gram_max_side >= 1 && o.oversampling >= 0 &&
+                  o.power_iterations >= 0 && std::isfinite(o.max_rmse) && o.stream_views >= 0)
+        << "PCA options out of range";
+}
+
+/// The components of a centred group whose mean `g` already holds: V by the method, U Sigma =
+/// A_c V, ordered by energy and cut by the error budget. `total_energy` (||A_c||^2) is asked
+/// after the products, so a streamed group sums it during its first pass.
+void fit_components(GroupPca& g, const CentredOp& a, const PcaOptions& o, uint64_t group_seed,
+                    const std::function<double()>& total_energy) {
+    const int64_t p = a.rows(), n = a.cols();
+    const int c = static_cast<int>(std::min<int64_t>(o.components, std::min(p, n)));
+    g.method = o.method;
+    if (g.method == PcaMethod::kAuto)
+        g.method = std::min(p, n) <= o.gram_max_side ? PcaMethod::kGram : PcaMethod::kRandomized;
+    const Eigen::MatrixXd v = right_vectors(a, g.method, c, o, group_seed);
+    const Eigen::MatrixXd l = a.times(v);  // U Sigma = A_c V
+    g.total_energy = total_energy();
+
+    // Order by the energy each component removes (randomized vectors come nearly sorted).
+    std::vector<int> order(static_cast<size_t>(c));
+    std::iota(order.begin(), order.end(), 0);
+    const Eigen::VectorXd energy = l.colwise().squaredNorm().transpose();
+    std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return energy[x] > energy[y]; });
+    g.residual_energy.assign(1, g.total_energy);
+    for (int i = 0; i < c; ++i)
+        g.residual_energy.push_back(std::max(0.0, g.residual_energy.back() - energy[order[static_cast<size_t>(i)]]));
+
+    int keep = c;
+    if (o.max_rmse >= 0) {
+        const double target = o.max_rmse * o.max_rmse * double(p) * double(n);
+        keep = 0;
+        while (keep < c && g.residual_energy[static_cast<size_t>(keep)] > target) ++keep;
+    }
+    g.residual_energy.resize(static_cast<size_t>(keep) + 1);
+    g.basis.resize(p, keep);
+    g.weights.resize(n, keep);
+    for (int i = 0; i < keep; ++i) {
+        g.basis.col(i) = l.col(order[static_cast<size_t>(i)]).cast<float>();
+        g.weights.col(i) = v.col(order[static_cast<size_t>(i)]).cast<float>();
+    }
+}
+
+/// Adds column j of `a` (rows [b, e)) into `sum` in double: the mean's sums, the same additions
+/// in the same order in and out of core.
+void add_columns(Eigen::VectorXd& sum, const Eigen::MatrixXf& a, int64_t b, int64_t e) {
+    for (int64_t j = 0; j < a.cols(); ++j) sum.segment(b, e - b) += a.col(j).segment(b, e - b).cast<double>();
+}
+
+double centred_energy(const Eigen::MatrixXf& a, int64_t grain) {
+    return parallel::reduce(
+        a.rows(), grain, 0.0,
+        [&](int64_t b, int64_t e) {
+            double s = 0;
+            for (int64_t j = 0; j < a.cols(); ++j) s += a.col(j).segment(b, e - b).cast<double>().squaredNorm();
+            return s;
+        },
+        [](double x, double y) { return x + y; });
+}
+
+/// A_c streamed from a BtfSource: every product is one pass over the group's views, read
+/// `block_views` at a time and centred in float exactly as fit_group centres in place.
+class Streamed : public CentredOp {
+  public:
+    Streamed(const BtfSource& source, const std::vector<int>& views, int block_views, StreamStats& stats)
+        : m_source(source), m_views(views), m_block(std::max(1, block_views)), m_stats(stats),
+          m_cols_per_view(source.shape().group_columns(1)) {}
+    int64_t rows() const override { return m_source.shape().pixel_count(); }
+    int64_t cols() const override { return m_cols_per_view * static_cast<int64_t>(m_views.size()); }
+
+    /// fn(first column, block of A_c) for each block of views in order; `centre` = false gives
+    /// the raw block (the mean's pass).
+    template <typename Fn>
+    void pass(bool centre, Fn fn) const {
+        using Clock = std::chrono::steady_clock;
+        ++m_stats.passes;
+        Eigen::MatrixXf blk;
+        for (size_t v0 = 0; v0 < m_views.size(); v0 += static_cast<size_t>(m_block)) {
+            const std::vector<int> part(m_views.begin() + static_cast<std::ptrdiff_t>(v0),
+                                        m_views.begin() + static_cast<std::ptrdiff_t>(std::min(m_views.size(), v0 + size_t(m_block))));
+            const auto t0 = Clock::now();
+            m_source.read_group(part, blk);
+            m_stats.read_time_s += std::chrono::duration<double>(Clock::now() - t0).count();
+            m_stats.block_bytes = std::max<uint64_t>(m_stats.block_bytes, uint64_t(blk.size()) * sizeof(float));
+            if (centre)
+                parallel::for_chunks(blk.rows(), block_rows(blk.cols()), [&](int64_t b, int64_t e) {
+                    for (int64_t j = 0; j < blk.cols(); ++j) blk.col(j).segment(b, e - b) -= m_mean.segment(b, e - b);
+                });
+            if (centre && !m_have_energy) m_energy += centred_energy(blk, block_rows(blk.cols()));
+            fn(static_cast<int64_t>(v0) * m_cols_per_view, blk);
+        }
+        if (centre) m_have_energy = true;
+    }
+    void set_mean(Eigen::VectorXf mean) { m_mean = std::move(mean); }
+    /// ||A_c||^2, summed over the blocks of the first centred pass.
+    double energy() const {
+        if (!m_have_energy) pass(true, [](int64_t, const Eigen::MatrixXf&) {});
+        return m_energy;
+    }
+
+    Eigen::MatrixXd times(const Eigen::MatrixXd& x) const override {
+        Eigen::MatrixXd y = Eigen::MatrixXd::Zero(rows(), x.cols());
+        pass(true, [&](int64_t j0, const Eigen::MatrixXf& blk) { y += btf::times(blk, x.middleRows(j0, blk.cols())); });
+        return y;
+    }
+    Eigen::MatrixXd times_transposed(const Eigen::MatrixXd& y) const override {
+        Eigen::MatrixXd z(cols(), y.cols());
+        pass(true, [&](int64_t j0, const Eigen::MatrixXf& blk) { z.middleRows(j0, blk.cols()) = btf::times_transposed(blk, y); });
+        return z;
+    }
+    Eigen::MatrixXd gram_rows() const override {
+        Eigen::MatrixXd g = Eigen::MatrixXd::Zero(rows(), rows());
+        pass(true, [&](int64_t, const Eigen::MatrixXf& blk) { g += btf::gram_of_rows(blk); });
+        return g;
+    }
+    Eigen::MatrixXd gram_columns() const override {  // N x N: only asked when N <= P
+        Eigen::MatrixXd g(cols(), cols());
+        Eigen::MatrixXf a(rows(), cols());
+        pass(true, [&](int64_t j0, const Eigen::MatrixXf& blk) { a.middleCols(j0, blk.cols()) = blk; });
+        g = gram_of_columns(a);
+        return g;
+    }
+
+  private:
+    const BtfSource& m_source;
+    const std::vector<int>& m_views;
+    int m_block;
+    StreamStats& m_stats;
+    int64_t m_cols_per_view;
+    Eigen::VectorXf m_mean;
+    mutable double m_energy = 0;
+    mutable bool m_have_energy = false;
+};
 
 }  // namespace
 
@@ -185,9 +350,7 @@ Eigen::MatrixXf GroupPca::reconstruct(int c) const {
 
 GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaOptions& o,
                    uint64_t group_seed) {
-    INLIGHT_CHECK(o.components >= 1 && o.gram_max_side >= 1 && o.oversampling >= 0 &&
-                  o.power_iterations >= 0 && std::isfinite(o.max_rmse))
-        << "PCA options out of range";
+    check_options(o);
     INLIGHT_CHECK(a.rows() >= 1 && a.cols() >= 1) << a.rows() << "x" << a.cols();
     GroupPca g;
     g.views = views;
@@ -199,7 +362,7 @@ GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaO
     Eigen::VectorXd mean = Eigen::VectorXd::Zero(p);
     bool finite = true;
     parallel::for_chunks(p, grain, [&](int64_t b, int64_t e) {
-        for (int64_t j = 0; j < n; ++j) mean.segment(b, e - b) += a.col(j).segment(b, e - b).cast<double>();
+        add_columns(mean, a, b, e);
         mean.segment(b, e - b) /= double(n);
         if (!mean.segment(b, e - b).allFinite()) finite = false;
         const Eigen::VectorXf mf = mean.segment(b, e - b).cast<float>();
@@ -207,44 +370,32 @@ GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaO
     });
     if (!finite) throw Error("PCA: the BTF's images hold NaN or Inf");
     g.mean = mean.cast<float>();
-    g.total_energy = parallel::reduce(
-        p, grain, 0.0,
-        [&](int64_t b, int64_t e) {
-            double s = 0;
-            for (int64_t j = 0; j < n; ++j) s += a.col(j).segment(b, e - b).cast<double>().squaredNorm();
-            return s;
-        },
-        [](double x, double y) { return x + y; });
+    fit_components(g, InCore(a), o, group_seed, [&] { return centred_energy(a, grain); });
+    return g;
+}
 
-    const int c = static_cast<int>(std::min<int64_t>(o.components, std::min(p, n)));
-    g.method = o.method;
-    if (g.method == PcaMethod::kAuto)
-        g.method = std::min(p, n) <= o.gram_max_side ? PcaMethod::kGram : PcaMethod::kRandomized;
-    const Eigen::MatrixXd v = right_vectors(a, g.method, c, o, group_seed);
-    const Eigen::MatrixXd l = times(a, v);  // U Sigma = A_c V
-
-    // Order by the energy each component removes (randomized vectors come nearly sorted).
-    std::vector<int> order(static_cast<size_t>(c));
-    std::iota(order.begin(), order.end(), 0);
-    const Eigen::VectorXd energy = l.colwise().squaredNorm().transpose();
-    std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return energy[x] > energy[y]; });
-    g.residual_energy.assign(1, g.total_energy);
-    for (int i = 0; i < c; ++i)
-        g.residual_energy.push_back(std::max(0.0, g.residual_energy.back() - energy[order[static_cast<size_t>(i)]]));
-
-    int keep = c;
-    if (o.max_rmse >= 0) {
-        const double target = o.max_rmse * o.max_rmse * double(p) * double(n);
-        keep = 0;
-        while (keep < c && g.residual_energy[static_cast<size_t>(keep)] > target) ++keep;
-    }
-    g.residual_energy.resize(static_cast<size_t>(keep) + 1);
-    g.basis.resize(p, keep);
-    g.weights.resize(n, keep);
-    for (int i = 0; i < keep; ++i) {
-        g.basis.col(i) = l.col(order[static_cast<size_t>(i)]).cast<float>();
-        g.weights.col(i) = v.col(order[static_cast<size_t>(i)]).cast<float>();
-    }
+GroupPca fit_group_streamed(const BtfSource& source, const std::vector<int>& views, const PcaOptions& o,
+                            uint64_t group_seed, StreamStats* stats) {
+    check_options(o);
+    INLIGHT_CHECK(!views.empty() && source.shape().pixel_count() >= 1);
+    StreamStats local;
+    StreamStats& st = stats ? *stats : local;
+    Streamed a(source, views, o.stream_views, st);
+    GroupPca g;
+    g.views = views;
+    g.pixels = static_cast<int>(a.rows());
+    g.columns = static_cast<int>(a.cols());
+    const int64_t p = a.rows(), n = a.cols();
+    // The mean's pass: the same double additions, column by column in order, as fit_group's.
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(p);
+    a.pass(false, [&](int64_t, const Eigen::MatrixXf& blk) {
+        parallel::for_chunks(p, block_rows(blk.cols()), [&](int64_t b, int64_t e) { add_columns(sum, blk, b, e); });
+    });
+    const Eigen::VectorXd mean = sum / double(n);
+    if (!mean.allFinite()) throw Error("PCA: the BTF's images hold NaN or Inf");
+    g.mean = mean.cast<float>();
+    a.set_mean(g.mean);
+    fit_components(g, a, o, group_seed, [&] { return a.energy(); });
     return g;
 }
 
@@ -260,12 +411,20 @@ CompressStats compress_btf(const BtfSource& source, const PcaOptions& options,
         fit.index = static_cast<int>(gi);
         fit.count = stats.groups;
         auto t0 = Clock::now();
-        source.read_group(groups[gi], fit.centred);
-        auto t1 = Clock::now();
-        fit.pca = fit_group(fit.centred, groups[gi], options, gi);
-        auto t2 = Clock::now();
-        stats.read_time_s += std::chrono::duration<double>(t1 - t0).count();
-        stats.fit_time_s += std::chrono::duration<double>(t2 - t1).count();
+        if (options.stream_views > 0 && groups[gi].size() > static_cast<size_t>(options.stream_views)) {
+            StreamStats st;
+            fit.pca = fit_group_streamed(source, groups[gi], options, gi, &st);
+            stats.read_time_s += st.read_time_s;
+            stats.fit_time_s += std::chrono::duration<double>(Clock::now() - t0).count() - st.read_time_s;
+            stats.stream_passes += st.passes;
+        } else {
+            source.read_group(groups[gi], fit.centred);
+            auto t1 = Clock::now();
+            fit.pca = fit_group(fit.centred, groups[gi], options, gi);
+            auto t2 = Clock::now();
+            stats.read_time_s += std::chrono::duration<double>(t1 - t0).count();
+            stats.fit_time_s += std::chrono::duration<double>(t2 - t1).count();
+        }
         stats.components += fit.pca.components();
         stats.total_energy += fit.pca.total_energy;
         stats.residual_energy += fit.pca.residual_energy.back();

@@ -54,6 +54,10 @@ struct PcaOptions {
     int oversampling = 10;     ///< randomized: extra test vectors p (HMT section 4.2)
     int power_iterations = 2;  ///< randomized: q (HMT Algorithm 4.4)
     uint64_t seed = 1;         ///< randomized: test matrices (each group mixes in its index)
+    /// Out of core: a group of more than this many views is never held whole; every product
+    /// the method needs is one pass over the BTF reading this many views at a time
+    /// (fit_group_streamed). 0 = off (each group is read into memory).
+    int stream_views = 0;
 };
 
 /// The PCA of one view group.
@@ -88,12 +92,34 @@ struct GroupPca {
 GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaOptions& options,
                    uint64_t group_seed);
 
+/// What an out-of-core fit did.
+struct StreamStats {
+    int passes = 0;            ///< passes over the group's images (each reads every image once)
+    double read_time_s = 0;    ///< reading and decoding in all passes
+    uint64_t block_bytes = 0;  ///< the largest block of views held at once (floats)
+};
+
+/// fit_group without holding the group: A (P x N) is read `options.stream_views` views at a time
+/// (at least 1), once for the mean and once per product: 4 passes for the Gram path (short side
+/// = pixels: A_c A_c^T accumulated block by block, then A_c^T U and A_c V), 4 + 2q for the
+/// randomized SVD (q = power_iterations). Memory: one block of views plus the P x l and N x l
+/// factors (l = C + oversampling) or, for the Gram path, the P x P Gram matrix. The arithmetic
+/// is fit_group's: the mean and the centred blocks are the same floats, only the sums over
+/// blocks of views run in another order, so the result equals fit_group's to double rounding
+/// (then float storage). A group whose N <= P takes the Gram path over its columns and is read
+/// whole (it is at most gram_max_side columns); kFullSvd is not available (checked).
+/// Throws Error on NaN/Inf or from reading.
+GroupPca fit_group_streamed(const BtfSource& source, const std::vector<int>& views, const PcaOptions& options,
+                            uint64_t group_seed, StreamStats* stats = nullptr);
+
 /// What compress_btf hands to its sink for each group, then frees.
 struct GroupFit {
     int index = 0;           ///< group number, in view_groups() order
     int count = 0;           ///< number of groups
     GroupPca pca;            ///< the fit
-    Eigen::MatrixXf centred; ///< A_c = A - m 1^T, P x N (the original is centred + mean)
+    /// A_c = A - m 1^T, P x N (the original is centred + mean); empty when the group was fitted
+    /// out of core (PcaOptions::stream_views).
+    Eigen::MatrixXf centred;
 };
 
 /// Totals of a compress_btf run.
@@ -104,12 +130,14 @@ struct CompressStats {
     double residual_energy = 0;   ///< sum over groups of the unquantised residual
     double read_time_s = 0;       ///< reading and decoding images
     double fit_time_s = 0;        ///< PCA
+    int stream_passes = 0;        ///< passes over the images of groups fitted out of core
     uint64_t peak_rss_bytes = 0;  ///< the process's peak resident memory after the run
 };
 
 /// Compresses `source` view group by view group (view_groups(views, k)): reads one group,
 /// fits it, calls sink(fit) and frees it before reading the next, so memory holds one group
-/// (plus what the sink keeps). Groups run in order; the sink runs on the calling thread.
+/// (plus what the sink keeps), or, with options.stream_views, one block of views of a larger
+/// group. Groups run in order; the sink runs on the calling thread.
 /// Throws Error from reading (naming the file) or fitting.
 CompressStats compress_btf(const BtfSource& source, const PcaOptions& options,
                            const std::function<void(GroupFit&)>& sink);

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <chrono>
+#include <cstdio>
 #include <ctime>
 #include <map>
 #include <memory>
@@ -29,9 +30,9 @@ constexpr int kComponents = 8;
 /// The analytic BTF at Bonn size, clipped at 1 like a saturated 8-bit capture.
 class ClippedBtf : public BtfSource {
   public:
-    ClippedBtf() {
+    explicit ClippedBtf(int side_px = 256) {
         AnalyticBtfOptions o;
-        o.width = o.height = 256;
+        o.width = o.height = side_px;
         o.rank = 6;
         o.scale = 4.0;
         m_btf = std::make_unique<AnalyticBtf>(o);
@@ -112,8 +113,55 @@ void BM_CompressBonnBtf(benchmark::State& state) {
     state.counters["peak_rss_mib"] = static_cast<double>(inlight::peak_rss_bytes()) / 1048576.0;
 }
 
+/// Resets the process's peak resident memory (VmHWM) to the current one (Linux >= 4.0:
+/// /proc/self/clear_refs "5"), so each run's peak is its own.
+void reset_peak_rss() {
+    if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
+        std::fputs("5", f);
+        std::fclose(f);
+    }
+}
+
+// k = 81 (one PCA over the whole BTF, randomized SVD, C = 8) in core (arg 0: the group read
+// whole) against out of core (arg > 0: views per block, fit_group_streamed). Peak memory is
+// each run's own (reset before it).
+void BM_Fit81(benchmark::State& state) {
+    // 64 x 64 px: the whole BTF as one group is 322 MB of floats, small enough to hold.
+    static const ClippedBtf small(64);
+    PcaOptions o;
+    o.components = kComponents;
+    o.stream_views = static_cast<int>(state.range(0));
+    std::vector<int> all(static_cast<size_t>(small.shape().n_views()));
+    for (size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+    GroupPca g;
+    StreamStats st;
+    double cpu_s = 0;
+    uint64_t base = 0, peak = 0;
+    for (auto _ : state) {
+        reset_peak_rss();
+        base = inlight::current_rss_bytes();
+        const std::clock_t c0 = std::clock();
+        if (o.stream_views > 0) {
+            g = fit_group_streamed(small, all, o, 0, &st);
+        } else {
+            Eigen::MatrixXf a;
+            small.read_group(all, a);
+            g = fit_group(a, all, o, 0);
+        }
+        cpu_s = double(std::clock() - c0) / CLOCKS_PER_SEC;
+        peak = inlight::peak_rss_bytes();
+    }
+    state.counters["cpu_s"] = cpu_s;
+    state.counters["passes"] = st.passes;
+    state.counters["rmse"] = g.rmse(g.components());
+    state.counters["peak_rss_mib"] = static_cast<double>(peak) / 1048576.0;
+    state.counters["peak_over_start_mib"] = static_cast<double>(peak - std::min(peak, base)) / 1048576.0;
+    state.SetLabel(o.stream_views > 0 ? "out of core, " + std::to_string(o.stream_views) + " view(s) per block" : "in core");
+}
+
 }  // namespace
 
+BENCHMARK(BM_Fit81)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 BENCHMARK(BM_FitGroup)->Args({1, 0})->Args({1, 1})->Args({1, 2})->Args({3, 0})->Args({3, 1})->Args({9, 0})
     ->Args({9, 1})->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 BENCHMARK(BM_CompressBonnBtf)->Arg(1)->Arg(3)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();

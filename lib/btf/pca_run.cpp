@@ -83,6 +83,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                                   uint64_t input_stored_bytes, Report* report, const BtfSource* reference) {
     const auto t_start = Clock::now();
     const BtfShape& shape = source.shape();
+    if (o.pca.stream_views > 0)
+        throw UsageError("btf-pca measures each group in memory: out-of-core groups (stream_views) are library-only");
     if (reference) {
         const BtfShape& r = reference->shape();
         auto same = [](const std::vector<Direction>& a, const std::vector<Direction>& b) {

@@ -5,6 +5,7 @@
 #include <Eigen/QR>
 #include <cmath>
 #include <fstream>
+#include <numeric>
 #include <random>
 
 #include "btf/synthetic.h"
@@ -240,6 +241,56 @@ TEST(CompressBtf, StreamsGroupsIncludingASingleView) {
     EXPECT_EQ(stats.groups, 2);
     EXPECT_EQ(stats.components, 10);
     EXPECT_GT(stats.peak_rss_bytes, 0u);
+}
+
+// Out of core: a group of all views read 2 views at a time (the last block holds one) equals
+// the in-core fit of the same group: the mean to the bit (the same double additions in the same
+// order) and the energies, components and reconstruction to kEnergyTol / kValueTol (only the
+// sums over blocks of views run in another order: double rounding, ~1e-13 relative here, then
+// float32 storage). Gram over the pixels (P = 120 < N = 168), randomized SVD, and Gram over the
+// columns (N = 72 < P = 900: that small group is read whole). Memory: one block of 2 views.
+TEST(FitGroupStreamed, EqualsTheInCoreFit) {
+    struct Case {
+        int width, height, views;
+        PcaMethod method;
+        int passes;  // over the images, besides the mean's: one per product the method needs
+    };
+    for (const Case& k : {Case{12, 10, 7, PcaMethod::kGram, 3}, Case{12, 10, 7, PcaMethod::kRandomized, 7},
+                          Case{30, 30, 3, PcaMethod::kGram, 2}}) {
+        SCOPED_TRACE(to_string(k.method) + " views " + std::to_string(k.views));
+        AnalyticBtfOptions bo;
+        bo.width = k.width;
+        bo.height = k.height;
+        bo.rank = 6;
+        bo.scale = 4.0;
+        bo.lights = {{0, 0}, {15, 0}, {15, 120}, {30, 60}, {30, 240}, {45, 0}, {60, 90}, {75, 300}};
+        bo.views = {{0, 0}, {15, 60}, {30, 0}, {30, 120}, {45, 180}, {60, 270}, {75, 30}};
+        bo.views.resize(static_cast<size_t>(k.views));
+        const AnalyticBtf btf(bo);
+        std::vector<int> all(static_cast<size_t>(k.views));
+        std::iota(all.begin(), all.end(), 0);
+        PcaOptions o = options(k.method, 5);
+        o.stream_views = 2;
+        StreamStats st;
+        const GroupPca out = fit_group_streamed(btf, all, o, 4, &st);
+        Eigen::MatrixXf a;
+        btf.read_group(all, a);
+        const Eigen::MatrixXf original = a;
+        const GroupPca in = fit_group(a, all, o, 4);
+        EXPECT_TRUE(out.mean == in.mean);
+        EXPECT_EQ(out.method, in.method);
+        ASSERT_EQ(out.components(), in.components());
+        ASSERT_EQ(out.residual_energy.size(), in.residual_energy.size());
+        for (size_t c = 0; c < in.residual_energy.size(); ++c)
+            EXPECT_NEAR(out.residual_energy[c], in.residual_energy[c], kEnergyTol * in.total_energy) << c;
+        EXPECT_LT(max_abs(out.weights, in.weights), kValueTol);
+        EXPECT_LT(max_abs(out.reconstruct(5), in.reconstruct(5)), kValueTol);
+        // a real fit: 5 of the 6 lobes leave less than half of the mean's worst error
+        EXPECT_LT(max_abs(out.reconstruct(5), original), 0.5 * max_abs(out.reconstruct(0), original));
+        EXPECT_EQ(st.passes, k.passes + 1);  // + the mean's pass
+        const uint64_t block = uint64_t(k.width) * k.height * 3 * 8 * 2 * sizeof(float);
+        EXPECT_EQ(st.block_bytes, block);
+    }
 }
 
 // 8-bit saturation: highlights pushed past 1 clip in the PNG files, so the data read back is
