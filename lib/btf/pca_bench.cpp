@@ -5,7 +5,10 @@
 // rank. Run with `make bench` (docs/benchmarks.md). Counters: group_s (one group), btf_s (all
 // groups of that k: group_s x group count, or measured in BM_CompressBonnBtf), *_cpu_s (CPU time
 // of all threads: the figure to trust on a shared machine), rmse (linear, unquantised, C = 8),
-// peak_rss_mib.
+// peak_rss_mib. BM_Fit81: k = 81 (one group of all views) at 64 x 64 px in core against out of
+// core (fit_group_streamed, one view per block), each run's peak memory its own; run each
+// argument in its own process (--benchmark_filter=BM_Fit81/0/ or /1/) so the allocator's
+// retained memory from one does not hide the other's peak.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
