@@ -39,7 +39,9 @@ ShaderCost shader_cost(int sh_bands, int lights, const CostModel& model) {
         if (sh::cosine_zonal(l) != 0) nonzero += 2 * l + 1;
     int ops = (sh_bands > 1 ? kBasisOpsPerCoeff * sh::count(sh_bands) : 0) +
               kIrradianceOpsPerCoeff * nonzero;
-    ops += lights * (kLightIrradianceOps + kLightDiffuseOps);
+    ops += lights * ((model.light_shading == LightShading::kCap ? kLightIrradianceOps
+                                                                 : kSmoothLightIrradianceOps) +
+                     kLightDiffuseOps);
     if (model.table_bands > 0) {
         c.specular_bands = std::min(sh_bands, model.table_bands);
         const int k = sh::count(c.specular_bands);
@@ -203,6 +205,7 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
     const auto t_start = std::chrono::steady_clock::now();
     BudgetPlan plan;
     plan.extraction = extract_lights(env, options.extract, saturated);
+    for (auto& l : plan.extraction.lights) l.shading = options.light_shading;
     const auto& lights = plan.extraction.lights;
     const int max_k = static_cast<int>(lights.size());
 
@@ -215,6 +218,7 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
     std::vector<Eigen::Vector3d> facing;
     Eigen::MatrixXd l_ref;
     CostModel cost_model;
+    cost_model.light_shading = options.light_shading;
     if (options.radiance) {
         for (const auto& n : normals)
             if (n.dot(options.radiance->table.view) > 0) facing.push_back(n);
@@ -396,6 +400,7 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
               {"lights_fitted", best.lights_fitted},
               {"cost", cost_json(best.cost)}}},
             {"lights_found", lights},
+            {"light_shading", to_string(options.light_shading)},
             {"fit_normals", options.fit_normals},
             {"median_luminance", plan.extraction.median_luminance},
             {"regions_examined", plan.extraction.regions_examined},

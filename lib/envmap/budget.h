@@ -60,6 +60,10 @@ inline constexpr int kTableOpsPerCoeff = 10;
 inline constexpr int kSpecularOpsPerCoeff = 3;
 /// One light's irradiance: n.d (5), the cap's closed form with sqrt, acos, atan (40).
 inline constexpr int kLightIrradianceOps = 45;
+/// One smooth-cap light's irradiance: n.d (5), t + s and max(., 0) (2), 0.25 / s, u u and the
+/// product (3), the compare and select of t >= s (2), times Phi (1 + cos alpha) / 2 per channel
+/// (3, a per-frame uniform).
+inline constexpr int kSmoothLightIrradianceOps = 15;
 /// One light's diffuse term albedo / pi E: 3 multiply-adds.
 inline constexpr int kLightDiffuseOps = 3;
 /// One light's specular term: n.h (5), GGX D (6), two Smith Lambdas (16), G2 (3), f (6),
@@ -80,6 +84,7 @@ struct ShaderCost {
 struct CostModel {
     int table_bands = 0;
     int table_channels = 1;
+    LightShading light_shading = LightShading::kCap;
 };
 ShaderCost shader_cost(int sh_bands, int lights, const CostModel& model);
 
@@ -94,6 +99,8 @@ struct BudgetOptions {
     ErrorMetric metric = ErrorMetric::kAbsOverMean;
     int max_bands = 9;           ///< 1 .. sh::kMaxBands
     ExtractOptions extract;      ///< extract.max_lights = 0 gives pure SH
+    /// How every light is shaded, fitted and costed (kSmoothCap: a third of kCap's operations).
+    LightShading light_shading = LightShading::kSmoothCap;
     int validate_normals = 128;  ///< Fibonacci normals (+6 axes); fisheye: within 60 deg of +z
     ProjectOptions project;      ///< partial-sphere method and lambda (sh_bands is set per b)
     /// Full-sphere maps (no clipped pixels, no window): fit each (lights, bands) candidate's

@@ -36,6 +36,11 @@ void add_budget_options(CLI::App& app, BudgetArgs& a) {
                    "regions as found")
         ->check(CLI::Range(0, 4096))
         ->capture_default_str();
+    app.add_option("--light-shading", a.light_shading,
+                   "Budget: shade each light as the exact uniform cap (cap: acos, atan, sqrt; 45 "
+                   "operations) or with a quadratic across its horizon band (smooth-cap: 15)")
+        ->check(CLI::IsMember({"cap", "smooth-cap"}))
+        ->capture_default_str();
     auto* table = app.add_option("--brdf-table", a.brdf_table,
                                  "Budget: a brdf-sh-bake table (.bin); the outgoing radiance "
                                  "toward its view must meet the budget too")
@@ -54,6 +59,7 @@ BudgetSetup::BudgetSetup(const BudgetArgs& a, int validate_normals) {
     m_options.max_bands = a.max_bands;
     m_options.extract.max_lights = a.max_lights;
     m_options.fit_normals = a.fit_normals;
+    m_options.light_shading = light_shading_from_string(a.light_shading);
     m_options.validate_normals = validate_normals;
     if (!a.brdf_table.empty()) {
         m_radiance = std::make_unique<RadianceCheck>();

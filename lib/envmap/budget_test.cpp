@@ -32,6 +32,10 @@ TEST(ShaderCost, CountsEveryTermOfTheShader) {
     EXPECT_EQ(shader_cost(3, 2, diffuse_only).operations,
               54 + 2 * (kLightIrradianceOps + kLightDiffuseOps));
     EXPECT_EQ(shader_cost(3, 2, diffuse_only).lighting_floats, 27 + 14);
+    // Smooth caps: 15 operations a light's irradiance instead of 45, the same 7 uniforms.
+    const CostModel smooth{0, 1, LightShading::kSmoothCap};
+    EXPECT_EQ(shader_cost(3, 2, smooth).operations, 54 + 2 * (15 + kLightDiffuseOps));
+    EXPECT_EQ(shader_cost(3, 2, smooth).lighting_floats, 27 + 14);
     // With a 1-channel 5-band table: specular at min(3, 5) = 3 bands, 3 texels per corner.
     CostModel table{5, 1};
     const ShaderCost c = shader_cost(3, 1, table);

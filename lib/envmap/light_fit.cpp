@@ -37,7 +37,9 @@ struct Lobe {
     double alpha;
     std::vector<double> low;  ///< A_l k_l(alpha) (2l + 1) / (4 pi), l < sh_bands
 
-    Lobe(const Eigen::Vector3d& d, double a, int sh_bands) : direction(d), alpha(a) {
+    LightShading shading;
+    Lobe(const Eigen::Vector3d& d, double a, int sh_bands, LightShading sh_)
+        : direction(d), alpha(a), shading(sh_) {
         const std::vector<double> k = cap_zonal_factors(sh_bands, a);
         for (int l = 0; l < sh_bands; ++l)
             low.push_back(sh::cosine_zonal(l) * k[static_cast<size_t>(l)] * (2 * l + 1) /
@@ -49,6 +51,7 @@ struct Lobe {
         unit.direction = direction;
         unit.flux = Eigen::Vector3d::Ones();
         unit.angular_radius = alpha;
+        unit.shading = shading;
         const double t = std::clamp(n.dot(direction), -1.0, 1.0);
         const std::vector<double> p = legendre(static_cast<int>(low.size()), t);
         double e = light_irradiance(unit, n)[0];
@@ -137,7 +140,7 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
         std::vector<Lobe> lobes;
         for (int j = 0; j < k; ++j)
             lobes.emplace_back(g.direction[static_cast<size_t>(j)], g.alpha[static_cast<size_t>(j)],
-                               sh_bands);
+                               sh_bands, start[static_cast<size_t>(j)].shading);
         return lobes;
     };
     auto residual = [&](const Geometry& g) {

@@ -33,9 +33,28 @@ double cap_cosine_integral(double cos_beta, double alpha) {
     return std::max(0.0, e);
 }
 
+LightShading light_shading_from_string(const std::string& name) {
+    if (name == "cap") return LightShading::kCap;
+    if (name == "smooth-cap") return LightShading::kSmoothCap;
+    throw UsageError(str("light shading '", name, "': expected cap or smooth-cap"));
+}
+
+std::string to_string(LightShading shading) {
+    return shading == LightShading::kCap ? "cap" : "smooth-cap";
+}
+
+double smooth_cap_cosine(double cos_beta, double alpha) {
+    const double t = std::clamp(cos_beta, -1.0, 1.0), s = std::sin(alpha);
+    if (t >= s) return t;
+    if (t <= -s) return 0.0;
+    return (t + s) * (t + s) / (4 * s);
+}
+
 Eigen::Vector3d light_irradiance(const DirectionalLight& light, const Eigen::Vector3d& n) {
     const double c = n.dot(light.direction);
     const double a = light.angular_radius;
+    if (light.shading == LightShading::kSmoothCap)
+        return light.flux * (0.5 * (1.0 + std::cos(a)) * smooth_cap_cosine(c, a));
     // Below 1e-4 rad the cap's horizon band is narrower than float resolution of c: a point.
     if (a < 1e-4) return light.flux * std::max(0.0, c) * 0.5 * (1.0 + std::cos(a));
     const double cap_sr = 2.0 * kPi * (1.0 - std::cos(a));
@@ -355,6 +374,7 @@ nlohmann::json to_json(const DirectionalLight& light) {
             {"luminance_flux", phi_y},
             {"colour", {colour.x(), colour.y(), colour.z()}},
             {"angular_radius_deg", light.angular_radius * 180 / kPi},
+            {"irradiance", to_string(light.shading)},
             {"background", {light.background.x(), light.background.y(), light.background.z()}},
             {"peak_radiance", light.peak_radiance},
             {"solid_angle_sr", light.solid_angle_sr},
@@ -392,6 +412,15 @@ DirectionalLight light_from_json(const nlohmann::json& j, const std::string& whe
     if (!(r >= 0 && r <= 90))
         throw Error(str(where, ": light angular_radius_deg must be in [0, 90]"));
     l.angular_radius = r * kPi / 180;
+    // Optional (files written before it shade the exact cap).
+    if (j.contains("irradiance")) {
+        if (!j["irradiance"].is_string())
+            throw Error(str(where, ": light irradiance must be \"cap\" or \"smooth-cap\""));
+        const std::string name = j["irradiance"].get<std::string>();
+        if (name != "cap" && name != "smooth-cap")
+            throw Error(str(where, ": light irradiance '", name, "': expected cap or smooth-cap"));
+        l.shading = light_shading_from_string(name);
+    }
     return l;
 }
 

@@ -30,11 +30,21 @@
 
 namespace inlight::envmap {
 
+/// How a light's irradiance is shaded (docs/formats.md, "SH coefficients with lights").
+enum class LightShading {
+    kCap,        ///< the uniform cap's exact irradiance (Snyder 1996): acos, atan, sqrt
+    kSmoothCap,  ///< the cap's irradiance above the horizon band, a quadratic across it
+};
+/// "cap" | "smooth-cap"; throws UsageError otherwise.
+LightShading light_shading_from_string(const std::string& name);
+std::string to_string(LightShading shading);
+
 /// A directional light with a colour and an angular radius (world frame, linear_srgb).
 struct DirectionalLight {
     Eigen::Vector3d direction{0, 0, 1};  ///< unit, toward the light, world frame
     Eigen::Vector3d flux{0, 0, 0};       ///< Phi_c: radiance x sr above the background
     double angular_radius = 0;           ///< alpha, radians, of the equivalent uniform cap
+    LightShading shading = LightShading::kCap;  ///< the irradiance formula (light_irradiance)
     // What the fit saw (for the report; shading uses only the three fields above).
     Eigen::Vector3d background{0, 0, 0};  ///< b_c, the radiance left in the region
     double peak_radiance = 0;             ///< largest luminance in the region
@@ -61,9 +71,16 @@ double luminance_flux(const DirectionalLight& light);
 /// Preconditions: 0 <= alpha <= pi/2, cos_beta in [-1, 1].
 double cap_cosine_integral(double cos_beta, double alpha);
 
+/// The smooth cap's stand-in for cap_cosine_integral / (pi sin^2 alpha): with t = cos_beta and
+/// s = sin(alpha), t for t >= s, 0 for t <= -s and (t + s)^2 / (4 s) between: the quadratic
+/// through the horizon band that meets both sides with their value and slope (C1). It differs
+/// from the exact cap only in that band, by at most 0.038 s (radii <= 0.8 rad; `SmoothCap.*`).
+double smooth_cap_cosine(double cos_beta, double alpha);
+
 /// Irradiance (per linear_srgb channel) of `light` on a surface of unit normal n:
-/// Phi_c * cap_cosine_integral(n.d, alpha) / (2 pi (1 - cos alpha)); for alpha -> 0 the limit
-/// Phi_c max(0, n.d).
+/// kCap: Phi_c * cap_cosine_integral(n.d, alpha) / (2 pi (1 - cos alpha));
+/// kSmoothCap: Phi_c (1 + cos alpha) / 2 * smooth_cap_cosine(n.d, alpha) (the same above the
+/// horizon band); for alpha -> 0 both tend to Phi_c max(0, n.d).
 Eigen::Vector3d light_irradiance(const DirectionalLight& light, const Eigen::Vector3d& n);
 
 /// The specular radiance of `light` toward `view` (unit, world frame) from a surface of unit

@@ -93,6 +93,48 @@ TEST(LightIrradiance, SmallCapTendsToAPointLightAndWideOneIsNormalised) {
     }
 }
 
+// The smooth cap's largest departure from the exact one in the horizon band, over pi sin^3(alpha),
+// for radii up to 0.8 rad: the small-radius limit 0.0378 (docs/formats.md states it).
+constexpr double kSmoothCapBandRel = 0.038;
+
+TEST(SmoothCap, IsTheCapOutsideItsHorizonBandAndMeetsItWithValueAndSlope) {
+    for (double alpha : {0.01, 0.1, 0.3, 0.8}) {
+        const double s = std::sin(alpha), full = kPi * s * s;
+        double worst = 0;
+        for (int i = 0; i <= 400; ++i) {
+            const double t = -1 + 2.0 * i / 400;
+            const double smooth = full * smooth_cap_cosine(t, alpha);
+            const double exact = cap_cosine_integral(t, alpha);
+            if (t >= s || t <= -s) {
+                EXPECT_NEAR(smooth, exact, 1e-15 * full) << alpha << " " << t;
+            }
+            worst = std::max(worst, std::abs(smooth - exact) / (full * s));
+        }
+        // In the band the two differ by at most this fraction of the band's scale pi sin^3(alpha)
+        // (the limit shape as alpha -> 0 gives 0.0378; 0.032 at 0.3 rad, 0.009 at 0.8 rad).
+        EXPECT_LT(worst, kSmoothCapBandRel) << "alpha " << alpha;
+        // C1 at both ends of the band: one-sided differences of the quadratic (step h: error h/2
+        // of the second derivative 1 / (2 s)).
+        const double h = 1e-7 * s;
+        EXPECT_NEAR(smooth_cap_cosine(s - h, alpha), s - h, h * h / (4 * s) + 1e-15);
+        EXPECT_NEAR((smooth_cap_cosine(s, alpha) - smooth_cap_cosine(s - h, alpha)) / h, 1.0,
+                    h / (4 * s) + 1e-8);
+        EXPECT_NEAR(smooth_cap_cosine(-s + h, alpha) / h, 0.0, h / (4 * s) + 1e-8);
+    }
+    // Lights: kSmoothCap shades (1 + cos a) / 2 Phi n.d above the band, like the cap.
+    DirectionalLight l;
+    l.direction = Eigen::Vector3d(1, 2, 2) / 3.0;
+    l.flux = {2, 3, 4};
+    l.angular_radius = 0.3;
+    for (const auto& n : validation_normals(40)) {
+        DirectionalLight smooth = l;
+        smooth.shading = LightShading::kSmoothCap;
+        if (std::abs(n.dot(l.direction)) >= std::sin(0.3)) {
+            EXPECT_LT((light_irradiance(smooth, n) - light_irradiance(l, n)).norm(), 1e-14);
+        }
+    }
+}
+
 // A lat-long map of `sky` (per direction) with discs of uniform radiance added.
 struct Disc {
     Eigen::Vector3d centre;
@@ -320,7 +362,17 @@ TEST(DirectionalLight, JsonRoundTripAndBadValues) {
     EXPECT_LT((r.direction - l.direction).norm(), 1e-15);
     EXPECT_LT((r.flux - l.flux).norm(), 1e-15);
     EXPECT_NEAR(r.angular_radius, l.angular_radius, 1e-15);
+    EXPECT_EQ(r.shading, LightShading::kCap);
     nlohmann::json j = to_json(l);
+    // The shading: written and read; absent (files before it) is the exact cap; else an error.
+    l.shading = LightShading::kSmoothCap;
+    EXPECT_EQ(to_json(l)["irradiance"], "smooth-cap");
+    EXPECT_EQ(light_from_json(to_json(l), "x.json").shading, LightShading::kSmoothCap);
+    j.erase("irradiance");
+    EXPECT_EQ(light_from_json(j, "x.json").shading, LightShading::kCap);
+    j["irradiance"] = "disc";
+    EXPECT_EQ(inlight::testing::error_of([&] { light_from_json(j, "x.json"); }),
+              "x.json: light irradiance 'disc': expected cap or smooth-cap");
     j["flux"][1] = std::nan("");
     EXPECT_EQ(inlight::testing::error_of([&] { light_from_json(j, "x.json: lights[0]"); }),
               "x.json: lights[0]: light flux is not finite");

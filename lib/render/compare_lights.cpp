@@ -82,6 +82,7 @@ nlohmann::json compare_lighting_file(const Scene& scene, const RenderResult& tru
         cost_model = {lit.tables[i].sh_bands, lit.tables[i].channels};
         break;
     }
+    if (!file.lights.empty()) cost_model.light_shading = file.lights[0].shading;
     auto cost = [&](int lights) {
         const envmap::ShaderCost c = envmap::shader_cost(bands, lights, cost_model);
         return nlohmann::json{{"operations", c.operations},

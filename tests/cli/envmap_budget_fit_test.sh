@@ -8,11 +8,11 @@
 source "$(dirname "$0")/lib.sh"
 EP="$BIN/envmap-project"
 
-# budget_case NAME MAP: one light over at most 5 bands, fitted and as found.
+# budget_case NAME MAP: one light (an exact cap) over at most 5 bands, fitted and as found.
 budget_case() {
     local name=$1 map=$2
     expect_exit 0 "$name: 1% met with the fitted light" -- "$EP" "$map" -o "$WORK/${name}_sh.json" \
-        --max-error 0.01 --max-lights 1 --budget-max-bands 5 --report "$WORK/$name.json" -q
+        --max-error 0.01 --max-lights 1 --budget-max-bands 5 --light-shading cap --report "$WORK/$name.json" -q
     expect_true "$name: one fitted light over 3 bands, within 1%" -- jq -e '.metrics.environments[0].budget
         | .met and .chosen.lights == 1 and .chosen.sh_bands == 3 and .chosen.lights_fitted
           and .chosen.error <= 0.01 and .chosen.cost.operations <= ([.candidates[]
@@ -23,7 +23,7 @@ budget_case() {
               | .light_set[0].angular_radius_deg)' "$WORK/${name}_sh.json"
     expect_exit 0 "$name: the region's cap as found" -- "$EP" "$map" \
         -o "$WORK/${name}_region.json" --max-error 0.01 --max-lights 1 --budget-max-bands 5 \
-        --light-fit-normals 0 --report "$WORK/${name}_r.json" -q
+        --light-fit-normals 0 --light-shading cap --report "$WORK/${name}_r.json" -q
     expect_true "$name: as found, nothing within 5 bands' cost meets 1% (region cap + 3 bands, pure 5 bands)" -- \
         jq -e '.metrics.environments[0].budget.candidates
           | ([.[] | select(.lights == 0 and .sh_bands == 5) | .cost.operations] | first) as $cap
@@ -36,5 +36,24 @@ fi
 SUNRISE=/usr/share/blender/datafiles/studiolights/world/sunrise.exr
 if have_package_file "$SUNRISE" blender-data; then
     budget_case sunrise "$SUNRISE"
+fi
+
+# A room lit by two windows: two smooth-cap lights over 3 bands meet 1% within 5 bands' cost
+# (2 x 18 + 54 = 90 operations); as exact caps (2 x 48 + 54 = 150) the same two lights cost more.
+INTERIOR=/usr/share/blender/datafiles/studiolights/world/interior.exr
+if have_package_file "$INTERIOR" blender-data; then
+    expect_exit 0 "interior: 1% met with two smooth-cap lights" -- "$EP" "$INTERIOR" -o "$WORK/int_sh.json" \
+        --max-error 0.01 --max-lights 2 --budget-max-bands 5 --report "$WORK/int.json" -q
+    expect_true "interior: two lights over 3 bands at 90 operations, within 1%" -- jq -e '.metrics.environments[0].budget
+        | .met and .light_shading == "smooth-cap" and .chosen.lights == 2 and .chosen.sh_bands == 3
+          and .chosen.cost.operations == 90 and .chosen.error <= 0.01' "$WORK/int.json"
+    expect_true "interior: the lights file says how to shade them" -- \
+        jq -e '[.lights[] | .irradiance == "smooth-cap" and .fitted] | length == 2 and all' "$WORK/int_sh.json"
+    expect_exit 0 "interior: exact caps" -- "$EP" "$INTERIOR" -o "$WORK/int_cap.json" --light-shading cap \
+        --max-error 0.01 --max-lights 2 --budget-max-bands 5 --report "$WORK/int_cap_r.json" -q
+    expect_true "interior: as exact caps nothing within 5 bands' cost meets 1%" -- \
+        jq -e '.metrics.environments[0].budget.candidates
+          | ([.[] | select(.lights == 0 and .sh_bands == 5) | .cost.operations] | first) as $cap
+          | [.[] | select(.cost.operations <= $cap) | .error > 0.01] | all' "$WORK/int_cap_r.json"
 fi
 finish
