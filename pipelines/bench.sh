@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every Google Benchmark binary in BUILD/bench and prints its table (speed against error
-# where the benchmark reports error counters). Figures are recorded in docs/benchmarks.md.
+# where the benchmark reports error counters), then the render convergence table
+# (pipelines/render-convergence.sh). Figures are recorded in docs/benchmarks.md.
 #   pipelines/bench.sh [BUILD]
 set -euo pipefail
 BUILD=${1:-build}
@@ -17,3 +18,13 @@ for b in "${benches[@]}"; do
     echo "== $(basename "$b")"
     "$b" --benchmark_min_time=0.2 --benchmark_counters_tabular=true
 done
+
+# The path tracer's error against samples and time per sampler (issue 13; minutes): its table.
+# Full-size figures (docs/benchmarks.md): pipelines/render-convergence.sh OUT 1024 128 64 4096.
+if [ -x "$BUILD/bin/render" ]; then
+    echo
+    echo "== render-convergence (sphere 64^2, patch 32^2, up to 1024 spp)"
+    # shellcheck disable=SC2086 # the arguments are a list of words
+    INLIGHT_BIN="$BUILD/bin" "$(dirname "$0")/render-convergence.sh" "$BUILD/render-convergence" \
+        ${RENDER_CONVERGENCE_ARGS:-1024 64 32 1024} | grep -v '^render-convergence: /'
+fi
