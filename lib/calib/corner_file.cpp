@@ -26,9 +26,48 @@ void flatten(const cv::FileNode& node, std::vector<double>& out) {
     }
 }
 
+// OpenCV 4.6's YAML parser never returns on a document whose top-level collection is indented
+// and followed by a line indented less (e.g. "   - 1\nx"): its root collection ends on the dedent
+// and the stream loop then steps over the text without progress. OpenCV itself writes every
+// top-level key at column 0, so such a file is refused before OpenCV sees it. Applies to YAML
+// (by extension, or content not starting like XML or JSON, as OpenCV decides).
+void check_yaml_layout(const std::string& path) {
+    const std::string ext = fs::extension(path);
+    if (ext == "xml" || ext == "json" || ext == "gz") return;
+    const std::string text = fs::read_file(path);
+    const size_t first = text.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos) return;
+    if (ext != "yml" && ext != "yaml" && (text[first] == '<' || text[first] == '{')) return;
+    bool document_start = true;  // the next content line opens a document's root collection
+    size_t line_no = 0;
+    for (size_t at = 0; at < text.size();) {
+        size_t end = text.find('\n', at);
+        if (end == std::string::npos) end = text.size();
+        const std::string line = text.substr(at, end - at);
+        at = end + 1;
+        ++line_no;
+        const size_t c = line.find_first_not_of(" \t\r");
+        if (c == std::string::npos || line[c] == '#' || (c == 0 && line[0] == '%')) continue;
+        if (line.compare(0, 3, "---") == 0 || line.compare(0, 3, "...") == 0) {
+            if (line.find_first_not_of(" \t\r", 3) != std::string::npos) {
+                throw Error(str(path, ":", line_no, ": text after '", line.substr(0, 3),
+                                "' on the same line is not supported"));
+            }
+            document_start = true;
+            continue;
+        }
+        if (document_start && c != 0) {
+            throw Error(str(path, ":", line_no,
+                            ": the top-level collection must start at column 1 (it is indented)"));
+        }
+        document_start = false;
+    }
+}
+
 cv::FileStorage open_read(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw Error(str(path, ": no such file"));
+    check_yaml_layout(path);
     cv::FileStorage fs;
     try {
         fs.open(path, cv::FileStorage::READ);
@@ -36,6 +75,7 @@ cv::FileStorage open_read(const std::string& path) {
         throw Error(str(path, ": not an OpenCV FileStorage file (", e.err, ")"));
     }
     if (!fs.isOpened()) throw Error(str(path, ": cannot open as an OpenCV FileStorage file"));
+    if (!fs.root().isMap()) throw Error(str(path, ": the top level is not a map of named nodes"));
     return fs;
 }
 
@@ -75,8 +115,30 @@ int read_size(cv::FileStorage& fs, const char* key, const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+CornerSet read_checked(const std::string& image_points_path, const std::string& object_points_path,
+                       const BoardSpec& board);
+
+}  // namespace
+
 CornerSet read_corner_files(const std::string& image_points_path,
                             const std::string& object_points_path, const BoardSpec& board) {
+    // OpenCV reports a file whose top level is not a map, or a node it cannot convert, with a
+    // cv::Exception (an assertion inside FileNode); that is bad input, named here.
+    try {
+        return read_checked(image_points_path, object_points_path, board);
+    } catch (const cv::Exception& e) {
+        throw Error(str(image_points_path,
+                        object_points_path.empty() ? "" : " / " + object_points_path,
+                        ": not a corner file OpenCV can read (", e.err, ")"));
+    }
+}
+
+namespace {
+
+CornerSet read_checked(const std::string& image_points_path, const std::string& object_points_path,
+                       const BoardSpec& board) {
     CornerSet set;
     cv::FileStorage fi = open_read(image_points_path);
     const auto images = read_nodes(fi, image_points_path, 2);
@@ -119,6 +181,8 @@ CornerSet read_corner_files(const std::string& image_points_path,
     }
     return set;
 }
+
+}  // namespace
 
 void write_corner_files(const std::string& image_points_path, const std::string& object_points_path,
                         const std::vector<View>& views, int width, int height) {

@@ -15,6 +15,7 @@
 #include "core/log.h"
 #include "core/parallel.h"
 #include "image/color.h"
+#include "image/container.h"
 
 // Notes on conventions that the header leaves implicit:
 // - Metadata written: "inlight:color_space" (house name of the in-memory space),
@@ -147,8 +148,27 @@ void follow_thread_count() {
 
 // Opens `name` from disk, or from `memory` (an in-memory file whose format OpenImageIO picks by
 // the extension of `name`) when it is non-null.
+// Before a decoder sees the file, its container is checked (image/container.h) and the most
+// samples it can decode to is stored in `max_samples`.
 std::unique_ptr<OIIO::ImageInput> open_input(const std::string& name, OIIO::ImageSpec& config,
-                                             OIIO::Filesystem::IOProxy* memory) {
+                                             OIIO::Filesystem::IOProxy* memory,
+                                             double* max_samples = nullptr) {
+    {
+        std::unique_ptr<OIIO::Filesystem::IOFile> file;
+        OIIO::Filesystem::IOProxy* source = memory;
+        if (!source) {
+            file =
+                std::make_unique<OIIO::Filesystem::IOFile>(name, OIIO::Filesystem::IOProxy::Read);
+            source = file.get();
+        }
+        if (source->opened()) {
+            const double limit =
+                check_container(name, source->size(), [source](void* buf, size_t n, uint64_t at) {
+                    return source->pread(buf, n, static_cast<int64_t>(at));
+                });
+            if (max_samples) *max_samples = limit;
+        }
+    }
     void* proxy = memory;
     if (memory) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
     follow_thread_count();
@@ -194,11 +214,14 @@ Image::Image(int w, int h, int c, ColorSpace cs)
 
 namespace {
 
+constexpr double kMaxSamples = 4.0e9;  // 16 GB of floats: beyond this the header is corrupt
+
 Image read_from(const std::string& path, const ReadOptions& options,
                 OIIO::Filesystem::IOProxy* memory) {
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);  // pass alpha through as stored
-    auto in = open_input(path, config, memory);
+    double max_samples = kMaxSamples;
+    auto in = open_input(path, config, memory, &max_samples);
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.deep) throw Error(str(path, ": deep images are not supported"));
     if (spec.depth > 1) throw Error(str(path, ": volume images are not supported"));
@@ -206,10 +229,15 @@ Image read_from(const std::string& path, const ReadOptions& options,
         throw Error(
             str(path, ": invalid image size ", spec.width, "x", spec.height, "x", spec.nchannels));
     }
-    constexpr double kMaxSamples = 4.0e9;  // 16 GB of floats: beyond this the header is corrupt
-    if (double(spec.width) * spec.height * spec.nchannels > kMaxSamples) {
+    const double samples = double(spec.width) * spec.height * spec.nchannels;
+    if (samples > kMaxSamples) {
         throw Error(str(path, ": image too large (", spec.width, "x", spec.height, "x",
                         spec.nchannels, ")"));
+    }
+    if (samples > max_samples) {  // allocate only what the file's bytes can decode to
+        throw Error(str(path, ": header claims ", spec.width, "x", spec.height, "x", spec.nchannels,
+                        ", more than the file's bytes can decode to (at most ",
+                        static_cast<uint64_t>(max_samples), " samples)"));
     }
 
     Image img(spec.width, spec.height, spec.nchannels);

@@ -9,6 +9,7 @@
 source "$(dirname "$0")/../cli/lib.sh"
 # shellcheck source=tests/badinput/lib.sh
 source "$(dirname "$0")/lib.sh"
+SRC=$(cd "$(dirname "$0")/../.." && pwd)
 EP="$BIN/envmap-project"
 BAKE="$BIN/brdf-sh-bake"
 R="$BIN/render"
@@ -25,6 +26,25 @@ bad 1 "truncated.exr" "truncated EXR" -- "$EP" "$WORK/truncated.exr" -o "$OUT/t_
 bad 1 "garbage.hdr" "HDR with a lying header" -- "$EP" "$WORK/garbage.hdr" -o "$OUT/g_sh.json"
 bad 1 "garbage.png" "garbage PNG" -- "$EP" "$WORK/garbage.png" -o "$OUT/g_sh.json"
 bad 1 "empty.exr" "empty EXR" -- "$EP" "$WORK/empty.exr" -o "$OUT/e_sh.json"
+# Length fields larger than the file (fuzz/regressions/image, btf): refused before OpenEXR or
+# libpng allocate them (they cost 2 GB and minutes). A string attribute claiming 1.9 GB in an
+# EXR of 600 bytes; a PNG tEXt chunk claiming 1.7 GB; an EXR whose data window needs more
+# samples than its bytes can decode to (8192x8192x3, zip, 20 KB).
+tail -c +2 "$SRC/fuzz/regressions/image/exr_string_attribute_1.9GB" > "$WORK/lying_attr.exr"
+bad 1 "lying_attr.exr: EXR attribute 'inlight:color_space' claims 1920139275 bytes" \
+    "EXR attribute longer than the file" -- "$EP" "$WORK/lying_attr.exr" -o "$OUT/l_sh.json"
+printf '\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x04\0\0\0\x02\x08\x02\0\0\0\xfa\x04\x8e\xa6\x69\x6d\x1f\x54tEXtxx' > "$WORK/lying_chunk.png"
+bad 1 "lying_chunk.png: PNG chunk 'tEXt' at byte 33 claims 1768759124 bytes" \
+    "PNG chunk longer than the file" -- "$EP" "$WORK/lying_chunk.png" -o "$OUT/l_sh.json"
+python3 - "$WORK/env.exr" "$WORK/huge_window.exr" <<'PY'
+import struct, sys
+data = bytearray(open(sys.argv[1], "rb").read())
+at = data.index(b"dataWindow\0box2i\0") + len(b"dataWindow\0box2i\0") + 4
+data[at:at + 16] = struct.pack("<4i", 0, 0, 8191, 8191)
+open(sys.argv[2], "wb").write(bytes(data) + bytes(20000))
+PY
+bad 1 "huge_window.exr: .*more than its .* chunks\|huge_window.exr: header claims 8192x8192x3" \
+    "EXR data window larger than its bytes can decode to" -- "$EP" "$WORK/huge_window.exr" -o "$OUT/l_sh.json"
 
 # --config: a TOML syntax error names file, line and column; a binary file says it is binary.
 printf 'sh-bands = 3\nvalidate = = true\n' > "$WORK/syntax.toml"
@@ -87,6 +107,14 @@ bad 1 "nan_corners.yml.*image_0" "corner file holding NaN" -- \
 printf '%%YAML:1.0\n---\nimage_width: 640\n' > "$WORK/no_views.yml"
 bad 1 "no_views.yml" "corner file without views" -- \
     "$CAL" geometry --image-points "$WORK/no_views.yml" --board 3x2 -o "$OUT/cal"
+# OpenCV 4.6's YAML parser loops forever on an indented top level followed by a dedent
+# (fuzz/regressions/corners); a top level that is a sequence made OpenCV assert.
+printf '%%YAML:1.0\n   - 1\nimage_0: [ 1, 2 ]\n' > "$WORK/indented.yml"
+bad 1 "indented.yml:2: the top-level collection must start at column 1" "indented YAML top level" -- \
+    "$CAL" geometry --image-points "$WORK/indented.yml" --board 3x2 -o "$OUT/cal"
+printf '%%YAML:1.0\n- 1\n- 2\n' > "$WORK/sequence.yml"
+bad 1 "sequence.yml: the top level is not a map" "YAML top level a sequence" -- \
+    "$CAL" geometry --image-points "$WORK/sequence.yml" --board 3x2 -o "$OUT/cal"
 cp "$WORK/env.exr" "$WORK/binary.yml"
 bad 1 "binary.yml" "binary file as corner file" -- \
     "$CAL" geometry --image-points "$WORK/binary.yml" --board 3x2 -o "$OUT/cal"
