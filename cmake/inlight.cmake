@@ -86,12 +86,14 @@ function(inlight_add_cli_tests prefix)
     foreach(script ${scripts})
         get_filename_component(name ${script} NAME_WE)
         set(labels cli)
+        set(timeout 300)
         if(name MATCHES "slow")
             set(labels cli slow)
+            set(timeout 1500)  # slow tests run apart from the batch, often on a loaded machine
         endif()
         add_test(NAME ${prefix}.${name} COMMAND bash ${script})
         set_tests_properties(${prefix}.${name} PROPERTIES LABELS "${labels}"
             ENVIRONMENT "${INLIGHT_TEST_ENV};INLIGHT_TEST_BIN=${CMAKE_BINARY_DIR}/tests"
-            TIMEOUT 300 SKIP_RETURN_CODE 77)
+            TIMEOUT ${timeout} SKIP_RETURN_CODE 77)
     endforeach()
 endfunction()

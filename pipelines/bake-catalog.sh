@@ -30,7 +30,7 @@ mkdir -p "$2"
 OUT=$(cd "$2" && pwd)
 shift 2
 BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
-for t in bundle brdf-sh-bake calibrate render; do
+for t in bundle brdf-sh-bake btf-pca calibrate render; do
     if [ ! -x "$BIN/$t" ]; then
         echo "bake-catalog: $BIN/$t not found: build first (make)" >&2
         exit 1

@@ -92,14 +92,23 @@ if config.get("environments"):  # --config environments=city,night: a subset
 
 # Keys, computed now (this is what makes the workflow incremental by content).
 FABRICS = folders("fabrics")
+# Captured-BTF fabrics (weave.toml + capture.toml, no btf/ folder): their capture is a job of
+# its own, keyed by the weave, the capture options and render, so a new material or bake option
+# does not redo it.
+CAPTURED = []
 for fid in FABRICS:
     fdir = os.path.join(CAT, "fabrics", fid)
     with open(os.path.join(fdir, "fabric.toml"), "rb") as f:
         maps = tomllib.load(f)
     textures = [os.path.join(fdir, maps[k]) for k in ("albedo-texture", "normal-texture") if k in maps]
+    if (not os.path.isdir(os.path.join(fdir, "btf")) and os.path.isfile(os.path.join(fdir, "weave.toml"))
+            and os.path.isfile(os.path.join(fdir, "capture.toml"))):
+        CAPTURED.append(fid)
+        content_key("capture-" + fid, [os.path.join(fdir, "weave.toml"), os.path.join(fdir, "capture.toml"),
+                                       os.path.join(PIPE, "capture-btf.sh"), tool("render")])
     content_key("fabric-" + fid, [fdir] + textures + [
-        os.path.join(ROOT, "configs", "brdf-sh-bake.toml"), os.path.join(PIPE, "bake-fabric.sh"),
-        tool("bundle"), tool("brdf-sh-bake")])
+        os.path.join(ROOT, "configs", "brdf-sh-bake.toml"), os.path.join(ROOT, "configs", "btf-pca.toml"),
+        os.path.join(PIPE, "bake-fabric.sh"), tool("bundle"), tool("brdf-sh-bake"), tool("btf-pca")])
 
 DEVICES = []
 for did in folders("devices"):
@@ -132,12 +141,23 @@ rule all:
         "bundles/catalog.sqlite",
         "validate/index.html" if ENVS and FABRICS else [],
 
+rule capture:
+    input: "keys/capture-{fid}.key"
+    output: "stamps/capture-{fid}.json"
+    log: "logs/capture-{fid}.log"
+    shell:
+        "INLIGHT_BIN={BIN:q} {PIPE}/capture-btf.sh {CAT}/fabrics/{wildcards.fid} captures/{wildcards.fid} > {log} 2>&1"
+        " && cp captures/{wildcards.fid}/capture.json {output}.tmp && mv {output}.tmp {output}"
+
 rule fabric:
-    input: "keys/fabric-{fid}.key"
+    input:
+        key="keys/fabric-{fid}.key",
+        capture=lambda w: [f"stamps/capture-{w.fid}.json"] if w.fid in CAPTURED else [],
     output: "stamps/fabric-{fid}.json"
     log: "logs/fabric-{fid}.log"
+    params: btf=lambda w: f"{OUT}/captures/{w.fid}/btf" if w.fid in CAPTURED else ""
     shell:
-        "INLIGHT_BIN={BIN:q} {PIPE}/bake-fabric.sh {CAT}/fabrics/{wildcards.fid} {OUT:q} {wildcards.fid} > {log} 2>&1"
+        "INLIGHT_BIN={BIN:q} {PIPE}/bake-fabric.sh {CAT}/fabrics/{wildcards.fid} {OUT:q} {wildcards.fid} {params.btf} > {log} 2>&1"
         " && cp work/fabrics/{wildcards.fid}/verify.json {output}.tmp && mv {output}.tmp {output}"
 
 rule device:

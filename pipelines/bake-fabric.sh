@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # bake-fabric: one fabric folder -> its bundle, verified (docs/pipelines.md).
-#   pipelines/bake-fabric.sh FABRIC_DIR OUT [ID]        (binaries from ${INLIGHT_BIN:-build/bin})
+#   pipelines/bake-fabric.sh FABRIC_DIR OUT [ID [BTF_DIR]]   (binaries from ${INLIGHT_BIN:-build/bin})
 # FABRIC_DIR holds fabric.toml (`bundle fabric-maps` options; relative paths are relative to
-# FABRIC_DIR), material.toml (a brdf-sh-bake material), optionally brdf-sh-bake.toml (bake
-# options; default configs/brdf-sh-bake.toml) and btf/ (a UBO2003-layout BTF folder).
+# FABRIC_DIR), material.toml (a brdf-sh-bake material), optionally brdf-sh-bake.toml (bake and
+# --gles-* export options; default configs/brdf-sh-bake.toml), btf-pca.toml (default
+# configs/btf-pca.toml) and a BTF: BTF_DIR, else FABRIC_DIR/btf/ (a UBO2003-layout folder), else
+# a capture made here when FABRIC_DIR has weave.toml and capture.toml (pipelines/capture-btf.sh).
+# A fabric with a BTF may leave out albedo-texture: the BTF's frontal image (light and view
+# along the normal, radiance under irradiance pi = albedo for a matte surface) stands in.
 # Each step writes OUT/work/fabrics/ID/<step>/ with its --report; the bundle goes to
 # OUT/bundles/fabrics/ID/ (atomic, verified).
 set -euo pipefail
-if [ $# -lt 2 ]; then
-    echo "usage: bake-fabric.sh FABRIC_DIR OUT [ID]" >&2
+if [ $# -lt 2 ] || [ $# -gt 4 ]; then
+    echo "usage: bake-fabric.sh FABRIC_DIR OUT [ID [BTF_DIR]]" >&2
     exit 2
 fi
 HERE=$(cd "$(dirname "$0")" && pwd)
@@ -28,48 +32,92 @@ for f in fabric.toml material.toml; do
 done
 BRDF_CONFIG="$ROOT/configs/brdf-sh-bake.toml"
 [ -f "$FABRIC/brdf-sh-bake.toml" ] && BRDF_CONFIG="$FABRIC/brdf-sh-bake.toml"
+PCA_CONFIG="$ROOT/configs/btf-pca.toml"
+[ -f "$FABRIC/btf-pca.toml" ] && PCA_CONFIG="$FABRIC/btf-pca.toml"
 mkdir -p "$W"
+
+# 0. The BTF, if the fabric has one (given, in the folder, or captured now).
+BTF=""
+if [ $# -ge 4 ]; then
+    BTF=$(cd "$4" && pwd)
+elif [ -d "$FABRIC/btf" ]; then
+    BTF="$FABRIC/btf"
+elif [ -f "$FABRIC/weave.toml" ] && [ -f "$FABRIC/capture.toml" ]; then
+    say "capture (weave.toml, capture.toml)"
+    INLIGHT_BIN="$BIN" "$HERE/capture-btf.sh" "$FABRIC" "$W/capture"
+    BTF="$W/capture/btf"
+fi
 
 # 1. Textures in the app's formats: albedo (sRGB PNG), normal map (linear PNG), thumbnail.
 say "textures"
-(cd "$FABRIC" && "$BIN/bundle" fabric-maps --config fabric.toml -o "$W/maps" -q \
+albedo=()
+if [ -n "$BTF" ] && ! grep -q '^albedo-texture' "$FABRIC/fabric.toml"; then
+    frontal=$(find "$BTF" -name 'tl000 pl000 tv000 pv000.*' | head -n 1)
+    if [ -z "$frontal" ]; then
+        echo "bake-fabric: $BTF: no frontal image 'tl000 pl000 tv000 pv000' for the albedo" >&2
+        exit 1
+    fi
+    albedo=(--albedo-texture "$frontal")
+fi
+(cd "$FABRIC" && "$BIN/bundle" fabric-maps --config fabric.toml "${albedo[@]}" -o "$W/maps" -q \
     --report "$W/maps/report.json")
 
-# 2. The specular lobe into an SH table over normals.
-say "brdf-sh-bake ($(basename "$BRDF_CONFIG"))"
+# 2. The specular lobe into an SH table over normals, and its GLES shaders (every variant the
+#    --gles-* options of the bake config ask for: docs/gles.md).
+say "brdf-sh-bake ($(basename "$BRDF_CONFIG")) with --export-gles"
+rm -rf "$W/gles"
 "$BIN/brdf-sh-bake" --config "$BRDF_CONFIG" --material "$FABRIC/material.toml" -o "$W/brdf/table" \
-    -q --report "$W/brdf/report.json"
+    --export-gles "$W/gles" -q --report "$W/brdf/report.json"
 
 files=(--file "albedo=$W/maps/albedo.png" --file "normal=$W/maps/normal.png"
     --file "thumbnail=$W/maps/thumbnail.png" --file "material=$FABRIC/material.toml"
     --file "brdf_sh_table=$W/brdf/table.bin@brdf/table.bin"
     --file "brdf_sh_table_json=$W/brdf/table.json@brdf/table.json"
-    --file "brdf_sh_texture=$W/brdf/table_texture.exr@brdf/table_texture.exr")
+    --file "brdf_sh_texture=$W/brdf/table_texture.exr@brdf/table_texture.exr"
+    --file "shader_lookup=$W/brdf/table.glsl@shaders/brdf_lookup.glsl"
+    --file "shader_index=$W/gles/index.json@shaders/index.json")
+variants=0
+while read -r manifest; do
+    base=${manifest%.json}
+    files+=(--file "shader_manifest=$W/gles/$manifest@shaders/$manifest"
+        --file "shader_vertex=$W/gles/$base.vert@shaders/$base.vert"
+        --file "shader_fragment=$W/gles/$base.frag@shaders/$base.frag")
+    data=$(jq -r '.files.brdf_data // empty' "$W/gles/$manifest")
+    [ -n "$data" ] && files+=(--file "shader_data=$W/gles/$data@shaders/$data")
+    variants=$((variants + 1))
+done < <(jq -r '.variants[].manifest' "$W/gles/index.json")
+say "shaders: $variants GLES variants with their uniform layouts"
 
-# 3. BTF components in streaming order (btf-pca, issue 10).
-if [ -d "$FABRIC/btf" ]; then
-    if [ -x "$BIN/btf-pca" ]; then
-        say "btf-pca is built, but this pipeline does not call it yet (issue 11, phase 2): BTF skipped"
-    else
-        say "btf-pca is not built (issue 10): BTF components skipped"
-    fi
+# 3. BTF components in streaming order (btf-pca, docs/btf.md): the manifest, V and the group
+#    means first, then every component with its position in the stream.
+btf_props=()
+if [ -n "$BTF" ]; then
+    say "btf-pca ($(basename "$PCA_CONFIG")) on $BTF"
+    rm -rf "$W/btf"
+    "$BIN/btf-pca" "$BTF" --config "$PCA_CONFIG" -o "$W/btf" -q --report "$W/btf-pca.json"
+    files+=(--file "btf_manifest=$W/btf/btf-pca.json@btf/btf-pca.json"
+        --file "btf_weights=$W/btf/weights.bin@btf/weights.bin")
+    while read -r mean; do
+        files+=(--file "btf_mean=$W/btf/$mean@btf/$mean")
+    done < <(jq -r '.groups[].mean.file' "$W/btf/btf-pca.json")
+    while read -r k comp; do
+        files+=(--file "btf_component=$W/btf/$comp@btf/$comp#$k")
+    done < <(jq -r '. as $m | .stream | to_entries[] | "\(.key) \($m.groups[.value[0]].components[.value[1]].file)"' \
+        "$W/btf/btf-pca.json")
+    btf_props=(--property "btf_rmse_linear=$(jq '.metrics.error.rmse_linear' "$W/btf-pca.json")"
+        --property "btf_delta_e2000_mean=$(jq '.metrics.error.delta_e2000_mean' "$W/btf-pca.json")"
+        --property "btf_size_px=$(jq -c '[.metrics.btf.width, .metrics.btf.height]' "$W/btf-pca.json")"
+        --property "btf_directions=$(jq -c '[.metrics.btf.lights, .metrics.btf.views]' "$W/btf-pca.json")"
+        --property "btf_raw_bytes=$(jq '.metrics.bytes.raw_8bit' "$W/btf-pca.json")")
+    say "$(jq -r '.metrics | "btf-pca: \(.btf.views) views x \(.btf.lights) lights of \(.btf.width)x\(.btf.height) px -> \(.bytes.stored) bytes, RMSE \(.error.rmse_linear)"' "$W/btf-pca.json")"
 else
-    say "no btf/ folder: a BRDF-only fabric"
+    say "no BTF (no btf/ folder, no weave.toml + capture.toml): a BRDF-only fabric"
 fi
 
-# 4. Shaders with their uniform layout (render --export-gles, issue 8). Until the exporter lands,
-#    the bundle carries brdf-sh-bake's GLSL ES lookup of the table.
-if "$BIN/render" --help 2>/dev/null | grep -q -- '--export-gles'; then
-    say "render --export-gles exists, but this pipeline does not call it yet (issue 11, phase 2)"
-else
-    say "render --export-gles is not built (issue 8): bundling the GLSL table lookup only"
-fi
-files+=(--file "shader_lookup=$W/brdf/table.glsl@shaders/brdf_lookup.glsl")
-
-# 5. The bundle, then an independent verification of what was written.
+# 4. The bundle, then an independent verification of what was written.
 name=$(jq -r --arg id "$ID" '.metrics.name | if . == "" or . == null then $id else . end' "$W/maps/report.json")
 say "pack"
-"$BIN/bundle" pack --kind fabric --id "$ID" --name "$name" "${files[@]}" \
+"$BIN/bundle" pack --kind fabric --id "$ID" --name "$name" "${files[@]}" "${btf_props[@]}" \
     --property "tile_size_m=$(jq '.metrics.tile_size_m' "$W/maps/report.json")" \
     --property "normal_source=$(jq -r '.metrics.normal_source' "$W/maps/report.json")" \
     --property "sh_bands=$(jq '.metrics.sh_bands' "$W/brdf/report.json")" \

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <set>
 
+#include "bundle/contents.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/report.h"
@@ -188,6 +189,7 @@ Manifest read_bundle(const std::string& dir) {
         }
         listed.insert(f.path);
     }
+    check_contents(m, dir);
     for (auto it = stdfs::recursive_directory_iterator(root); it != stdfs::recursive_directory_iterator(); ++it) {
         if (it->is_directory() && !it->is_symlink()) continue;
         const std::string rel = stdfs::relative(it->path(), root).generic_string();

@@ -46,7 +46,9 @@ Manifest write_bundle(const std::string& dest, const PackRequest& request);
 ///     a symlink to somewhere outside `dir`;
 ///   - a listed file is missing, not a regular file, shorter than its listed size ("truncated")
 ///     or longer, or its SHA-256 differs from the manifest's;
-///   - the folder holds a file the manifest does not list (stray or partial files).
+///   - the folder holds a file the manifest does not list (stray or partial files);
+///   - an inner manifest (exported shaders, compressed BTF) names a file the bundle does not
+///     hold, or the BTF's stream order differs from the bundle's (check_contents).
 Manifest read_bundle(const std::string& dir);
 
 /// The SHA-256 of the bundle's manifest.json (identifies the bundle's whole content, since the

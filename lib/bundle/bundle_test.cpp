@@ -161,11 +161,13 @@ TEST(BundleReader, RejectsUnknownVersions) {
     Fixture f("version");
     f.write();
     f.edit_manifest([](nlohmann::json& j) {
-        j["version"] = 2;
-        j["new_key_of_version_2"] = true;  // must fail on the version, not on this key
+        j["version"] = 3;
+        j["new_key_of_version_3"] = true;  // must fail on the version, not on this key
     });
     const std::string e = error_of([&] { read_bundle(f.bundle); });
-    EXPECT_TRUE(contains(e, "unknown manifest version 2 (this reader knows version 1 only)")) << e;
+    EXPECT_TRUE(contains(e, "unknown manifest version 3 (this reader knows versions 1 to 2)")) << e;
+    f.edit_manifest([](nlohmann::json& j) { j["version"] = 0; });
+    EXPECT_TRUE(contains(error_of([&] { read_bundle(f.bundle); }), "unknown manifest version 0"));
     f.edit_manifest([](nlohmann::json& j) { j["version"] = "1"; });
     EXPECT_TRUE(contains(error_of([&] { read_bundle(f.bundle); }), "unknown manifest version \"1\""));
 }
@@ -228,20 +230,6 @@ TEST(BundleReader, RejectsStrayFilesAndSchemaViolations) {
     }
     fs::write_text_atomic(f.bundle + "/manifest.json", "{ not json");
     EXPECT_TRUE(contains(error_of([&] { read_bundle(f.bundle); }), "not valid JSON"));
-}
-
-TEST(Manifest, StreamIndicesRunFromZeroWithoutGaps) {
-    Fixture f("stream");
-    image::write_image(f.src + "/c0.png", image::Image(2, 2, 3, image::ColorSpace::kData));
-    image::write_image(f.src + "/c1.png", image::Image(2, 2, 3, image::ColorSpace::kData));
-    f.request.files.push_back({f.src + "/c0.png", "btf/c0.png", "btf_component", 0});
-    f.request.files.push_back({f.src + "/c1.png", "btf/c1.png", "btf_component", 2});
-    EXPECT_TRUE(contains(error_of([&] { f.write(); }), "stream_index values must be 0..1"));
-    f.request.files.back().stream_index = 1;
-    const Manifest m = f.write();
-    EXPECT_EQ(m.find_role("btf_component")->stream_index, 0);
-    f.request.files.back().stream_index = -1;
-    EXPECT_TRUE(contains(error_of([&] { f.write(); }), "stream_index is required"));
 }
 
 TEST(Manifest, PathCheckAcceptsNestedPathsOnly) {

@@ -31,6 +31,9 @@ CREATE TABLE fabrics (
     thumbnail_png BLOB NOT NULL,
     sh_bands INTEGER,
     btf_components INTEGER NOT NULL,
+    btf_bytes INTEGER NOT NULL,
+    shader_variants INTEGER NOT NULL,
+    shader_bytes INTEGER NOT NULL,
     properties_json TEXT NOT NULL
 );
 CREATE TABLE devices (
@@ -172,7 +175,7 @@ std::vector<CatalogRow> write_catalog(const std::string& root, const std::string
             }
         }
         Stmt fabric = prepare(db.get(),
-                              "INSERT INTO fabrics VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                              "INSERT INTO fabrics VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                               db_path);
         Stmt device = prepare(db.get(), "INSERT INTO devices VALUES (?, ?, ?, ?, ?, ?, ?)",
                               db_path);
@@ -186,8 +189,17 @@ std::vector<CatalogRow> write_catalog(const std::string& root, const std::string
                 const FileEntry* thumb = m.find_role("thumbnail");
                 const std::string png =
                     fs::read_file((stdfs::path(root) / b.folder / thumb->path).string());
-                int btf = 0;
-                for (const FileEntry& f : m.files) btf += f.role == "btf_component";
+                // What the catalogue screen shows before a download: the BTF's and the
+                // shaders' share of the bundle (roles btf_*, shader_*).
+                int64_t btf = 0, btf_bytes = 0, variants = 0, shader_bytes = 0;
+                for (const FileEntry& f : m.files) {
+                    btf += f.role == "btf_component";
+                    variants += f.role == "shader_manifest";
+                    if (f.role.rfind("btf_", 0) == 0) btf_bytes += static_cast<int64_t>(f.bytes);
+                    if (f.role.rfind("shader_", 0) == 0) {
+                        shader_bytes += static_cast<int64_t>(f.bytes);
+                    }
+                }
                 Binder bind{fabric.get()};
                 bind << m.id << m.name << b.folder << b.sha
                      << static_cast<int64_t>(m.total_bytes())
@@ -202,7 +214,7 @@ std::vector<CatalogRow> write_catalog(const std::string& root, const std::string
                 } else {
                     bind << nullptr;
                 }
-                bind << static_cast<int64_t>(btf) << m.properties.dump();
+                bind << btf << btf_bytes << variants << shader_bytes << m.properties.dump();
                 step_done(db.get(), fabric.get(), where);
             } else {
                 Binder{device.get()} << m.id << m.name << b.folder << b.sha

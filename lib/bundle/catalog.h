@@ -9,8 +9,9 @@
 
 namespace inlight::bundle {
 
-/// Version of the catalogue's table layout, stored in catalog_info.
-inline constexpr int kCatalogVersion = 1;
+/// Version of the catalogue's table layout, stored in catalog_info. Version 2 added the
+/// fabrics' btf_bytes, shader_variants and shader_bytes columns.
+inline constexpr int kCatalogVersion = 2;
 
 /// One row of the catalogue as written.
 struct CatalogRow {

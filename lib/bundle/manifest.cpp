@@ -13,7 +13,7 @@ namespace inlight::bundle {
 namespace {
 
 const std::vector<RoleSpec> kFabricRoles = {
-    // role, required, repeatable, streamed, colour space
+    // role, required, repeatable, streamed, colour space, extensions, since version
     {"albedo", true, false, false, "srgb", "png"},
     {"thumbnail", true, false, false, "srgb", "png"},
     {"material", true, false, false, "", "toml"},
@@ -25,7 +25,11 @@ const std::vector<RoleSpec> kFabricRoles = {
     {"shader_vertex", false, true, false, "", "glsl|vert"},
     {"shader_fragment", false, true, false, "", "glsl|frag"},
     {"shader_manifest", false, true, false, "", "json"},
+    {"shader_index", false, false, false, "", "json", 2},
+    {"shader_data", false, true, false, "", "bin", 2},
     {"btf_manifest", false, false, false, "", "json"},
+    {"btf_weights", false, false, false, "", "bin", 2},
+    {"btf_mean", false, true, false, "data", "png|exr", 2},
     {"btf_component", false, true, true, "data", "png|exr"},
 };
 
@@ -231,12 +235,14 @@ Manifest manifest_from_json(const nlohmann::json& json, const std::string& sourc
                         "(expected '", kFormatName, "')"));
     }
     const nlohmann::json& version = top.require("version");
-    if (!version.is_number_integer() || version.get<int64_t>() != kFormatVersion) {
+    if (!version.is_number_integer() || version.get<int64_t>() < kOldestReadVersion ||
+        version.get<int64_t>() > kFormatVersion) {
         throw Error(str(source, ": unknown manifest version ", version.dump(),
-                        " (this reader knows version ", kFormatVersion, " only)"));
+                        " (this reader knows versions ", kOldestReadVersion, " to ",
+                        kFormatVersion, ")"));
     }
     Manifest m;
-    m.version = kFormatVersion;
+    m.version = static_cast<int>(version.get<int64_t>());
     m.kind = kind_from_string(top.string("kind"));
     m.id = top.string("id");
     if (m.id.empty() || m.id.size() > 64 || m.id[0] == '-' || m.id[0] == '_' ||
@@ -278,6 +284,10 @@ Manifest manifest_from_json(const nlohmann::json& json, const std::string& sourc
             for (const RoleSpec& s : roles_for(m.kind)) known += (known.empty() ? "" : ", ") + std::string(s.role);
             throw Error(str(r.where("role"), ": '", f.role, "' is not a ", to_string(m.kind),
                             " role (known: ", known, ")"));
+        }
+        if (spec->since_version > m.version) {
+            throw Error(str(r.where("role"), ": role '", f.role, "' needs manifest version ",
+                            spec->since_version, " (this manifest is version ", m.version, ")"));
         }
         if (++role_count[f.role] > 1 && !spec->repeatable) {
             throw Error(str(r.where("role"), ": role '", f.role, "' may appear only once"));

@@ -14,8 +14,12 @@ namespace inlight::bundle {
 
 /// "format" of every manifest.
 inline constexpr const char* kFormatName = "inlight_bundle";
-/// The manifest version this code writes and the only one it reads.
-inline constexpr int kFormatVersion = 1;
+/// The manifest version this code writes. Version 2 added the roles that carry the exported
+/// GLES variants whole (shader_index, shader_data) and a compressed BTF whole (btf_weights,
+/// btf_mean); a version-1 manifest naming one of them is rejected.
+inline constexpr int kFormatVersion = 2;
+/// The oldest manifest version this code reads (1 .. kFormatVersion are accepted).
+inline constexpr int kOldestReadVersion = 1;
 /// File name of the manifest at the root of a bundle folder.
 inline constexpr const char* kManifestName = "manifest.json";
 
@@ -78,6 +82,7 @@ struct RoleSpec {
     bool streamed;     ///< carries a stream_index
     const char* color_space;  ///< what the file must be tagged with ("" = not an image)
     const char* extensions;   ///< allowed extensions, '|'-separated ("png", "png|exr")
+    int since_version = 1;    ///< the first manifest version that has this role
 };
 const std::vector<RoleSpec>& roles_for(Kind kind);
 

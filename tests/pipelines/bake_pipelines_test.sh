@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# bake-fabric and bake-device on small inputs: each stage's report, the skipped stages' messages,
-# the bundles' contents; validate-pair + validate-report on one pair.
+# bake-fabric and bake-device on small inputs: each stage's report, the bundles' contents (the
+# exported GLES variants with their manifests; a captured BTF's components in its stream order,
+# every hash recomputed here), a tampered shader and a reordered stream rejected;
+# validate-pair + validate-report on one pair.
 HERE=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=tests/cli/lib.sh
 source "$HERE/../cli/lib.sh"
@@ -9,14 +11,49 @@ source "$HERE/tiny.sh"
 require_blender_data
 make_fabric "$WORK/fab" "Tiny weave" 0.2
 expect_exit 0 "bake-fabric" -- "$PIPE/bake-fabric.sh" "$WORK/fab" "$WORK/out" tiny
-expect_stderr "btf" "says what happened to the BTF stage"
-expect_stderr "export-gles" "says what happened to the shader export"
-M="$WORK/out/bundles/fabrics/tiny/manifest.json"
-expect_true "fabric bundle roles" -- jq -e '[.files[].role] | sort == ["albedo","brdf_sh_table","brdf_sh_table_json","brdf_sh_texture","material","normal","shader_lookup","thumbnail"]' "$M"
+expect_stderr "no BTF" "says the fabric has no BTF"
+expect_stderr "8 GLES variants" "says how many shader variants it bundled (ES 1.00, 3.00 x 2 modes x 2 precisions)"
+B="$WORK/out/bundles/fabrics/tiny"
+M="$B/manifest.json"
+expect_true "fabric bundle roles" -- jq -e '([.files[].role] | unique) == ["albedo","brdf_sh_table","brdf_sh_table_json","brdf_sh_texture","material","normal","shader_data","shader_fragment","shader_index","shader_lookup","shader_manifest","shader_vertex","thumbnail"] and .version == 2' "$M"
+# Every exported variant is bundled with what its manifest names, and the bundle's hash of each
+# is the exporter's file's, recomputed with sha256sum.
+G="$WORK/out/work/fabrics/tiny/gles"
+expect_true "a manifest per exported variant" -- test "$(jq '[.files[] | select(.role == "shader_manifest")] | length' "$M")" -eq "$(jq '.variants | length' "$G/index.json")"
+mismatch=0
+while read -r f; do
+    want=$(sha256sum "$G/$f" | cut -d' ' -f1)
+    got=$(jq -r --arg p "shaders/$f" '.files[] | select(.path == $p) | .sha256' "$M")
+    [ "$want" = "$got" ] || { echo "hash of shaders/$f: bundle '$got', file $want"; mismatch=1; }
+done < <(cd "$G" && jq -r '.variants[].manifest' index.json | while read -r v; do echo "$v"; jq -r '.files[]' "$v"; done)
+expect_true "shader files hashed in the manifest as exported" -- test "$mismatch" -eq 0
 expect_true "properties from the stage reports" -- jq -e '.name == "Tiny weave" and .properties.sh_bands == 3 and .properties.brdf_grid == "thetaphi:5x8" and .properties.tile_size_m == 0.05' "$M"
 for step in maps/report.json brdf/report.json pack.json verify.json; do
     expect_true "report $step ok" -- jq -e '.status == "ok"' "$WORK/out/work/fabrics/tiny/$step"
 done
+cp -r "$B" "$WORK/tampered"
+frag=$(jq -r '[.files[] | select(.role == "shader_fragment")][0].path' "$M")
+sed -i '1s/^#/X/' "$WORK/tampered/$frag"  # same size, one byte changed
+expect_exit 1 "verify rejects a tampered shader" -- "$BIN/bundle" verify "$WORK/tampered"
+expect_stderr "$frag: sha256 mismatch" "names the shader and the problem"
+
+# A captured-BTF fabric (tiny.sh: 4 x 4 px, 1 spp; 3 groups of 27 views, 4 components each).
+make_captured_fabric "$WORK/cap" "Captured twill"
+expect_exit 0 "bake-fabric with a captured BTF" -- "$PIPE/bake-fabric.sh" "$WORK/cap" "$WORK/out" cap
+expect_stderr "btf-pca: 81 views x 81 lights of 4x4 px" "says what btf-pca compressed"
+C="$WORK/out/bundles/fabrics/cap"
+P="$WORK/out/work/fabrics/cap/btf/btf-pca.json"
+expect_true "3 groups of 27 views, 4 components each, in the bundle" -- jq -e '([.files[] | select(.role == "btf_component")] | length) == 12 and ([.files[] | select(.role == "btf_mean")] | length) == 3 and .properties.btf_directions == [81, 81]' "$C/manifest.json"
+# shellcheck disable=SC2016  # $p and $m are jq variables
+expect_true "stream_index k is btf-pca's k-th streamed component" -- jq -e --slurpfile p "$P" \
+    '[.files[] | select(.role == "btf_component")] | sort_by(.stream_index) | map(.path) == ($p[0] as $m | $m.stream | map("btf/" + $m.groups[.[0]].components[.[1]].file))' "$C/manifest.json"
+comp=$(jq -r '.files[] | select(.role == "btf_component" and .stream_index == 0) | .path' "$C/manifest.json")
+expect_true "component hash is btf-pca's file's" -- test -f "$WORK/out/work/fabrics/cap/$comp" -a "$(jq -r --arg p "$comp" '.files[] | select(.path == $p) | .sha256' "$C/manifest.json")" = "$(sha256sum "$WORK/out/work/fabrics/cap/$comp" | cut -d' ' -f1)"
+cp -r "$C" "$WORK/reordered"
+jq '(.files[] | select(.role == "btf_component" and .stream_index < 2) | .stream_index) |= 1 - .' "$C/manifest.json" > "$WORK/reordered/manifest.json"
+expect_exit 1 "verify rejects components out of the BTF's stream order" -- "$BIN/bundle" verify "$WORK/reordered"
+expect_stderr "stream order" "says the stream order differs"
+
 mkdir -p "$WORK/nomat"
 cp "$WORK/fab/fabric.toml" "$WORK/nomat/"
 expect_exit 2 "bake-fabric without material.toml" -- "$PIPE/bake-fabric.sh" "$WORK/nomat" "$WORK/out2"

@@ -28,6 +28,17 @@ TOML
         > "$1/brdf-sh-bake.toml"
 }
 
+# make_captured_fabric DIR NAME: a captured-BTF fabric: weave.toml + capture.toml (4 x 4 px,
+# 1 spp: the whole 81 x 81 dome in a few seconds), 3 view groups of 27 with 4 components, no
+# albedo texture (the capture's frontal image stands in).
+make_captured_fabric() {
+    make_fabric "$1" "$2" 0.3
+    sed -i '/^albedo-texture/d' "$1/fabric.toml"
+    cp "$ROOT/configs/fabrics/wool-twill.toml" "$1/weave.toml"
+    printf 'width-px = 4\nheight-px = 4\nspp = 1\n' > "$1/capture.toml"
+    printf 'view-group-size = 27\ncomponents = 4\n' > "$1/btf-pca.toml"
+}
+
 # make_catalog DIR NFABRICS ENV...: fabrics f1..fN and the given environments.
 make_catalog() {
     local dir=$1 n=$2 i

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# bake-catalog (Snakemake): builds a tiny catalogue; a rerun does nothing; a touched but
+# bake-catalog (Snakemake), labelled slow (over 300 s on the loaded 2-core machine): builds a tiny
+# catalogue; a rerun does nothing; a touched but
 # unchanged input rebuilds nothing; a changed one rebuilds only what reads it; killed mid-run
 # (SIGKILL to the whole process group), the rerun finishes with every bundle intact and
 # without redoing the jobs that had finished.
@@ -77,6 +78,23 @@ expect_true "an edited fabric is rebuilt" -- grep -q 'wildcards: fid=f2$' "$WORK
 expect_true "the others are not" -- bash -c "! grep -Eq 'wildcards: fid=f[13]' '$WORK/run.log'"
 expect_true "its new table is in its bundle" -- \
     grep -q 'alpha = 0.35' "$OUT/bundles/fabrics/f2/material.toml"
+
+# 5. A captured-BTF fabric: its capture is a job of its own, run once; a new material rebakes the
+#    fabric from the same capture.
+make_captured_fabric "$CAT/fabrics/c1" "Captured twill"
+expect_exit 0 "rerun with a captured fabric added" -- run
+expect_true "the capture and the fabric ran, no other fabric" -- bash -c \
+    "grep -q 'rule capture:' '$WORK/run.log' && grep -q 'wildcards: fid=c1\$' '$WORK/run.log' && ! grep -Eq 'wildcards: fid=f[123]\$' '$WORK/run.log'"
+expect_true "the catalogue lists its BTF: components and bytes as in its manifest" -- test \
+    "$(sqlite3 "$OUT/bundles/catalog.sqlite" "SELECT btf_components || ' ' || btf_bytes FROM fabrics WHERE id = 'c1'")" = \
+    "$(jq -r '[.files[] | select(.role | startswith("btf_"))] | "\([.[] | select(.role == "btf_component")] | length) \(map(.bytes) | add)"' "$OUT/bundles/fabrics/c1/manifest.json")"
+expect_true "and no BTF for a BRDF-only fabric" -- test "$(sqlite3 "$OUT/bundles/catalog.sqlite" "SELECT btf_bytes FROM fabrics WHERE id = 'f1'")" = 0
+capture_stamp="$(stat -c %y "$OUT/stamps/capture-c1.json")"
+sed -i 's/alpha = 0.3/alpha = 0.4/' "$CAT/fabrics/c1/material.toml"
+expect_exit 0 "rerun after editing the captured fabric's material" -- run
+expect_true "the fabric is rebaked, its capture is not redone" -- bash -c \
+    "grep -q 'wildcards: fid=c1\$' '$WORK/run.log' && ! grep -q 'rule capture:' '$WORK/run.log'"
+expect_true "capture stamp untouched" -- test "$(stat -c %y "$OUT/stamps/capture-c1.json")" = "$capture_stamp"
 
 # 4. A second bake-catalog on the same folder is refused while one runs.
 exec 8>"$OUT/.bake-catalog.lock"

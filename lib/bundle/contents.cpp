@@ -1,0 +1,176 @@
+#include "bundle/contents.h"
+
+#include <filesystem>
+#include <map>
+
+#include "core/error.h"
+#include "core/fs.h"
+
+namespace inlight::bundle {
+
+namespace {
+
+namespace stdfs = std::filesystem;
+
+// j[key] when j is an object holding key, else null (const access that cannot assert).
+const nlohmann::json& member(const nlohmann::json& j, const char* key) {
+    static const nlohmann::json kNull;
+    if (!j.is_object()) return kNull;
+    const auto it = j.find(key);
+    return it == j.end() ? kNull : *it;
+}
+
+// The bundle's files by path, and the inner manifests' view of them.
+class Listing {
+  public:
+    Listing(const Manifest& m, std::string dir) : m_dir(std::move(dir)) {
+        for (const FileEntry& f : m.files) m_by_path[f.path] = &f;
+    }
+
+    // Parses the inner manifest `f` (already hash-checked) and checks its "format".
+    nlohmann::json read_json(const FileEntry& f, const std::string& format) const {
+        const std::string shown = where(f);
+        nlohmann::json j;
+        try {
+            j = nlohmann::json::parse(fs::read_file((stdfs::path(m_dir) / f.path).string()));
+        } catch (const nlohmann::json::exception& e) {
+            throw Error(str(shown, ": not valid JSON: ", e.what()));
+        }
+        if (member(j, "format") != format) {
+            throw Error(str(shown, ": not a '", format, "' manifest"));
+        }
+        return j;
+    }
+
+    // The bundle file that `name` (a string in the inner manifest `from`, relative to its
+    // folder) refers to; it must exist with role `role`. `key` names the entry in errors.
+    const FileEntry& resolve(const FileEntry& from, const nlohmann::json& name,
+                             const std::string& key, const std::string& role) const {
+        const std::string shown = str(where(from), ": ", key);
+        if (!name.is_string()) throw Error(str(shown, ": expected a file name"));
+        const std::string rel = name.get<std::string>();
+        check_relative_path(rel, shown);
+        const std::string folder = stdfs::path(from.path).parent_path().generic_string();
+        const std::string path = folder.empty() ? rel : folder + "/" + rel;
+        const auto it = m_by_path.find(path);
+        if (it == m_by_path.end()) {
+            throw Error(str(shown, ": '", path, "' is not in the bundle"));
+        }
+        if (it->second->role != role) {
+            throw Error(str(shown, ": '", path, "' has role '", it->second->role,
+                            "' in the bundle (expected '", role, "')"));
+        }
+        return *it->second;
+    }
+
+    std::string where(const FileEntry& f) const { return str(m_dir, "/", f.path); }
+    const std::string& dir() const { return m_dir; }
+
+  private:
+    std::string m_dir;
+    std::map<std::string, const FileEntry*> m_by_path;
+};
+
+const std::map<std::string, std::string> kShaderFileRoles = {
+    {"vertex", "shader_vertex"}, {"fragment", "shader_fragment"}, {"brdf_data", "shader_data"}};
+
+void check_shaders(const Manifest& m, const Listing& listing) {
+    for (const FileEntry& f : m.files) {
+        if (f.role == "shader_manifest") {
+            const nlohmann::json j = listing.read_json(f, "inlight_gles_export");
+            if (!member(j, "files").is_object()) {
+                throw Error(str(listing.where(f), ": files: expected an object"));
+            }
+            for (auto it = j["files"].begin(); it != j["files"].end(); ++it) {
+                const auto role = kShaderFileRoles.find(it.key());
+                if (role == kShaderFileRoles.end()) {
+                    throw Error(str(listing.where(f), ": files.", it.key(),
+                                    ": unknown entry (known: vertex, fragment, brdf_data)"));
+                }
+                listing.resolve(f, it.value(), "files." + it.key(), role->second);
+            }
+        } else if (f.role == "shader_index") {
+            const nlohmann::json j = listing.read_json(f, "inlight_gles_export_index");
+            if (!member(j, "variants").is_array()) {
+                throw Error(str(listing.where(f), ": variants: expected an array"));
+            }
+            for (size_t i = 0; i < j["variants"].size(); ++i) {
+                const nlohmann::json& v = j["variants"][i];
+                const std::string key = str("variants[", i, "].manifest");
+                listing.resolve(f, member(v, "manifest"), key, "shader_manifest");
+            }
+        }
+    }
+}
+
+void check_btf(const Manifest& m, const Listing& listing) {
+    const FileEntry* manifest = m.find_role("btf_manifest");
+    std::map<int, const FileEntry*> streamed;
+    int means = 0;
+    for (const FileEntry& f : m.files) {
+        if (f.role == "btf_component") streamed[f.stream_index] = &f;
+        means += f.role == "btf_mean";
+    }
+    if (!manifest) {
+        if (!streamed.empty() || means > 0 || m.find_role("btf_weights")) {
+            throw Error(str(listing.dir(), ": btf_component, btf_mean or btf_weights files without a "
+                            "btf_manifest"));
+        }
+        return;
+    }
+    if (m.version < 2) return;  // version 1 carried the BTF's manifest without checking it
+    const nlohmann::json j = listing.read_json(*manifest, "inlight-btf-pca");
+    const std::string shown = listing.where(*manifest);
+    if (!member(j, "groups").is_array() || !member(j, "stream").is_array()) {
+        throw Error(str(shown, ": expected 'groups' and 'stream' arrays"));
+    }
+    const nlohmann::json& groups = j["groups"];
+    int used_means = 0;
+    for (size_t g = 0; g < groups.size(); ++g) {
+        listing.resolve(*manifest, member(member(groups[g], "mean"), "file"),
+                        str("groups[", g, "].mean.file"), "btf_mean");
+        ++used_means;
+    }
+    if (used_means != means) {
+        throw Error(str(shown, ": names ", used_means, " mean images, the bundle holds ", means));
+    }
+    const nlohmann::json& stream = j["stream"];
+    if (stream.size() != streamed.size()) {
+        throw Error(str(shown, ": the stream has ", stream.size(),
+                        " components, the bundle holds ", streamed.size(), " btf_component files"));
+    }
+    for (size_t k = 0; k < stream.size(); ++k) {
+        const nlohmann::json& e = stream[k];
+        const std::string key = str("stream[", k, "]");
+        if (!e.is_array() || e.size() != 2 || !e[0].is_number_unsigned() ||
+            !e[1].is_number_unsigned() || e[0].get<size_t>() >= groups.size()) {
+            throw Error(str(shown, ": ", key, ": expected [group, component] of an existing group"));
+        }
+        const nlohmann::json& comps = member(groups[e[0].get<size_t>()], "components");
+        const size_t c = e[1].get<size_t>();
+        if (!comps.is_array() || c >= comps.size() || !comps[c].is_object()) {
+            throw Error(str(shown, ": ", key, ": no component ", c, " in group ", e[0]));
+        }
+        const FileEntry& file =
+            listing.resolve(*manifest, member(comps[c], "file"), key + " file", "btf_component");
+        if (file.stream_index != static_cast<int>(k)) {
+            throw Error(str(listing.where(file), ": stream_index ", file.stream_index,
+                            ", but it is entry ", k, " of ", manifest->path, "'s stream order"));
+        }
+    }
+    if (!streamed.empty()) {
+        listing.resolve(*manifest, member(member(j, "weights"), "file"), "weights.file",
+                        "btf_weights");
+    }
+}
+
+}  // namespace
+
+void check_contents(const Manifest& manifest, const std::string& dir) {
+    if (manifest.kind != Kind::kFabric) return;
+    const Listing listing(manifest, dir);
+    check_shaders(manifest, listing);
+    check_btf(manifest, listing);
+}
+
+}  // namespace inlight::bundle

@@ -1,0 +1,262 @@
+// The manifests inside a fabric bundle (check_contents): a compressed BTF whose components are
+// bundled in its stream order, exported GLES variants whose manifests name files the bundle
+// holds; one test per rejection (wrong stream order, a missing or mis-roled file, a tampered
+// shader), and version 1 manifests, which predate the roles these need.
+#include "bundle/contents.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <utility>
+#include <vector>
+
+#include "bundle/bundle.h"
+#include "core/fs.h"
+#include "core/sha256.h"
+#include "image/image.h"
+#include "testing/testing.h"
+
+namespace inlight::bundle {
+namespace {
+
+namespace stdfs = std::filesystem;
+using testing::error_of;
+
+bool contains(const std::string& s, const std::string& part) {
+    return s.find(part) != std::string::npos;
+}
+
+// A minimal fabric bundle request (albedo, thumbnail, material) with sources under DIR/src.
+struct Fabric {
+    std::string dir, src, bundle;
+    PackRequest request;
+
+    explicit Fabric(const std::string& name) {
+        dir = testing::temp_dir("bundle_contents_" + name);
+        src = dir + "/src";
+        bundle = dir + "/bundles/fabrics/weave";
+        stdfs::create_directories(src);
+        image::write_image(src + "/albedo.png", image::Image(4, 4, 3));
+        image::write_image(src + "/thumbnail.png", image::Image(2, 2, 3));
+        fs::write_text_atomic(src + "/material.toml", "specular = \"ggx\"\nalpha = 0.2\n");
+        request.id = "weave";
+        request.name = "Weave";
+        request.files = {{src + "/albedo.png", "albedo.png", "albedo", -1},
+                         {src + "/thumbnail.png", "thumbnail.png", "thumbnail", -1},
+                         {src + "/material.toml", "material.toml", "material", -1}};
+    }
+    void add(const std::string& name, const std::string& text, const std::string& path,
+             const std::string& role, int stream_index = -1) {
+        stdfs::create_directories(stdfs::path(src + "/" + name).parent_path());
+        fs::write_text_atomic(src + "/" + name, text);
+        request.files.push_back({src + "/" + name, path, role, stream_index});
+    }
+    void add_image(const std::string& name, const std::string& role, int stream_index = -1) {
+        image::write_image(src + "/" + name, image::Image(2, 2, 3, image::ColorSpace::kData));
+        request.files.push_back({src + "/" + name, "btf/" + name, role, stream_index});
+    }
+
+    // A compressed BTF as btf-pca writes it: two view groups of two components, streamed in
+    // `stream` ([group, component] pairs); each component is bundled at its stream position.
+    void add_btf(const std::vector<std::pair<int, int>>& stream) {
+        nlohmann::json groups = nlohmann::json::array();
+        for (int g = 0; g < 2; ++g) {
+            const std::string mean = str("g00", g, "-mean.png");
+            add_image(mean, "btf_mean");
+            nlohmann::json comps = nlohmann::json::array();
+            for (int c = 0; c < 2; ++c) comps.push_back({{"file", str("g00", g, "-c0", c, ".png")}});
+            groups.push_back({{"mean", {{"file", mean}}}, {"components", comps}});
+        }
+        nlohmann::json order = nlohmann::json::array();
+        for (size_t k = 0; k < stream.size(); ++k) {
+            const auto [g, c] = stream[k];
+            order.push_back({g, c});
+            add_image(groups[g]["components"][c]["file"], "btf_component", static_cast<int>(k));
+        }
+        add("btf-pca.json",
+            nlohmann::json({{"format", "inlight-btf-pca"}, {"groups", groups}, {"stream", order},
+                            {"weights", {{"file", "weights.bin"}}}})
+                .dump(),
+            "btf/btf-pca.json", "btf_manifest");
+        add("weights.bin", std::string(64, '\1'), "btf/weights.bin", "btf_weights");
+    }
+
+    // One exported GLES variant as render/brdf-sh-bake --export-gles write it (manifest naming
+    // its vertex and fragment shaders and table data), plus the index of the variants.
+    void add_shader(const std::string& name, const std::string& vertex_file) {
+        add(name + ".vert", "void main() {}\n", "shaders/" + name + ".vert", "shader_vertex");
+        add(name + ".frag", "void main() { /* " + name + " */ }\n", "shaders/" + name + ".frag",
+            "shader_fragment");
+        add(name + ".brdf.bin", std::string(48, '\2'), "shaders/" + name + ".brdf.bin",
+            "shader_data");
+        add(name + ".json",
+            nlohmann::json({{"format", "inlight_gles_export"},
+                            {"files", {{"vertex", vertex_file},
+                                       {"fragment", name + ".frag"},
+                                       {"brdf_data", name + ".brdf.bin"}}}})
+                .dump(),
+            "shaders/" + name + ".json", "shader_manifest");
+    }
+    void add_shader_index(const std::vector<std::string>& names) {
+        nlohmann::json variants = nlohmann::json::array();
+        for (const auto& n : names) variants.push_back({{"manifest", n + ".json"}});
+        add("index.json",
+            nlohmann::json({{"format", "inlight_gles_export_index"}, {"variants", variants}}).dump(),
+            "shaders/index.json", "shader_index");
+    }
+    void edit_manifest(const std::function<void(nlohmann::json&)>& edit) const {
+        const std::string p = bundle + "/manifest.json";
+        nlohmann::json j = nlohmann::json::parse(fs::read_file(p));
+        edit(j);
+        fs::write_text_atomic(p, j.dump(2));
+    }
+};
+
+const std::vector<std::pair<int, int>> kStream = {{1, 0}, {0, 0}, {0, 1}, {1, 1}};
+
+TEST(BundleContents, CarriesACompressedBtfInItsStreamOrder) {
+    Fabric f("btf");
+    f.add_btf(kStream);
+    write_bundle(f.bundle, f.request);
+    const Manifest m = read_bundle(f.bundle);
+    EXPECT_EQ(m.version, kFormatVersion);
+    int components = 0;
+    for (const FileEntry& e : m.files) {
+        // Each file's hash is its source's (core/sha256 on the source, not the bundle's copy).
+        const std::string source = f.src + "/" + stdfs::path(e.path).filename().string();
+        EXPECT_EQ(e.sha256, sha256_file(source)) << e.path;
+        if (e.role != "btf_component") continue;
+        ++components;
+        const auto [g, c] = kStream.at(static_cast<size_t>(e.stream_index));
+        EXPECT_EQ(e.path, str("btf/g00", g, "-c0", c, ".png"));
+    }
+    EXPECT_EQ(components, 4);
+}
+
+TEST(BundleContents, RejectsABtfStreamOrderOtherThanItsManifests) {
+    Fabric f("btf_order");
+    f.add_btf(kStream);
+    write_bundle(f.bundle, f.request);
+    // Swap the first two components' positions: the schema still holds (0..n-1 once each).
+    f.edit_manifest([](nlohmann::json& j) {
+        std::vector<nlohmann::json*> comps;
+        for (auto& e : j["files"]) {
+            if (e["role"] == "btf_component" && e["stream_index"] < 2) comps.push_back(&e);
+        }
+        ASSERT_EQ(comps.size(), 2u);
+        std::swap((*comps[0])["stream_index"], (*comps[1])["stream_index"]);
+    });
+    const std::string e = error_of([&] { read_bundle(f.bundle); });
+    EXPECT_TRUE(contains(e, "stream order")) << e;
+    // Writing such a bundle fails the same way, and leaves nothing behind.
+    Fabric w("btf_order_write");
+    w.add_btf(kStream);
+    std::swap(w.request.files[5].stream_index, w.request.files[6].stream_index);
+    EXPECT_TRUE(contains(error_of([&] { write_bundle(w.bundle, w.request); }), "stream order"));
+    EXPECT_FALSE(stdfs::exists(w.bundle));
+}
+
+TEST(BundleContents, RejectsABtfWithoutItsMeansWeightsOrManifest) {
+    Fabric f("btf_missing");
+    f.add_btf(kStream);
+    const PackRequest full = f.request;
+    const std::pair<std::string, std::string> cases[] = {
+        {"btf/g001-mean.png", "groups[1].mean.file: 'btf/g001-mean.png' is not in the bundle"},
+        {"btf/weights.bin", "weights.file: 'btf/weights.bin' is not in the bundle"},
+        {"btf/btf-pca.json", "files without a btf_manifest"},
+    };
+    for (const auto& [drop, want] : cases) {
+        f.request = full;
+        auto& files = f.request.files;
+        files.erase(std::remove_if(files.begin(), files.end(),
+                                   [&](const PackFile& p) { return p.path == drop; }),
+                    files.end());
+        const std::string e = error_of([&] { write_bundle(f.bundle, f.request); });
+        EXPECT_TRUE(contains(e, want)) << "without " << drop << ": " << e;
+    }
+}
+
+TEST(BundleContents, CarriesExportedShadersWithTheirManifests) {
+    Fabric f("shaders");
+    f.add_shader("m-es300-highp", "m-es300-highp.vert");
+    f.add_shader("m-es300-mediump", "m-es300-mediump.vert");
+    f.add_shader_index({"m-es300-highp", "m-es300-mediump"});
+    write_bundle(f.bundle, f.request);
+    const Manifest m = read_bundle(f.bundle);
+    // Every file a variant's manifest names is in the bundle, with its source's hash.
+    for (const FileEntry& e : m.files) {
+        if (e.role != "shader_manifest") continue;
+        const auto j = nlohmann::json::parse(fs::read_file(f.bundle + "/" + e.path));
+        for (const auto& [key, name] : j["files"].items()) {
+            const std::string path = "shaders/" + name.get<std::string>();
+            const auto it = std::find_if(m.files.begin(), m.files.end(),
+                                         [&](const FileEntry& x) { return x.path == path; });
+            ASSERT_NE(it, m.files.end()) << key << " " << path;
+            EXPECT_EQ(it->sha256, sha256_file(f.src + "/" + name.get<std::string>())) << path;
+        }
+    }
+}
+
+TEST(BundleContents, RejectsAShaderManifestNamingAFileNotInTheBundle) {
+    Fabric f("shader_missing");
+    f.add_shader("v", "v.vert");
+    f.request.files.erase(f.request.files.begin() + 4);  // v.frag
+    std::string e = error_of([&] { write_bundle(f.bundle, f.request); });
+    EXPECT_TRUE(contains(e, "shaders/v.json: files.fragment: 'shaders/v.frag' is not in the bundle"))
+        << e;
+    Fabric r("shader_role");
+    r.add_shader("v", "v.frag");  // the vertex entry names the fragment shader
+    e = error_of([&] { write_bundle(r.bundle, r.request); });
+    EXPECT_TRUE(contains(e, "files.vertex: 'shaders/v.frag' has role 'shader_fragment'")) << e;
+    Fabric i("shader_index");
+    i.add_shader("v", "v.vert");
+    i.add_shader_index({"v", "w"});
+    e = error_of([&] { write_bundle(i.bundle, i.request); });
+    EXPECT_TRUE(contains(e, "variants[1].manifest: 'shaders/w.json' is not in the bundle")) << e;
+}
+
+TEST(BundleContents, RejectsATamperedShader) {
+    Fabric f("shader_tampered");
+    f.add_shader("v", "v.vert");
+    write_bundle(f.bundle, f.request);
+    const std::string p = f.bundle + "/shaders/v.frag";
+    std::string text = fs::read_file(p);
+    text[0] = 'V';  // same size, one byte changed
+    { std::ofstream(p, std::ios::binary) << text; }
+    const std::string e = error_of([&] { read_bundle(f.bundle); });
+    EXPECT_TRUE(contains(e, "shaders/v.frag: sha256 mismatch")) << e;
+}
+
+TEST(BundleContents, Version1ManifestsAreReadWithoutTheVersion2Roles) {
+    Fabric f("v1");
+    write_bundle(f.bundle, f.request);
+    f.edit_manifest([](nlohmann::json& j) { j["version"] = 1; });
+    EXPECT_EQ(read_bundle(f.bundle).version, 1);
+    Fabric s("v1_shaders");
+    s.add_shader("v", "v.vert");
+    write_bundle(s.bundle, s.request);
+    s.edit_manifest([](nlohmann::json& j) { j["version"] = 1; });
+    const std::string e = error_of([&] { read_bundle(s.bundle); });
+    EXPECT_TRUE(contains(e, "role 'shader_data' needs manifest version 2")) << e;
+}
+
+TEST(Manifest, StreamIndicesRunFromZeroWithoutGaps) {
+    Fabric f("stream");
+    f.add_btf(kStream);
+    auto component = [&](int k) -> PackFile& {
+        for (PackFile& p : f.request.files) {
+            if (p.role == "btf_component" && p.stream_index == k) return p;
+        }
+        throw Error("no component");
+    };
+    component(3).stream_index = 5;
+    EXPECT_TRUE(contains(error_of([&] { write_bundle(f.bundle, f.request); }),
+                         "stream_index values must be 0..3"));
+    component(5).stream_index = -1;
+    EXPECT_TRUE(contains(error_of([&] { write_bundle(f.bundle, f.request); }),
+                         "stream_index is required"));
+}
+
+}  // namespace
+}  // namespace inlight::bundle

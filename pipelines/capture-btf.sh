@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# capture-btf: a captured-BTF fabric's synthetic capture (render --btf-capture, docs/btf.md).
+#   pipelines/capture-btf.sh FABRIC_DIR OUTDIR        (binaries from ${INLIGHT_BIN:-build/bin})
+# FABRIC_DIR holds weave.toml (a render fabric file: configs/fabrics/ has more) and capture.toml
+# (render's options for the capture: width-px, height-px, spp, seed, btf-format, ...). Writes
+# OUTDIR/btf/ (UBO2003 layout, 81 view folders) and OUTDIR/capture.json (render's report);
+# render's output transaction makes the folder appear whole or not at all.
+set -euo pipefail
+if [ $# -ne 2 ]; then
+    echo "usage: capture-btf.sh FABRIC_DIR OUTDIR" >&2
+    exit 2
+fi
+HERE=$(cd "$(dirname "$0")" && pwd)
+ROOT=$(cd "$HERE/.." && pwd)
+FABRIC=$(cd "$1" && pwd)
+BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+for f in weave.toml capture.toml; do
+    if [ ! -f "$FABRIC/$f" ]; then
+        echo "capture-btf: $FABRIC/$f not found (a captured fabric needs weave.toml and capture.toml)" >&2
+        exit 2
+    fi
+done
+mkdir -p "$2"
+OUT=$(cd "$2" && pwd)
+rm -rf "$OUT/btf"
+echo "[capture-btf $(basename "$FABRIC")] render weave.toml --btf-capture --config capture.toml" >&2
+"$BIN/render" "$FABRIC/weave.toml" --btf-capture --config "$FABRIC/capture.toml" -o "$OUT/btf" \
+    -q --report "$OUT/capture.json"
+jq -r '.metrics.capture | "[capture-btf] \(.images) images of \(.width_px)x\(.height_px) px at \(.spp) spp in \(.wall_time_s * 10 | round / 10) s, noise median \(if .rel_error_median then .rel_error_median * 1000 | round / 1000 else "n/a (1 spp)" end)"' \
+    "$OUT/capture.json" >&2
