@@ -1,5 +1,6 @@
 // btf-pca: compress a BTF (UBO2003 folder or Bonn zip file) with PCA per group of k neighbouring
 // views, store the components for streaming, and report Table 7.1-style errors (docs/btf.md).
+#include "btf/interp_run.h"
 #include "btf/pca_run.h"
 #include "core/app.h"
 #include "core/validators.h"
@@ -38,6 +39,19 @@ int main(int argc, char** argv) {
                    "(default: the UBO2003 dome)")->check(CLI::ExistingFile);
     cli.add_option("--view-directions", o.open.view_directions, "View direction file "
                    "(default: the UBO2003 dome)")->check(CLI::ExistingFile);
+    btf::InterpRunOptions interp;  // --interpolate: decompress at arbitrary directions instead
+    std::string scheme = "delaunay";
+    auto* ip = cli.add_option("--interpolate", interp.pairs, "Instead of compressing: evaluate the input (a "
+                              "BTF or a btf-pca output folder) at each (light, view) pair of this file by "
+                              "angular interpolation; -o gets one EXR per pair (docs/btf-interpolation.md)")
+                   ->check(CLI::ExistingFile);
+    cli.add_option("--scheme", scheme, "Interpolation: thesis (three closest directions per ring), "
+                   "delaunay (spherical Delaunay triangles) or nearest (no interpolation, the baseline)")
+        ->check(CLI::IsMember({"thesis", "delaunay", "nearest"}))->capture_default_str()->needs(ip);
+    cli.add_option("--truth", interp.truth, "Interpolation: a capture of the same pairs to compare with")
+        ->check(CLI::ExistingDirectory)->needs(ip);
+    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format"})
+        ip->excludes(cli.get_option(opt));
     bool linear = false;
     cli.add_flag("--linear-input", linear, "8/16-bit images hold linear values (default: sRGB-encoded)");
     cli.add_option("--color-samples", o.color_samples, "Colour triples for the CIELAB, Delta E "
@@ -49,10 +63,18 @@ int main(int argc, char** argv) {
                    "an independent capture): the input and the table rows are also measured against it")
         ->check(CLI::ExistingPath);
     app::setup(cli, common, "btf-pca wool_btf.zip -o out/wool -k 3 -c 8 --report wool.json");
+    ip->excludes(cli.get_option("--table-components"));
     if (auto code = app::parse(cli, argc, argv)) return *code;
     o.open.decode_srgb = !linear;
     o.pca.method = btf::pca_method_from_string(method);
     o.encoding = btf::component_encoding_from_string(format);
     o.pca.seed = common.seed;
-    return app::run("btf-pca", cli, common, argc, argv, [&](Report& report) { btf::run_pca(o, report); });
+    interp.input = o.input;
+    interp.output = o.output;
+    interp.open = o.open;
+    interp.scheme = btf::interp_scheme_from_string(scheme);
+    return app::run("btf-pca", cli, common, argc, argv, [&](Report& report) {
+        if (interp.pairs.empty()) btf::run_pca(o, report);
+        else btf::run_interpolation(interp, report);
+    });
 }

@@ -163,13 +163,58 @@ image::Image CompressedBtf::read_image(int light, int view) const {
     return decode(light, view, all);
 }
 
-image::Image CompressedBtf::read_image_streamed(int light, int view, int64_t sent) const {
+std::vector<int> CompressedBtf::components_after(int64_t sent) const {
     std::vector<int> per_group(m_groups.size(), 0);
     for (int64_t i = 0; i < std::min<int64_t>(sent, stream_length()); ++i) {
         const auto [g, c] = m_stream[static_cast<size_t>(i)];
         per_group[static_cast<size_t>(g)] = std::max(per_group[static_cast<size_t>(g)], c + 1);
     }
-    return decode(light, view, per_group);
+    return per_group;
+}
+
+image::Image CompressedBtf::read_image_streamed(int light, int view, int64_t sent) const {
+    return decode(light, view, components_after(sent));
+}
+
+image::Image CompressedBtf::combine(const std::vector<ImageTerm>& terms) const {
+    std::vector<int> all;
+    for (const auto& g : m_groups) all.push_back(static_cast<int>(g.basis.cols()));
+    return combine_with(terms, all);
+}
+
+image::Image CompressedBtf::combine_streamed(const std::vector<ImageTerm>& terms, int64_t sent) const {
+    return combine_with(terms, components_after(sent));
+}
+
+image::Image CompressedBtf::combine_with(const std::vector<ImageTerm>& terms, const std::vector<int>& per_group) const {
+    const size_t ng = m_groups.size();
+    // Per group: the mean's weight and the C x 3 component coefficients, summed in term order.
+    std::vector<Eigen::Vector3d> mean_w(ng, Eigen::Vector3d::Zero());
+    std::vector<Eigen::MatrixXd> coef(ng);
+    std::vector<bool> used(ng, false);
+    for (size_t g = 0; g < ng; ++g) coef[g] = Eigen::MatrixXd::Zero(per_group[g], 3);
+    for (const ImageTerm& t : terms) {
+        INLIGHT_CHECK(t.light >= 0 && t.light < m_shape.n_lights() && t.view >= 0 && t.view < m_shape.n_views());
+        const auto g = static_cast<size_t>(m_group_of_view[static_cast<size_t>(t.view)]);
+        const int64_t base = (int64_t(m_index_in_group[static_cast<size_t>(t.view)]) * m_shape.n_lights() + t.light) * 3;
+        used[g] = true;
+        mean_w[g] += t.weight;
+        for (int ch = 0; ch < 3; ++ch)
+            coef[g].col(ch) += t.weight[ch] *
+                               m_groups[g].weights.row(base + ch).head(per_group[g]).transpose().cast<double>();
+    }
+    const int64_t np = m_shape.pixel_count();
+    Eigen::MatrixXd acc = Eigen::MatrixXd::Zero(np, 3);
+    for (size_t g = 0; g < ng; ++g) {
+        if (!used[g]) continue;
+        const Group& gr = m_groups[g];
+        acc += gr.mean.cast<double>() * mean_w[g].transpose();
+        if (per_group[g] > 0) acc += gr.basis.leftCols(per_group[g]).cast<double>() * coef[g];
+    }
+    image::Image img(m_shape.width, m_shape.height, 3);
+    for (int64_t p = 0; p < np; ++p)
+        for (int ch = 0; ch < 3; ++ch) img.pixels[static_cast<size_t>(p * 3 + ch)] = static_cast<float>(acc(p, ch));
+    return img;
 }
 
 }  // namespace inlight::btf

@@ -59,6 +59,12 @@ class CompressedBtf : public BtfSource {
     /// The image as a client has it after the first `sent` components of the stream (the means
     /// always): the progressive preview. sent >= stream_length() gives read_image.
     image::Image read_image_streamed(int light, int view, int64_t sent) const;
+    /// The weighted sum of images (BtfSource::combine) computed in the compressed domain: per
+    /// group and channel the terms' weights fold into C coefficients (sum_t w_t V[row_t]), so
+    /// each pixel costs C multiply-adds per group touched, whatever the number of terms. With
+    /// `sent` only the first `sent` components of the stream are used (read_image_streamed).
+    image::Image combine(const std::vector<ImageTerm>& terms) const override;
+    image::Image combine_streamed(const std::vector<ImageTerm>& terms, int64_t sent) const;
     int64_t stream_length() const { return static_cast<int64_t>(m_stream.size()); }
     int group_of_view(int view) const { return m_group_of_view[static_cast<size_t>(view)]; }
     int components(int group) const { return static_cast<int>(m_groups[static_cast<size_t>(group)].basis.cols()); }
@@ -72,6 +78,8 @@ class CompressedBtf : public BtfSource {
         Eigen::MatrixXf weights;  // N x C
     };
     image::Image decode(int light, int view, const std::vector<int>& components_per_group) const;
+    std::vector<int> components_after(int64_t sent) const;
+    image::Image combine_with(const std::vector<ImageTerm>& terms, const std::vector<int>& per_group) const;
 
     BtfShape m_shape;
     nlohmann::json m_manifest;

@@ -103,6 +103,32 @@ void BtfSource::read_group(const std::vector<int>& views, Eigen::MatrixXf& out) 
     });
 }
 
+image::Image BtfSource::combine(const std::vector<ImageTerm>& terms) const {
+    const BtfShape& s = shape();
+    image::Image out(s.width, s.height, 3, image::ColorSpace::kLinearSrgb);
+    std::vector<double> acc(out.pixels.size(), 0.0);
+    constexpr size_t kBatch = 16;  // images held at once
+    for (size_t t0 = 0; t0 < terms.size(); t0 += kBatch) {
+        const size_t n = std::min(kBatch, terms.size() - t0);
+        std::vector<image::Image> images(n);
+        parallel::for_chunks(static_cast<int64_t>(n), 1, [&](int64_t b, int64_t e) {
+            for (int64_t i = b; i < e; ++i) {
+                const ImageTerm& t = terms[t0 + size_t(i)];
+                INLIGHT_CHECK(t.light >= 0 && t.light < s.n_lights() && t.view >= 0 && t.view < s.n_views());
+                images[size_t(i)] = read_image(t.light, t.view);
+            }
+        });
+        for (size_t i = 0; i < n; ++i) {
+            const Eigen::Vector3d& w = terms[t0 + i].weight;
+            const std::vector<float>& px = images[i].pixels;
+            INLIGHT_CHECK_EQ(px.size(), acc.size());
+            for (size_t k = 0; k < acc.size(); ++k) acc[k] += px[k] * w[int(k % 3)];
+        }
+    }
+    for (size_t k = 0; k < acc.size(); ++k) out.pixels[k] = static_cast<float>(acc[k]);
+    return out;
+}
+
 struct FolderBtf::Zip {
     std::unique_ptr<ZipArchive> archive;
     std::map<std::string, const ArchiveEntry*> by_name;

@@ -35,6 +35,13 @@ struct BtfShape {
     double sample_count() const { return double(pixel_count()) * group_columns(n_views()); }
 };
 
+/// One term of a weighted sum of a BTF's images: image (light, view) times a weight per channel.
+struct ImageTerm {
+    int light = 0;
+    int view = 0;
+    Eigen::Vector3d weight = Eigen::Vector3d::Zero();  ///< per linear_srgb channel
+};
+
 /// Anything that yields a BTF's images: a folder or zip file, or an analytic BTF in tests.
 /// Implementations must be safe to call from several threads at once.
 class BtfSource {
@@ -48,6 +55,12 @@ class BtfSource {
     /// in parallel; the result does not depend on the thread count.
     /// Precondition: views are valid, distinct indices (checked).
     virtual void read_group(const std::vector<int>& views, Eigen::MatrixXf& out) const;
+    /// sum_t weight_t x image(light_t, view_t) per channel: width x height x 3, linear_srgb,
+    /// summed in double in the terms' order (the same bits for any thread count). Angular
+    /// interpolation (btf/interp.h) and environment shading (btf/lighting.h) are such sums.
+    /// This default reads every image; a compressed BTF sums its weights first.
+    /// Precondition: every term's light and view are valid (checked).
+    virtual image::Image combine(const std::vector<ImageTerm>& terms) const;
 };
 
 /// How a BTF folder or zip file is read.

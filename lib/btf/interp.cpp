@@ -47,14 +47,39 @@ std::array<double, 2> arc_weights(const Eigen::Vector3d& a, const Eigen::Vector3
     return {wa / s, wb / s};
 }
 
+/// Drops weights below kDetEps (rounding of an exact zero, e.g. on a measured direction or an
+/// edge) and renormalises, so that a measured direction takes one sample, an edge two.
+DirectionWeights compact(DirectionWeights w) {
+    DirectionWeights out;
+    out.outside_deg = w.outside_deg;
+    double s = 0;
+    for (int i = 0; i < w.count; ++i)
+        if (w.weight[size_t(i)] > kDetEps) {
+            out.index[size_t(out.count)] = w.index[size_t(i)];
+            out.weight[size_t(out.count)] = w.weight[size_t(i)];
+            s += w.weight[size_t(i)];
+            ++out.count;
+        }
+    if (out.count == 0) return w;
+    for (int i = 0; i < out.count; ++i) out.weight[size_t(i)] /= s;
+    return out;
+}
+
 }  // namespace
 
-std::string to_string(InterpScheme s) { return s == InterpScheme::kThesis ? "thesis" : "delaunay"; }
+std::string to_string(InterpScheme s) {
+    switch (s) {
+        case InterpScheme::kThesis: return "thesis";
+        case InterpScheme::kDelaunay: return "delaunay";
+        case InterpScheme::kNearest: return "nearest";
+    }
+    return "?";
+}
 
 InterpScheme interp_scheme_from_string(const std::string& name) {
-    if (name == "thesis") return InterpScheme::kThesis;
-    if (name == "delaunay") return InterpScheme::kDelaunay;
-    throw UsageError("unknown interpolation scheme '" + name + "' (thesis, delaunay)");
+    for (auto s : {InterpScheme::kThesis, InterpScheme::kDelaunay, InterpScheme::kNearest})
+        if (to_string(s) == name) return s;
+    throw UsageError("unknown interpolation scheme '" + name + "' (thesis, delaunay, nearest)");
 }
 
 Eigen::VectorXd dense_weights(const DirectionWeights& w, int n) {
@@ -128,7 +153,8 @@ DirectionWeights ThesisInterpolator::weights(const Eigen::Vector3d& d) const {
         w.count = a == b ? 1 : 2;
         w.index = {r.index[size_t(a)], r.index[size_t(b)], 0};
         w.weight = {a == b ? 1.0 : 1 - t, a == b ? 0.0 : t, 0};
-        return w;
+        w.outside_deg = std::abs(theta - r.theta_deg);
+        return compact(w);
     };
     if (lo < 0) return linear_on(m_rings.front());
     if (hi < 0) return linear_on(m_rings[size_t(lo)]);
@@ -148,7 +174,7 @@ DirectionWeights ThesisInterpolator::weights(const Eigen::Vector3d& d) const {
     w.count = 3;
     w.index = tri;
     for (int i = 0; i < 3; ++i) w.weight[size_t(i)] = s > 0 ? v[size_t(i)] / s : (i == 0 ? 1.0 : 0.0);
-    return w;
+    return compact(w);
 }
 
 // ---- the spherical Delaunay reference ----
@@ -229,7 +255,7 @@ DirectionWeights DelaunayInterpolator::weights(const Eigen::Vector3d& d) const {
         w.count = 3;
         w.index = t;
         for (int i = 0; i < 3; ++i) w.weight[size_t(i)] = std::max(0.0, v[size_t(i)]) / s;
-        return w;
+        return compact(w);
     }
     // Outside the region: the nearest point of its boundary arcs.
     double best = 4;
@@ -249,12 +275,41 @@ DirectionWeights DelaunayInterpolator::weights(const Eigen::Vector3d& d) const {
             w.outside_deg = angle * 180.0 / kPi;
         }
     }
+    return compact(w);
+}
+
+std::vector<ImageTerm> interpolation_terms(const DirectionInterpolator& lights,
+                                           const DirectionInterpolator& views,
+                                           const Eigen::Vector3d& light, const Eigen::Vector3d& view) {
+    const DirectionWeights wl = lights.weights(light), wv = views.weights(view);
+    std::vector<ImageTerm> terms;
+    for (int u = 0; u < wl.count; ++u)
+        for (int v = 0; v < wv.count; ++v) {
+            const double w = wl.weight[size_t(u)] * wv.weight[size_t(v)];
+            if (w > 0) terms.push_back({wl.index[size_t(u)], wv.index[size_t(v)], Eigen::Vector3d::Constant(w)});
+        }
+    return terms;
+}
+
+NearestInterpolator::NearestInterpolator(const std::vector<Direction>& set) {
+    if (set.empty()) throw Error("nearest direction: empty direction set");
+    for (const Direction& d : set) m_vec.push_back(d.vector());
+}
+
+DirectionWeights NearestInterpolator::weights(const Eigen::Vector3d& d) const {
+    check_unit(d);
+    DirectionWeights w;
+    w.count = 1;
+    w.weight[0] = 1;
+    for (size_t i = 1; i < m_vec.size(); ++i)
+        if (m_vec[i].dot(d) > m_vec[size_t(w.index[0])].dot(d)) w.index[0] = int(i);
     return w;
 }
 
 std::unique_ptr<DirectionInterpolator> make_interpolator(InterpScheme scheme,
                                                          const std::vector<Direction>& set) {
     if (scheme == InterpScheme::kThesis) return std::make_unique<ThesisInterpolator>(set);
+    if (scheme == InterpScheme::kNearest) return std::make_unique<NearestInterpolator>(set);
     return std::make_unique<DelaunayInterpolator>(set);
 }
 

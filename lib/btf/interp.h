@@ -30,20 +30,26 @@
 #include <string>
 #include <vector>
 
+#include "btf/dataset.h"
 #include "btf/dome.h"
 
 namespace inlight::btf {
 
 /// The measured directions blended for one query.
 struct DirectionWeights {
-    int count = 0;                       ///< 1..3 entries used
+    int count = 0;  ///< 1..3 entries used (weights below 1e-12, rounding of 0, are dropped)
     std::array<int, 3> index{{0, 0, 0}};  ///< indices into the direction set
     std::array<double, 3> weight{{0, 0, 0}};  ///< >= 0, sum 1
-    double outside_deg = 0;  ///< how far the query was projected onto the region (0 inside)
+    /// How far the query was moved onto the measured region (0 inside): Delaunay, the angle to
+    /// the boundary point used; thesis, the theta distance to the ring used when it lies beyond
+    /// the outermost ring (or above the innermost ring of a set without a pole direction).
+    double outside_deg = 0;
 };
 
-enum class InterpScheme { kThesis, kDelaunay };
-std::string to_string(InterpScheme s);  ///< "thesis", "delaunay"
+/// kNearest, the baseline without interpolation: the measured direction with the largest
+/// cosine to the query, weight 1 (ties to the lowest index).
+enum class InterpScheme { kThesis, kDelaunay, kNearest };
+std::string to_string(InterpScheme s);  ///< "thesis", "delaunay", "nearest"
 /// Inverse of to_string; throws UsageError naming the value otherwise.
 InterpScheme interp_scheme_from_string(const std::string& name);
 
@@ -95,9 +101,26 @@ class DelaunayInterpolator : public DirectionInterpolator {
     std::vector<std::array<int, 2>> m_boundary;
 };
 
+/// The nearest measured direction (no interpolation). Throws Error for an empty set.
+class NearestInterpolator : public DirectionInterpolator {
+  public:
+    explicit NearestInterpolator(const std::vector<Direction>& set);
+    using DirectionInterpolator::weights;
+    DirectionWeights weights(const Eigen::Vector3d& d) const override;
+
+  private:
+    std::vector<Eigen::Vector3d> m_vec;
+};
+
 /// The interpolator of `scheme` over `set`.
 std::unique_ptr<DirectionInterpolator> make_interpolator(InterpScheme scheme,
                                                          const std::vector<Direction>& set);
+
+/// The thesis' nine-sample blend (4.4.3), C = sum_u b_lu sum_v b_vv C_uv, as terms of
+/// BtfSource::combine (the product weight on every channel): at most 9 terms, light-major.
+std::vector<ImageTerm> interpolation_terms(const DirectionInterpolator& lights,
+                                           const DirectionInterpolator& views,
+                                           const Eigen::Vector3d& light, const Eigen::Vector3d& view);
 
 /// The weights as a dense vector over a set of `n` directions (tests and comparisons).
 Eigen::VectorXd dense_weights(const DirectionWeights& w, int n);

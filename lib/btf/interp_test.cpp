@@ -240,9 +240,15 @@ TEST(ThesisInterpolator, SetsWithoutRingsAreErrors) {
 }
 
 TEST(InterpScheme, NamesRoundTrip) {
-    for (auto s : {InterpScheme::kThesis, InterpScheme::kDelaunay})
+    for (auto s : {InterpScheme::kThesis, InterpScheme::kDelaunay, InterpScheme::kNearest})
         EXPECT_EQ(interp_scheme_from_string(to_string(s)), s);
-    EXPECT_THROW(interp_scheme_from_string("nearest"), UsageError);
+    // The baseline: the largest cosine. (44, 39) is 1 deg from the dome's (45, 40).
+    const NearestInterpolator ni(ubo2003_dome());
+    const DirectionWeights w = ni.weights(dir(44, 39));
+    EXPECT_EQ(w.count, 1);
+    EXPECT_EQ(ubo2003_dome()[size_t(w.index[0])].phi_deg, 40.0);
+    EXPECT_EQ(ubo2003_dome()[size_t(w.index[0])].theta_deg, 45.0);
+    EXPECT_THROW(interp_scheme_from_string("linear"), UsageError);
 }
 
 }  // namespace
