@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -20,6 +21,17 @@ int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen
         }
     }
     return best;
+}
+
+std::vector<ImageTerm> shading_terms(const DomeLighting& lighting, const std::vector<int>& views,
+                                     const std::vector<double>& view_weights, double irradiance_w_m2) {
+    INLIGHT_CHECK_EQ(views.size(), view_weights.size());
+    INLIGHT_CHECK(irradiance_w_m2 > 0) << irradiance_w_m2;
+    std::vector<ImageTerm> terms;
+    for (size_t b = 0; b < views.size(); ++b)
+        for (size_t l = 0; l < lighting.weight.size(); ++l)
+            terms.push_back({static_cast<int>(l), views[b], lighting.weight[l] * (view_weights[b] / irradiance_w_m2)});
+    return terms;
 }
 
 DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector<Direction>& lights,

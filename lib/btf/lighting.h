@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "btf/dataset.h"
 #include "btf/dome.h"
 #include "image/image.h"
 
@@ -51,6 +52,15 @@ struct DomeLighting {
 /// Deterministic for any thread count (rows are summed in a fixed order).
 DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector<Direction>& lights,
                                   const DomeLightingOptions& options = {});
+
+/// The shaded image of a BTF as terms of BtfSource::combine: L = sum_k btf_k W_k with
+/// btf = image / irradiance_w_m2, for each view `views[i]` blended with `view_weights[i]`.
+/// Term weight W_k * view_weight / irradiance per channel; view-major, lights in order. On a
+/// btf-pca folder (CompressedBtf::combine) the environment so folds into C coefficients per
+/// group and channel: C multiply-adds per pixel and view, whatever the number of lights.
+/// Precondition: views and view_weights of equal size, irradiance_w_m2 > 0 (checked).
+std::vector<ImageTerm> shading_terms(const DomeLighting& lighting, const std::vector<int>& views,
+                                     const std::vector<double>& view_weights, double irradiance_w_m2);
 
 /// Index of the light direction whose cell holds unit vector `d` (largest cosine; ties go to the
 /// lowest index). `light_vectors` are unit vectors in the sample frame.

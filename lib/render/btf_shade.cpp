@@ -45,23 +45,8 @@ image::Image shade_btf(const btf::BtfSource& btf, const btf::DomeLighting& light
     const btf::BtfShape& s = btf.shape();
     INLIGHT_CHECK_EQ(lighting.weight.size(), s.lights.size());
     INLIGHT_CHECK(irradiance_w_m2 > 0);
-    image::Image out(s.width, s.height, 3, image::ColorSpace::kLinearSrgb);
-    std::vector<double> acc(out.pixels.size(), 0.0);
     // Images in a fixed order (view, then light), so the sum does not depend on threads.
-    for (size_t b = 0; b < blend.views.size(); ++b) {
-        std::vector<image::Image> images(s.lights.size());
-        parallel::for_chunks(s.n_lights(), 1, [&](int64_t l0, int64_t l1) {
-            for (int64_t l = l0; l < l1; ++l)
-                images[size_t(l)] = btf.read_image(static_cast<int>(l), blend.views[b]);
-        });
-        for (size_t l = 0; l < images.size(); ++l) {
-            const Eigen::Vector3d w = lighting.weight[l] * (blend.weights[b] / irradiance_w_m2);
-            const image::Image& img = images[l];
-            for (size_t i = 0; i < acc.size(); ++i) acc[i] += img.pixels[i] * w[int(i % 3)];
-        }
-    }
-    for (size_t i = 0; i < acc.size(); ++i) out.pixels[i] = static_cast<float>(acc[i]);
-    return out;
+    return btf.combine(btf::shading_terms(lighting, blend.views, blend.weights, irradiance_w_m2));
 }
 
 image::Image truth_under_environment(const std::shared_ptr<const weave::Weave>& weave,

@@ -1,11 +1,13 @@
 #include "render/capture_cli.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/log.h"
 #include "core/validators.h"
+#include "btf/compressed.h"
 #include "render/btf_shade.h"
 #include "render/weave_geometry.h"
 
@@ -23,6 +25,39 @@ auto read_option_file(const std::string& option, const std::string& path, Fn rea
     } catch (const Error& e) {
         throw UsageError(str(option, ": ", e.what()));
     }
+}
+
+bool same_directions(const std::vector<btf::Direction>& a, const std::vector<btf::Direction>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (btf::angle_between_deg(a[i], b[i]) > 1e-6) return false;
+    return true;
+}
+
+std::vector<int> compressed_components(const btf::CompressedBtf& c) {
+    std::vector<int> out;
+    for (size_t g = 0; g < c.manifest().at("groups").size(); ++g) out.push_back(c.components(int(g)));
+    return out;
+}
+
+/// The bytes a client receives: every file of the folder but the streaming curve's.
+uint64_t folder_bytes(const std::string& dir) {
+    uint64_t b = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.is_regular_file() && e.path().stem() != "streaming") b += e.file_size();
+    return b;
+}
+
+/// The compressed shading against the raw BTF's: RMSE over every pixel and channel relative to
+/// the raw image's mean.
+nlohmann::json compressed_vs_raw(const image::Image& c, const image::Image& raw) {
+    double sq = 0, sum = 0;
+    for (size_t i = 0; i < raw.pixels.size(); ++i) {
+        sq += std::pow(double(c.pixels[i]) - raw.pixels[i], 2);
+        sum += raw.pixels[i];
+    }
+    const double n = double(std::max<size_t>(raw.pixels.size(), 1));
+    return {{"rel_rmse", sum > 0 ? std::sqrt(sq / n) / (sum / n) : 0.0}};
 }
 
 }  // namespace
@@ -166,6 +201,11 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
         ->check(CLI::Range(1, 64))
         ->capture_default_str()
         ->needs(shade);
+    app.add_option("--btf-compressed", a.compressed,
+                   "BTF shading: a btf-pca output folder of the same BTF, shaded beside the raw one "
+                   "(environment folded into component weights) and compared; repeatable")
+        ->check(CLI::ExistingDirectory)
+        ->needs(shade);
     shade->needs(app.get_option("--environment"));
 }
 
@@ -195,6 +235,16 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
     {
         ScopedStage stage(report, "open BTF");
         btf = btf::FolderBtf::open(a.btf);
+    }
+    std::vector<std::unique_ptr<btf::CompressedBtf>> compressed;
+    for (const std::string& dir : a.compressed) {
+        ScopedStage stage(report, "open " + dir);
+        fs::declare_input(dir, "--btf-compressed");
+        compressed.push_back(btf::CompressedBtf::open(dir));
+        const btf::BtfShape &c = compressed.back()->shape(), &r = btf->shape();
+        if (c.width != r.width || c.height != r.height || !same_directions(c.lights, r.lights) ||
+            !same_directions(c.views, r.views))
+            throw UsageError(str("--btf-compressed ", dir, ": its image size or directions differ from ", a.btf, "'s"));
     }
     auto weave = std::make_shared<weave::Weave>(weave::build(weave::load_weave(fabric)));
     if (std::abs(weave->period_x_mm - window[2]) > 1e-9 ||
@@ -252,6 +302,21 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
             j["truth_rel_error"] = std::isfinite(truth_noise) ? nlohmann::json(truth_noise)
                                                               : nlohmann::json();
             j["exposure"] = exposure;
+            j["compressed"] = nlohmann::json::array();
+            for (size_t i = 0; i < compressed.size(); ++i) {
+                const image::Image cs = shade_btf(*compressed[i], lighting, blend, irradiance);
+                const Comparison cc = compare_images(truth, cs, exposure, compare);
+                const std::string path = str(base, "_pca", i, ".exr");
+                image::write_image(path, cs, exr);
+                report.add_output(path, "radiance", "linear_srgb");
+                nlohmann::json cj = metrics_json(cc.metrics);
+                cj["folder"] = a.compressed[i];
+                cj["components_per_group"] = compressed_components(*compressed[i]);
+                cj["stored_bytes"] = folder_bytes(a.compressed[i]);
+                cj["mean_luminance_rel_diff"] = ty > 0 ? (mean_y(cs) - ty) / ty : 0.0;
+                cj["vs_raw"] = compressed_vs_raw(cs, shaded);
+                j["compressed"].push_back(cj);
+            }
             j["below_horizon_share"] =
                 lighting.below_horizon.sum() /
                 std::max(1e-30, lighting.below_horizon.sum() +
