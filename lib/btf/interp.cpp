@@ -153,7 +153,7 @@ DirectionWeights ThesisInterpolator::weights(const Eigen::Vector3d& d) const {
         w.count = a == b ? 1 : 2;
         w.index = {r.index[size_t(a)], r.index[size_t(b)], 0};
         w.weight = {a == b ? 1.0 : 1 - t, a == b ? 0.0 : t, 0};
-        w.outside_deg = std::abs(theta - r.theta_deg);
+        w.outside_deg = std::abs(theta - r.theta_deg) > kSameDeg ? std::abs(theta - r.theta_deg) : 0.0;
         return compact(w);
     };
     if (lo < 0) return linear_on(m_rings.front());

@@ -208,8 +208,9 @@ TEST(ThesisInterpolator, MeasuredDirectionsPoleSeamAndBeyond) {
     const auto& dome = ubo2003_dome();
     const ThesisInterpolator ti(dome);
     for (size_t i = 0; i < dome.size(); ++i) {
-        const Eigen::VectorXd w = dense_weights(ti.weights(dome[i]), 81);
-        EXPECT_NEAR(w[int(i)], 1.0, kWeightTol) << i;
+        const DirectionWeights wi = ti.weights(dome[i]);
+        EXPECT_EQ(wi.outside_deg, 0.0) << i;  // also on the outermost ring
+        EXPECT_NEAR(dense_weights(wi, 81)[int(i)], 1.0, kWeightTol) << i;
     }
     // Between the pole and the 15-degree ring the triangle (pole, C, D) holds the query, so
     // the volumes are its barycentrics: the ray through the blend is the query.
@@ -227,6 +228,7 @@ TEST(ThesisInterpolator, MeasuredDirectionsPoleSeamAndBeyond) {
     }
     // Beyond the outermost ring: linear in phi between the two bracketing ring directions.
     ASSERT_EQ(ti.weights(dir(82, 15 + 15 * 0.25)).count, 2);
+    EXPECT_NEAR(ti.weights(dir(82, 15 + 15 * 0.25)).outside_deg, 7.0, 1e-9);
     const Eigen::VectorXd d = dense_weights(ti.weights(dir(82, 15 + 15 * 0.25)), 81);
     EXPECT_NEAR(d[58], 0.75, kWeightTol);  // (75, 15)
     EXPECT_NEAR(d[59], 0.25, kWeightTol);  // (75, 30)
