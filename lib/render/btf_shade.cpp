@@ -40,6 +40,16 @@ ViewBlend select_views(const std::vector<btf::Direction>& views, const btf::Dire
     return out;
 }
 
+ViewBlend interpolate_views(const btf::DirectionInterpolator& views, const btf::Direction& view) {
+    const btf::DirectionWeights w = views.weights(view);
+    ViewBlend out;
+    for (int i = 0; i < w.count; ++i) {
+        out.views.push_back(w.index[size_t(i)]);
+        out.weights.push_back(w.weight[size_t(i)]);
+    }
+    return out;
+}
+
 image::Image shade_btf(const btf::BtfSource& btf, const btf::DomeLighting& lighting,
                        const ViewBlend& blend, double irradiance_w_m2) {
     const btf::BtfShape& s = btf.shape();

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "btf/dataset.h"
+#include "btf/interp.h"
 #include "btf/lighting.h"
 #include "image/image.h"
 #include "render/btf_capture.h"
@@ -31,6 +32,10 @@ struct ViewBlend {
 /// (a view within 1e-9 deg of one of them takes it alone). Precondition: views non-empty.
 ViewBlend select_views(const std::vector<btf::Direction>& views, const btf::Direction& view,
                        int neighbours);
+
+/// The BTF's views that `view` blends under an angular interpolation scheme (btf/interp.h:
+/// thesis or spherical Delaunay over the BTF's view set), as a ViewBlend.
+ViewBlend interpolate_views(const btf::DirectionInterpolator& views, const btf::Direction& view);
 
 /// The shaded rectified image (BTF size, linear_srgb radiance). `irradiance_w_m2` is the
 /// capture's (capture.json). Images are read through `btf` (each once).

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "testing/testing.h"
@@ -61,6 +62,27 @@ TEST(BtfShade, ViewSelection) {
     double sum = 0;
     for (double w : three.weights) sum += w;
     EXPECT_NEAR(sum, 1.0, 1e-12);
+}
+
+TEST(BtfShade, InterpolatedViewsAreTheDelaunayWeights) {
+    const auto& dome = btf::ubo2003_dome();
+    const btf::DelaunayInterpolator di(dome);
+    const ViewBlend on = interpolate_views(di, dome[30]);  // a measured view: itself alone
+    ASSERT_EQ(on.views.size(), 1u);
+    EXPECT_EQ(on.views[0], 30);
+    const btf::Direction off{37, 21};
+    const ViewBlend b = interpolate_views(di, off);
+    ASSERT_EQ(b.views.size(), 3u);
+    // The blend of the three view vectors points along the query (exact barycentrics), to
+    // the rounding of 3x3 determinants (1e-12).
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    double sum = 0;
+    for (size_t i = 0; i < 3; ++i) {
+        p += b.weights[i] * dome[size_t(b.views[i])].vector();
+        sum += b.weights[i];
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+    EXPECT_LT(p.normalized().cross(off.vector()).norm(), 1e-12);
 }
 
 }  // namespace

@@ -196,6 +196,12 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
         ->check(CLI::IsMember({1, 3}))
         ->capture_default_str()
         ->needs(shade);
+    app.add_option("--view-interp", a.view_interp,
+                   "BTF shading: blend the BTF's views by angular interpolation instead (thesis: "
+                   "three closest per ring; delaunay: spherical Delaunay triangle)")
+        ->check(CLI::IsMember({"thesis", "delaunay"}))
+        ->needs(shade)
+        ->excludes("--view-neighbours");
     app.add_option("--cell-subsamples", a.subsamples,
                    "BTF shading: directions per map pixel side when integrating light cells")
         ->check(CLI::Range(1, 64))
@@ -257,6 +263,9 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
     topt.width_px = btf->shape().width;
     topt.height_px = btf->shape().height;
     topt.origin_mm = {window[0], window[1]};
+    std::unique_ptr<btf::DirectionInterpolator> view_interp;
+    if (!a.view_interp.empty())
+        view_interp = btf::make_interpolator(btf::interp_scheme_from_string(a.view_interp), btf->shape().views);
     nlohmann::json results = nlohmann::json::array();
     for (const std::string& env_path : a.environments) {
         report.add_input(env_path);
@@ -269,7 +278,8 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
         const std::string stem = std::filesystem::path(env_path).stem().string();
         for (const btf::Direction& view : views) {
             ScopedStage stage(report, str("shade ", stem, " ", btf::ubo2003_view_folder(view)));
-            const ViewBlend blend = select_views(btf->shape().views, view, a.view_neighbours);
+            const ViewBlend blend = view_interp ? interpolate_views(*view_interp, view)
+                                                : select_views(btf->shape().views, view, a.view_neighbours);
             const image::Image shaded = shade_btf(*btf, lighting, blend, irradiance);
             double truth_noise = 0;
             const image::Image truth =
@@ -332,6 +342,7 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
     }
     report.metrics()["btf_shade"] = {{"spp", topt.spp},
                                       {"view_neighbours", a.view_neighbours},
+                                      {"view_interp", a.view_interp},
                                       {"results", results}};
 }
 

@@ -42,6 +42,7 @@ struct ShadeArgs {
     std::vector<std::string> environments;  ///< --environment (repeatable): lat-long EXR/HDR
     std::string views;  ///< --shade-views: direction file; "" = (0, 0), (45, 40), (75, 0)
     int view_neighbours = 1;  ///< --view-neighbours: BTF views blended per view (1 or 3)
+    std::string view_interp;  ///< --view-interp: thesis | delaunay (btf/interp.h), replaces it
     int subsamples = 4;       ///< --cell-subsamples: per map pixel side (btf/lighting.h)
     /// --btf-compressed (repeatable): btf-pca folders of the same BTF, shaded beside it in the
     /// compressed domain (CompressedBtf::combine) and compared with the truth and the raw BTF.
