@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <numeric>
+#include <sstream>
 
 namespace inlight::render {
 namespace {
@@ -46,6 +47,27 @@ uint64_t folder_bytes(const std::string& dir) {
     for (const auto& e : std::filesystem::directory_iterator(dir))
         if (e.is_regular_file() && e.path().stem() != "streaming") b += e.file_size();
     return b;
+}
+
+/// Bytes a client holds after `n` components of the stream: the row of the folder's
+/// streaming.tsv (written by btf-pca: components_sent, bytes_sent, rmse_linear), its last
+/// row past the end. Error naming the file when it is missing or malformed.
+uint64_t stream_bytes(const std::string& dir, int64_t n) {
+    const std::string path = dir + "/streaming.tsv";
+    std::istringstream in(fs::read_file(path));
+    std::string line;
+    uint64_t bytes = 0;
+    bool any = false;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream row(line);
+        int64_t sent = 0;
+        if (!(row >> sent >> bytes)) throw Error(str(path, ": malformed row '", line, "'"));
+        any = true;
+        if (sent >= n) break;
+    }
+    if (!any) throw Error(str(path, ": no rows"));
+    return bytes;
 }
 
 /// The compressed shading against the raw BTF's: RMSE over every pixel and channel relative to
@@ -212,6 +234,12 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
                    "(environment folded into component weights) and compared; repeatable")
         ->check(CLI::ExistingDirectory)
         ->needs(shade);
+    app.add_option("--shade-stream", a.stream_points,
+                   "BTF shading: also shade each --btf-compressed folder from the first n components "
+                   "of its stream, for each n in this list (error against bytes sent)")
+        ->delimiter(',')
+        ->check(CLI::Range(int64_t(0), int64_t(1) << 40))
+        ->needs("--btf-compressed");
     shade->needs(app.get_option("--environment"));
 }
 
@@ -325,6 +353,18 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
                 cj["stored_bytes"] = folder_bytes(a.compressed[i]);
                 cj["mean_luminance_rel_diff"] = ty > 0 ? (mean_y(cs) - ty) / ty : 0.0;
                 cj["vs_raw"] = compressed_vs_raw(cs, shaded);
+                cj["stream"] = nlohmann::json::array();
+                const auto terms = btf::shading_terms(lighting, blend.views, blend.weights, irradiance);
+                for (int64_t n : a.stream_points) {
+                    const image::Image ps = compressed[i]->combine_streamed(terms, n);
+                    const Comparison pc = compare_images(truth, ps, exposure, compare);
+                    cj["stream"].push_back({{"components_sent", std::min(n, compressed[i]->stream_length())},
+                                            {"bytes_sent", stream_bytes(a.compressed[i], n)},
+                                            {"mean_rel", pc.metrics.mean_rel},
+                                            {"mean_de2000", pc.metrics.mean_de2000},
+                                            {"mean_luminance_rel_diff", ty > 0 ? (mean_y(ps) - ty) / ty : 0.0},
+                                            {"vs_raw", compressed_vs_raw(ps, shaded)}});
+                }
                 j["compressed"].push_back(cj);
             }
             j["below_horizon_share"] =

@@ -47,6 +47,9 @@ struct ShadeArgs {
     /// --btf-compressed (repeatable): btf-pca folders of the same BTF, shaded beside it in the
     /// compressed domain (CompressedBtf::combine) and compared with the truth and the raw BTF.
     std::vector<std::string> compressed;
+    /// --shade-stream: also shade each compressed BTF from only the first n components of its
+    /// stream (the client's progressive state), for each n, against truth and raw BTF.
+    std::vector<int64_t> stream_points;
 };
 void add_shade_options(CLI::App& app, ShadeArgs& args);
 
