@@ -55,3 +55,26 @@ echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
 jq -r '.metrics.btf_shade.results[] | . as $r | ($r.environment | split("/") | last) as $env |
     "| \($env) | \($r.view_deg[0]), \($r.view_deg[1]) | raw | - | \($r.mean_rel * 1000 | round / 1000) | \($r.mean_de2000 * 100 | round / 100) | \($r.mean_luminance_rel_diff * 1000 | round / 10)% | 0 |",
     ($r.compressed[] | "| \($env) | \($r.view_deg[0]), \($r.view_deg[1]) | C = \(.components_per_group | max) | \(.stored_bytes / 1048576 * 100 | round / 100) | \(.mean_rel * 1000 | round / 1000) | \(.mean_de2000 * 100 | round / 100) | \(.mean_luminance_rel_diff * 1000 | round / 10)% | \(.vs_raw.rel_rmse * 1000 | round / 1000) |")' "$OUT/shade.json"
+# Views between the measured ones under the first environment: the BTF's views blended four ways.
+echo
+echo "| view blend | view (deg) | mean rel. error vs truth | mean dE2000 vs truth | mean luminance vs truth |"
+echo "| --- | --- | --- | --- | --- |"
+for blend in "--view-neighbours 1" "--view-neighbours 3" "--view-interp thesis" "--view-interp delaunay"; do
+    tag=${blend// /_}
+    # shellcheck disable=SC2086  # $blend is an option and its value
+    [ -s "$OUT/views$tag.json" ] || "$R" "$FABRIC" --btf-shade "$OUT/grid" --environment "${ENVS[0]}" $blend \
+        --shade-views configs/btf/interp-shade-views.txt -o "$OUT/views$tag" --spp "$TSPP" --threads 2 \
+        --report "$OUT/views$tag.json" -q
+    jq -r --arg b "$blend" '.metrics.btf_shade.results[] |
+        "| \($b) | \(.view_deg[0]), \(.view_deg[1]) | \(.mean_rel * 1000 | round / 1000) | \(.mean_de2000 * 100 | round / 100) | \(.mean_luminance_rel_diff * 1000 | round / 10)% |"' "$OUT/views$tag.json"
+done
+# The compressed BTF as a client holds it while components arrive: stream prefixes under the
+# first environment (k = 3: 27 groups, so 27 n components is about n per group).
+echo
+echo "| view (deg) | components sent | MiB sent | mean rel. error vs truth | mean dE2000 vs truth | mean luminance vs truth | rel. RMSE vs raw BTF |"
+echo "| --- | --- | --- | --- | --- | --- | --- |"
+[ -s "$OUT/stream.json" ] || "$R" "$FABRIC" --btf-shade "$OUT/grid" --btf-compressed "$OUT/pca$C" \
+    --shade-stream 0,27,54,108,216,432 --environment "${ENVS[0]}" -o "$OUT/stream" --spp "$TSPP" --threads 2 \
+    --report "$OUT/stream.json" -q
+jq -r '.metrics.btf_shade.results[] | . as $r | $r.compressed[0].stream[] |
+    "| \($r.view_deg[0]), \($r.view_deg[1]) | \(.components_sent) | \(.bytes_sent / 1048576 * 100 | round / 100) | \(.mean_rel * 1000 | round / 1000) | \(.mean_de2000 * 100 | round / 100) | \(.mean_luminance_rel_diff * 1000 | round / 10)% | \(.vs_raw.rel_rmse * 1000 | round / 1000) |"' "$OUT/stream.json"
