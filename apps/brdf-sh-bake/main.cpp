@@ -75,8 +75,9 @@ int main(int argc, char** argv) {
         report.add_input(material_path);
         for (const char* suffix : {".bin", ".json", ".glsl", "_texture.exr"})
             fs::declare_output(output + suffix, "-o");
+        gles::ExportSet gles_set;
         if (!gles_args.dir.empty()) {
-            fs::declare_output(gles_args.dir + "/index.json", "--export-gles");
+            gles_set = gles_args.prepare(report);
             if (max_error <= 0 && gles_args.max_sh_bands > o.sh_bands) {
                 throw UsageError(str("--gles-max-bands ", gles_args.max_sh_bands,
                                      " exceeds the table's --sh-bands ", o.sh_bands));
@@ -144,8 +145,9 @@ int main(int argc, char** argv) {
             ScopedStage stage(report, "export gles");
             gles::MaterialInputs in;
             in.name = std::filesystem::path(output).filename().string();
+            in.brdf = material;
             const bool lambert = material.specular == brdf::Model::kLambert;  // no specular term
-            const auto exports = gles::export_material(lambert ? nullptr : &table, in, gles_args.set());
+            const auto exports = gles::export_material(lambert ? nullptr : &table, in, gles_set);
             for (const auto& path : gles::write_exports(gles_args.dir, exports)) {
                 report.add_output(path, "gles_export");
             }

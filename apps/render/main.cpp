@@ -213,7 +213,8 @@ int main(int argc, char** argv) {
                 render::read_lighting_file(a.rt_lighting));
             report.add_input(a.rt_lighting);
         }
-        if (!gles_args.dir.empty()) fs::declare_output(gles_args.dir + "/index.json", "--export-gles");
+        gles::ExportSet gles_set;
+        if (!gles_args.dir.empty()) gles_set = gles_args.prepare(report);
         std::unique_ptr<render::Scene> scene;
         {
             ScopedStage stage(report, "load scene");
@@ -272,8 +273,9 @@ int main(int argc, char** argv) {
                     *scene, r, cmp, *lighting, (p.parent_path() / p.stem()).string(), files);
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
             files.clear();
-            m["realtime"]["gles"] = gles::compare_scene(*scene, r, cmp,
-                                                        (p.parent_path() / p.stem()).string(), files);
+            const std::string prefix = (p.parent_path() / p.stem()).string();
+            m["realtime"]["gles"] =
+                gles::compare_scene(*scene, r, cmp, prefix, files, lighting.get());
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
         }
         if (a.decompose) {
@@ -294,7 +296,7 @@ int main(int argc, char** argv) {
         if (!gles_args.dir.empty()) {
             ScopedStage stage(report, "export gles");
             gles::SceneExportOptions eo;
-            eo.set = gles_args.set();
+            eo.set = gles_set;
             eo.grid = cmp.grid;
             eo.bake_samples = cmp.bake_samples;
             const auto exports = gles::export_scene(*scene, eo);

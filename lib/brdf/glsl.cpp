@@ -15,27 +15,37 @@ std::string glsl_float(float f) {
     return s;
 }
 
+std::string glsl_atan2_source() {
+    // GLSL's acos() and atan() carry no accuracy requirement and some drivers approximate
+    // them coarsely (llvmpipe: ~1e-3 rad, 0.5% of a table value between nodes). This
+    // atan2 is Cephes' atanf (range reduction to |t| <= tan(pi/8), odd polynomial;
+    // ~1e-7 relative) from +, *, / and comparisons only, which GLSL computes to float.
+    std::ostringstream o;
+    o << "// atan(y, x) to float accuracy for (x, y) != (0, 0) (Cephes atanf).\n"
+      << "float atan2_f32(float y, float x) {\n"
+      << "    float ax = abs(x);\n    float ay = abs(y);\n"
+      << "    float t = min(ax, ay) / max(ax, ay);\n"
+      << "    float base = 0.0;\n"
+      << "    if (t > 0.414213562) { base = 0.785398163; t = (t - 1.0) / (t + 1.0); }\n"
+      << "    float z = t * t;\n"
+      << "    float a = base + ((((0.0805374449538 * z - 0.138776856032) * z + "
+         "0.199777106478) * z\n"
+      << "                       - 0.333329491539) * z * t + t);\n"
+      << "    if (ay > ax) a = 1.57079633 - a;\n"
+      << "    if (x < 0.0) a = 3.14159265 - a;\n"
+      << "    return y < 0.0 ? -a : a;\n}\n";
+    return o.str();
+}
+
+bool glsl_grid_coord_has_atan2(const Grid& g) {
+    return g.kind == GridKind::kReport5x5 || g.kind == GridKind::kThetaPhi;
+}
+
 std::string glsl_grid_coord_source(const Grid& g, int glsl_version) {
     INLIGHT_CHECK(glsl_version == 100 || glsl_version == 300) << "GLSL ES version " << glsl_version;
     std::ostringstream o;
-    if (g.kind == GridKind::kReport5x5 || g.kind == GridKind::kThetaPhi) {
-        // GLSL's acos() and atan() carry no accuracy requirement and some drivers approximate
-        // them coarsely (llvmpipe: ~1e-3 rad, 0.5% of a table value between nodes). This
-        // atan2 is Cephes' atanf (range reduction to |t| <= tan(pi/8), odd polynomial;
-        // ~1e-7 relative) from +, *, / and comparisons only, which GLSL computes to float.
-        o << "// atan(y, x) to float accuracy for (x, y) != (0, 0) (Cephes atanf).\n"
-          << "float atan2_f32(float y, float x) {\n"
-          << "    float ax = abs(x);\n    float ay = abs(y);\n"
-          << "    float t = min(ax, ay) / max(ax, ay);\n"
-          << "    float base = 0.0;\n"
-          << "    if (t > 0.414213562) { base = 0.785398163; t = (t - 1.0) / (t + 1.0); }\n"
-          << "    float z = t * t;\n"
-          << "    float a = base + ((((0.0805374449538 * z - 0.138776856032) * z + "
-             "0.199777106478) * z\n"
-          << "                       - 0.333329491539) * z * t + t);\n"
-          << "    if (ay > ax) a = 1.57079633 - a;\n"
-          << "    if (x < 0.0) a = 3.14159265 - a;\n"
-          << "    return y < 0.0 ? -a : a;\n}\n";
+    if (glsl_grid_coord_has_atan2(g)) {
+        o << glsl_atan2_source();
     }
     o << "// Cell (r0, r1, c0, c1) and fractions (toward r1, toward c1) of normal n.\n"
       << "void brdf_grid_coord(vec3 n, out ivec4 cell, out vec2 f) {\n"

@@ -29,4 +29,10 @@ std::string glsl_float(float f);
 /// mod and a comparison).
 std::string glsl_grid_coord_source(const Grid& grid, int glsl_version);
 
+/// GLSL ES (1.00 and 3.00) source of  float atan2_f32(float y, float x): atan(y, x) to float
+/// accuracy (Cephes atanf from +, *, /), which glsl_grid_coord_source() includes for the grids
+/// that need it (glsl_grid_coord_has_atan2) and other shaders reuse.
+std::string glsl_atan2_source();
+bool glsl_grid_coord_has_atan2(const Grid& grid);
+
 }  // namespace inlight::brdf

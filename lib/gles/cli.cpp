@@ -1,7 +1,9 @@
 #include "gles/cli.h"
 
 #include "brdf/bake.h"
+#include "core/fs.h"
 #include "core/validators.h"
+#include "render/realtime_lights.h"
 
 namespace inlight::gles {
 
@@ -11,7 +13,14 @@ ExportSet ExportArgs::set() const {
     s.modes = shader_modes_from_string(modes);
     s.precisions = precisions_from_string(precisions);
     s.max_sh_bands = max_sh_bands;
+    if (!lighting.empty()) s.lights = render::read_lighting_file(lighting).lights;
     return s;
+}
+
+ExportSet ExportArgs::prepare(Report& report) const {
+    fs::declare_output(dir + "/index.json", "--export-gles");
+    if (!lighting.empty()) report.add_input(lighting);
+    return set();
 }
 
 void add_export_options(CLI::App& app, ExportArgs& a) {
@@ -33,6 +42,9 @@ void add_export_options(CLI::App& app, ExportArgs& a) {
                    "Consistent variants for lighting bands 3 .. this (seed: 3 only)")
         ->check(CLI::Range(3, brdf::kMaxBakeBands))
         ->capture_default_str();
+    app.add_option("--gles-lighting", a.lighting,
+                   "Lighting file with dominant lights (envmap-project --max-error JSON, "
+                   "docs/formats.md): the consistent variants shade its lights analytically");
 }
 
 }  // namespace inlight::gles

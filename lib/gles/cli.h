@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "core/report.h"
 #include "gles/export.h"
 
 namespace inlight::gles {
@@ -13,11 +14,17 @@ struct ExportArgs {
     std::string dir;  ///< --export-gles; empty = no export
     std::string versions = "100,300", modes = "consistent,seed", precisions = "highp,mediump";
     int max_sh_bands = 3;
-    /// The parsed set (the options' validators have already checked every list).
+    std::string lighting;  ///< --gles-lighting: a lighting file whose lights the shaders shade
+    /// The parsed set (the options' validators have already checked every list), with the
+    /// lighting file's lights read (render::read_lighting_file; errors name the file).
     ExportSet set() const;
+    /// Before any work: declares DIR/index.json an output and the lighting file an input of
+    /// `report`, and returns set().
+    ExportSet prepare(Report& report) const;
 };
 
-/// Adds --export-gles DIR, --gles-versions, --gles-modes, --gles-precisions, --gles-max-bands.
+/// Adds --export-gles DIR, --gles-versions, --gles-modes, --gles-precisions, --gles-max-bands,
+/// --gles-lighting FILE.
 void add_export_options(CLI::App& app, ExportArgs& args);
 
 }  // namespace inlight::gles

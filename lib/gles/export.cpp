@@ -287,6 +287,163 @@ std::string shading_source(const Plan& p) {
     return o.str();
 }
 
+/// exp_f32, log_f32 and pow_f32 to float accuracy (Cephes expf/logf: range reduction, then a
+/// polynomial, from +, *, / and floor): drivers' exp(), log() and pow() carry no accuracy
+/// requirement (llvmpipe's pow is ~1.5e-3 off, docs/gles.md). The driver's log2() only picks
+/// the binade, corrected by one step either way; powers of two come from exact products.
+std::string exp_log_functions() {
+    return "// 2^k for an integer k in [-255, 255], exactly (products of powers of two).\n"
+           "float pow2i(float k) {\n"
+           "    float r = 1.0;\n"
+           "    float b = k < 0.0 ? 0.5 : 2.0;\n"
+           "    float n = abs(k);\n"
+           "    for (int i = 0; i < 8; ++i) {\n"
+           "        float h = floor(n * 0.5);\n"
+           "        if (n - 2.0 * h > 0.5) r *= b;\n"
+           "        b *= b;\n"
+           "        n = h;\n"
+           "    }\n"
+           "    return r;\n}\n"
+           "float exp_f32(float x) {\n"
+           "    float k = floor(1.44269504 * x + 0.5);\n"
+           "    float r = x - k * 0.693359375 + k * 2.12194440e-4;\n"
+           "    float p = ((((1.9875691500e-4 * r + 1.3981999507e-3) * r + 8.3334519073e-3) * r\n"
+           "               + 4.1665795894e-2) * r + 1.6666665459e-1) * r + 5.0000001201e-1;\n"
+           "    return (p * r * r + r + 1.0) * pow2i(k);\n}\n"
+           "// Natural log of x > 0.\n"
+           "float log_f32(float x) {\n"
+           "    float e = floor(log2(x));\n"
+           "    float m = x / pow2i(e);\n"
+           "    if (m < 1.0) { m *= 2.0; e -= 1.0; }\n"
+           "    if (m >= 2.0) { m *= 0.5; e += 1.0; }\n"
+           "    if (m > 1.41421356) { m *= 0.5; e += 1.0; }\n"
+           "    float z = m - 1.0;\n"
+           "    float z2 = z * z;\n"
+           "    float y = ((((((((7.0376836292e-2 * z - 1.1514610310e-1) * z + 1.1676998740e-1) * z\n"
+           "               - 1.2420140846e-1) * z + 1.4249322787e-1) * z - 1.6668057665e-1) * z\n"
+           "               + 2.0000714765e-1) * z - 2.4999993993e-1) * z + 3.3333331174e-1) * z * z2;\n"
+           "    y += -2.12194440e-4 * e - 0.5 * z2;\n"
+           "    return z + y + 0.693359375 * e;\n}\n"
+           "// x^y for y > 0 (0 for x <= 0).\n"
+           "float pow_f32(float x, float y) {\n"
+           "    return x > 0.0 ? exp_f32(y * log_f32(x)) : 0.0;\n}\n";
+}
+
+/// The dominant lights' functions (render/realtime_lights.h, envmap/lights.h): the cap's
+/// irradiance factor and, with a table, the material's specular lobe. Needs atan2_f32.
+std::string lights_functions(const Plan& p) {
+    std::ostringstream o;
+    o << "// Irradiance of a uniform cap of half-angle alpha centred at cosine c from the normal,\n"
+      << "// over E_perp: J = I(c, alpha) / (pi sin^2 alpha), I = Snyder 1996's integral of\n"
+      << "// max(0, n.w) over the cap (envmap::cap_cosine_integral). sa = sin alpha (0: a point).\n"
+      << "// Near the horizon the atan and x t terms cancel to O(alpha^3); for u = t tan alpha <\n"
+      << "// 0.1 their difference atan(u) - u is summed as a series instead (float-accurate).\n"
+      << "float cap_factor(float c, float sa) {\n"
+      << "    if (c >= sa) return c;\n"
+      << "    if (c <= -sa) return 0.0;\n"
+      << "    float ca = sqrt(1.0 - sa * sa);\n"
+      << "    float sb = sqrt(1.0 - c * c);\n"
+      << "    float x = ca / sa;\n"
+      << "    float y = clamp(-x * c / sb, -1.0, 1.0);\n"
+      << "    float r = sqrt((1.0 - y) * (1.0 + y));\n"
+      << "    float t = sb * r;\n"
+      << "    float acos_y = atan2_f32(r, y);\n"
+      << "    float j;\n"
+      << "    if (t * sa < 0.1 * ca) {\n"
+      << "        float u = t * sa / ca;\n"
+      << "        float u2 = u * u;\n"
+      << "        float d = u * u2 * (-0.333333333 + u2 * (0.2 + u2 * (-0.142857143 + u2 * "
+         "0.111111111)));\n"
+      << "        j = (c * acos_y + u) * " << lit(kInvPi) << " + d / (" << lit(kPi)
+      << " * sa * sa);\n"
+      << "    } else {\n"
+      << "        j = (c * acos_y - x * t) * " << lit(kInvPi) << " + atan2_f32(t, x) / ("
+      << lit(kPi) << " * sa * sa);\n"
+      << "    }\n"
+      << "    return max(j, 0.0);\n}\n";
+    if (!p.table) return o.str();
+    const brdf::Material& m = p.mat->brdf;
+    const double scale = m.specular_scale;
+    // Charlie's fitted Lambda at this alpha: L(x) = A / (1 + B x^C) + D x + E (brdf.cpp).
+    const double ch_a = std::clamp(m.alpha, brdf::kMinAlpha, 1.0);
+    const double ch_t = (1.0 - ch_a) * (1.0 - ch_a);
+    auto lerp = [ch_t](double at1, double at0) { return at0 + ch_t * (at1 - at0); };
+    const double ca = lerp(25.3245, 21.5473), cb = lerp(3.32435, 3.82987),
+                 cc = lerp(0.16801, 0.19823), cd = lerp(-1.27393, -1.97760),
+                 ce = lerp(-4.85967, -4.32054);
+    if (m.specular == brdf::Model::kCharlie) {
+        const double l_half = ca / (1.0 + cb * std::pow(0.5, cc)) + cd * 0.5 + ce;
+        o << exp_log_functions()
+          << "// Estevez and Kulla 2017's fitted L(x) at this alpha (brdf::charlie_lambda).\n"
+          << "float charlie_l(float x) {\n"
+          << "    return " << lit(ca) << " / (1.0 + " << lit(cb) << " * pow_f32(x, " << lit(cc)
+          << ")) + " << lit(cd) << " * x + " << lit(ce) << ";\n}\n"
+          << "float charlie_lambda(float c) {\n"
+          << "    if (c < 0.5) return exp_f32(charlie_l(c));\n"
+          << "    return exp_f32(" << lit(2.0 * l_half) << " - charlie_l(1.0 - c));\n}\n";
+    }
+    o << "// The material's " << brdf::to_string(m.specular)
+      << " lobe f_s(n; VIEW, l) in 1/sr (brdf::eval_specular),\n"
+      << "// from dot products only: the lobe is isotropic.\n"
+      << "vec3 lobe(vec3 n, vec3 l) {\n"
+      << "    float nv = dot(n, VIEW);\n    float nl = dot(n, l);\n"
+      << "    if (nv < 1e-9 || nl < 1e-9) return vec3(0.0);\n"
+      << "    vec3 h = normalize(VIEW + l);\n"
+      << "    float nh = dot(n, h);\n"
+      << "    float vh = clamp(dot(VIEW, h), 0.0, 1.0);\n";
+    auto schlick5 = [&]() {
+        o << "    float m1 = 1.0 - vh;\n    float m5 = m1 * m1 * m1 * m1 * m1;\n";
+    };
+    switch (m.specular) {
+        case brdf::Model::kGgx: {
+            const double a = std::max(m.alpha, brdf::kMinAlpha);
+            const std::string a2 = lit(a * a);
+            schlick5();
+            o << "    if (nh <= 0.0) return vec3(0.0);\n"
+              << "    float q = nh * nh * (" << a2 << " - 1.0) + 1.0;\n"
+              << "    float dist = " << a2 << " / (" << lit(kPi) << " * q * q);\n"
+              << "    float co = max(nv, 1e-9);\n    float ci = max(nl, 1e-9);\n"
+              << "    float lo = 0.5 * (-1.0 + sqrt(1.0 + " << a2
+              << " * max(0.0, 1.0 - co * co) / (co * co)));\n"
+              << "    float li = 0.5 * (-1.0 + sqrt(1.0 + " << a2
+              << " * max(0.0, 1.0 - ci * ci) / (ci * ci)));\n"
+              << "    vec3 f0 = vec3(" << lit(m.f0.x()) << ", " << lit(m.f0.y()) << ", "
+              << lit(m.f0.z()) << ");\n"
+              << "    return (f0 + (1.0 - f0) * m5) * (" << lit(scale)
+              << " * dist / ((1.0 + lo + li) * 4.0 * nv * nl));\n";
+            break;
+        }
+        case brdf::Model::kCookTorranceReport: {
+            const double r = std::max(m.report_r, brdf::kMinAlpha);
+            schlick5();
+            o << "    if (vh <= 0.0) return vec3(0.0);\n"
+              << "    float f = " << lit(m.report_f) << " + " << lit(1.0 - m.report_f)
+              << " * m5;\n"
+              << "    float g = min(1.0, min(2.0 * nh * nv / vh, 2.0 * nh * nl / vh));\n"
+              << "    float q = nh * nh * " << lit(r * r) << " + 1.0;\n"
+              << "    float dist = " << lit(r * r / kPi) << " / (q * q);\n"
+              << "    return vec3(" << lit(scale) << " * f * g * dist / (4.0 * nv * nl));\n";
+            break;
+        }
+        case brdf::Model::kCharlie: {
+            const double a = ch_a;
+            o << "    float sin2 = max(0.0, 1.0 - nh * nh);\n"
+              << "    float dist = " << lit((2.0 + 1.0 / a) / (2.0 * kPi)) << " * pow_f32(sin2, "
+              << lit(0.5 / a) << ");\n"
+              << "    float g = 1.0 / (1.0 + charlie_lambda(clamp(nv, 0.0, 1.0)) + "
+                 "charlie_lambda(clamp(nl, 0.0, 1.0)));\n"
+              << "    return vec3(" << lit(m.sheen_color.x()) << ", " << lit(m.sheen_color.y())
+              << ", " << lit(m.sheen_color.z()) << ") * (" << lit(scale)
+              << " * dist * g / (4.0 * nv * nl));\n";
+            break;
+        }
+        case brdf::Model::kLambert:
+            break;
+    }
+    o << "}\n";
+    return o.str();
+}
+
 std::string fragment_source(const Plan& p, const std::string& name) {
     const bool es3 = p.es3();
     const MaterialInputs& mat = *p.mat;
@@ -311,7 +468,13 @@ std::string fragment_source(const Plan& p, const std::string& name) {
     if (uv) o << in << " vec2 v_uv;\n";
     o << "uniform vec3 u_sh[" << k_count << "];  // lighting L_lm, radiance, linear_srgb\n"
       << "uniform vec3 u_albedo;  // linear_srgb\n";
-    if (mat.has_normal_texture()) {
+    if (p.v->lights > 0) {
+        o << "uniform vec4 u_light_direction[" << p.v->lights
+          << "];  // (d toward the light, sin alpha)\n"
+          << "uniform vec3 u_light_irradiance[" << p.v->lights
+          << "];  // E_perp = flux (1 + cos alpha) / 2, linear_srgb\n";
+    }
+    if (mat.has_normal_texture() || (p.v->lights > 0 && p.table)) {
         const Eigen::Vector3d view = p.table ? p.table->view : Eigen::Vector3d::UnitZ();
         o << "const vec3 VIEW = vec3(" << lit(view.x()) << ", " << lit(view.y()) << ", "
           << lit(view.z()) << ");  // the table's view, toward the viewer\n";
@@ -360,6 +523,10 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "               mix(brdf_texel(ch, cell.y, cell.z, t), brdf_texel(ch, cell.y, "
              "cell.w, t), f.y), f.x);\n}\n"
           << brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100);
+    }
+    if (p.v->lights > 0) {
+        if (!p.table || !brdf::glsl_grid_coord_has_atan2(p.table->grid)) o << brdf::glsl_atan2_source();
+        o << lights_functions(p);
     }
     if (mat.has_albedo_texture()) {
         // Decoded here, per texel, in both versions: drivers' sRGB texture decoders and pow()
@@ -414,6 +581,16 @@ std::string fragment_source(const Plan& p, const std::string& name) {
         }
     }
     o << shading_source(p);
+    if (p.v->lights > 0) {
+        o << "    // Dominant lights (render/realtime_lights.h): albedo / pi E + f_s E per light.\n";
+    }
+    for (int j = 0; j < p.v->lights; ++j) {
+        o << "    vec3 e" << j << " = u_light_irradiance[" << j << "] * cap_factor(dot(n, u_light_direction["
+          << j << "].xyz), u_light_direction[" << j << "].w);\n"
+          << "    radiance += albedo * " << lit(kInvPi) << " * e" << j;
+        if (p.table) o << " + lobe(n, u_light_direction[" << j << "].xyz) * e" << j;
+        o << ";\n";
+    }
     o << (es3 ? "    o_radiance" : "    gl_FragColor") << " = vec4(radiance, 1.0);\n}\n";
     return o.str();
 }
@@ -452,6 +629,36 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                         {"meaning", "lighting SH coefficients L_lm (R, G, B), device frame, real SH without Condon-Shortley phase, index l(l+1)+m"},
                         {"units", "radiance (linear_srgb, the environment's units)"}});
     uniforms.push_back({{"name", "u_albedo"}, {"type", "vec3"}, {"count", 1}, {"stage", "fragment"}, {"meaning", "material albedo, linear_srgb"}, {"range", {0.0, 1.0}}});
+    if (p.v->lights > 0) {
+        uniforms.push_back({{"name", "u_light_direction"}, {"type", "vec4"}, {"count", p.v->lights}, {"stage", "fragment"},
+                            {"meaning", "per dominant light j: xyz = unit direction toward the light (device frame, as u_sh: rotate it "
+                                        "with the device), w = sin(angular_radius), 0 below 1e-4 rad (a point light)"},
+                            {"units", "xyz dimensionless; w = sine of the cap's half-angle alpha"},
+                            {"range", {-1.0, 1.0}},
+                            {"from_lighting_file", "direction normalised; w = alpha < 1e-4 rad ? 0 : sin(alpha), alpha = angular_radius_deg in radians"}});
+        uniforms.push_back({{"name", "u_light_irradiance"}, {"type", "vec3"}, {"count", p.v->lights}, {"stage", "fragment"},
+                            {"meaning", "per dominant light j: E_perp, the irradiance of its uniform cap on a surface facing it (linear_srgb)"},
+                            {"units", "radiance x sr (the environment's radiance units times steradians)"},
+                            {"range", {0.0, "unbounded (HDR: a sun is ~1e4 x the sky)"}},
+                            {"from_lighting_file", "flux * (1 + cos(alpha)) / 2 per channel"}});
+        json lights = {{"count", p.v->lights},
+                       {"lighting_file", "docs/formats.md, \"SH coefficients with lights\": envmap-project --max-error's lights array; "
+                                         "u_sh then holds the residual map's coefficients"},
+                       {"shading", "per light: albedo / pi E(n) + f_s(n; view, d) E(n), E = E_perp J(n.d, alpha), J = Snyder's cap "
+                                   "integral over pi sin^2(alpha) (= max(0, n.d) for a point); f_s the material's lobe"},
+                       {"uniform_vectors", 2 * p.v->lights}};
+        if (p.table) {
+            const brdf::Material& b = mat.brdf;
+            lights["lobe"] = {{"model", brdf::to_string(b.specular)}, {"alpha", b.alpha},
+                              {"f0", {b.f0.x(), b.f0.y(), b.f0.z()}}, {"report_f", b.report_f}, {"report_r", b.report_r},
+                              {"sheen_color", {b.sheen_color.x(), b.sheen_color.y(), b.sheen_color.z()}},
+                              {"specular_scale", b.specular_scale},
+                              {"note", "constants in the shader: the lobe the BRDF table was baked from, at the table's view"}};
+        } else {
+            lights["lobe"] = nullptr;
+        }
+        m["lights"] = lights;
+    }
     json textures = json::array();
     int unit = 0;
     if (mat.has_albedo_texture()) {
@@ -542,7 +749,7 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     }
     Export e;
     e.name = str(mat.name, "-es", to_string(v.version), "-", to_string(v.mode), "-b", v.sh_bands,
-                 "-", to_string(v.precision));
+                 v.lights > 0 ? str("-l", v.lights) : std::string(), "-", to_string(v.precision));
     const int max_bands = table ? table->sh_bands : brdf::kMaxBakeBands;
     if (v.sh_bands < 3 || v.sh_bands > max_bands) {
         throw UsageError(str("GLES export ", e.name, ": bands must be in 3 .. ", max_bands,
@@ -551,11 +758,19 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     if (v.mode == ShaderMode::kSeed && v.sh_bands != 3) {
         throw UsageError(str("GLES export ", e.name, ": the seed mode exists for 3 bands only"));
     }
+    if (v.lights < 0 || (v.mode == ShaderMode::kSeed && v.lights > 0)) {
+        throw UsageError(str("GLES export ", e.name, ": ", v.lights,
+                             " lights (the seed mode, the report's shader, has none)"));
+    }
+    if (v.lights > 0 && table && mat.brdf.specular == brdf::Model::kLambert) {
+        throw UsageError(str("GLES export ", e.name,
+                             ": a BRDF table with a Lambert material has no lobe for the lights"));
+    }
     Plan p;
     p.v = &v;
     p.mat = &mat;
     const int k_count = sh::count(v.sh_bands);
-    int vectors = k_count + 1;  // u_sh, u_albedo
+    int vectors = k_count + 1 + 2 * v.lights;  // u_sh, u_albedo, u_light_*
     int units = (mat.has_albedo_texture() ? 1 : 0) + (mat.has_normal_texture() ? 1 : 0);
     if (table) {
         brdf::Table bound;
@@ -651,11 +866,12 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     if (vectors > limits.max_fragment_uniform_vectors) {
         throw Error(str("GLES export ", e.name, ": needs ", vectors,
                         " fragment uniform vectors (", k_count, " lighting coefficients",
+                        v.lights > 0 ? str(", ", 2 * v.lights, " for ", v.lights, " lights") : "",
                         p.layout == TableLayout::kRgba8Texture ? ", the table's scale and offset"
                                                                : "",
                         "), GL_MAX_FRAGMENT_UNIFORM_VECTORS is ",
                         limits.max_fragment_uniform_vectors,
-                        "; use fewer bands or a device with more"));
+                        "; use fewer bands or lights, or a device with more"));
     }
     if (units > limits.max_texture_image_units) {
         throw Error(str("GLES export ", e.name, ": needs ", units,
@@ -668,6 +884,27 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     return e;
 }
 
+LightUniforms light_uniforms(const envmap::DirectionalLight& light) {
+    const double a = light.angular_radius;
+    const Eigen::Vector3d d = light.direction.normalized();
+    LightUniforms u;
+    // Below 1e-4 rad envmap::light_irradiance takes the point limit: sin alpha = 0 selects it.
+    u.direction_sin << d.cast<float>(), static_cast<float>(a < 1e-4 ? 0.0 : std::sin(a));
+    u.normal_irradiance = (light.flux * (0.5 * (1.0 + std::cos(a)))).cast<float>();
+    return u;
+}
+
+LightUniformArrays light_uniform_arrays(const std::vector<envmap::DirectionalLight>& lights) {
+    LightUniformArrays a;
+    for (const auto& l : lights) {
+        const LightUniforms u = light_uniforms(l);
+        a.direction_sin.insert(a.direction_sin.end(), u.direction_sin.data(), u.direction_sin.data() + 4);
+        a.normal_irradiance.insert(a.normal_irradiance.end(), u.normal_irradiance.data(),
+                                   u.normal_irradiance.data() + 3);
+    }
+    return a;
+}
+
 std::vector<Export> export_material(const brdf::Table* table, const MaterialInputs& material,
                                     const ExportSet& set) {
     std::vector<Export> out;
@@ -675,9 +912,20 @@ std::vector<Export> export_material(const brdf::Table* table, const MaterialInpu
         for (ShaderMode mode : set.modes) {
             const int last = mode == ShaderMode::kSeed ? 3 : set.max_sh_bands;
             for (int bands = 3; bands <= last; ++bands) {
+                const int lights =
+                    mode == ShaderMode::kSeed ? 0 : static_cast<int>(set.lights.size());
                 for (Precision precision : set.precisions) {
-                    out.push_back(export_variant(table, material, {version, mode, bands, precision},
-                                                 Limits::minimum(version)));
+                    Export e = export_variant(table, material,
+                                              {version, mode, bands, precision, lights},
+                                              Limits::minimum(version));
+                    if (lights > 0) {  // the values the app binds for these lights
+                        const LightUniformArrays a = light_uniform_arrays(set.lights);
+                        for (auto& u : e.manifest["uniforms"]) {
+                            if (u["name"] == "u_light_direction") u["values"] = a.direction_sin;
+                            if (u["name"] == "u_light_irradiance") u["values"] = a.normal_irradiance;
+                        }
+                    }
+                    out.push_back(std::move(e));
                 }
             }
         }

@@ -32,6 +32,11 @@
 //               by constants in ES 1.00, and float textures are an extension), value =
 //               offset_k + scale_k x texel, scale/offset per coefficient in uniforms.
 //   Lighting    uniform vec3 u_sh[count(bands)].
+//   Lights      (consistent mode, Variant::lights > 0) per light j two uniform vectors:
+//               u_light_direction[j] = (d, sin alpha) and u_light_irradiance[j] = E_perp =
+//               flux (1 + cos alpha) / 2 (light_uniforms()); each light adds
+//               albedo / pi E_j(n) + f_s(n; VIEW, d) E_j(n) with E_j the uniform cap's exact
+//               irradiance and f_s the material's lobe, as render/realtime_lights.h.
 #pragma once
 
 #include <cstdint>
@@ -40,7 +45,9 @@
 #include <string>
 #include <vector>
 
+#include "brdf/brdf.h"
 #include "brdf/table.h"
+#include "envmap/lights.h"
 
 namespace inlight::gles {
 
@@ -73,6 +80,10 @@ struct MaterialInputs {
     std::string name = "material";           ///< [A-Za-z0-9_.-]+, used in file names
     Eigen::Vector2i albedo_texture_px{0, 0};  ///< width, height; 0 x 0 = no albedo texture
     Eigen::Vector2i normal_texture_px{0, 0};  ///< width, height; 0 x 0 = no normal map
+    /// The material's BRDF: its specular lobe (model and parameters, not its albedo, which is
+    /// the u_albedo uniform) is evaluated analytically for the dominant lights (variants with
+    /// lights and a table only; the lobe the table was baked from).
+    brdf::Material brdf;
     bool has_albedo_texture() const { return albedo_texture_px.x() > 0; }
     bool has_normal_texture() const { return normal_texture_px.x() > 0; }
 };
@@ -82,7 +93,24 @@ struct Variant {
     ShaderMode mode = ShaderMode::kConsistent;
     int sh_bands = 3;  ///< lighting bands, 3 .. table bands (kMaxBakeBands without a table)
     Precision precision = Precision::kHighp;
+    /// Dominant lights shaded analytically (consistent mode only; the report's shader has none).
+    int lights = 0;
 };
+
+/// One light's uniforms as the shader takes them: direction_sin = (d, sin alpha), with sin
+/// alpha = 0 below alpha = 1e-4 rad (the point limit, as envmap::light_irradiance), and
+/// normal_irradiance = E_perp = flux (1 + cos alpha) / 2 (the cap's irradiance on a surface
+/// facing it wholly above the horizon, per linear_srgb channel).
+struct LightUniforms {
+    Eigen::Vector4f direction_sin;
+    Eigen::Vector3f normal_irradiance;
+};
+LightUniforms light_uniforms(const envmap::DirectionalLight& light);
+/// The arrays glUniform4fv / glUniform3fv take for u_light_direction and u_light_irradiance.
+struct LightUniformArrays {
+    std::vector<float> direction_sin, normal_irradiance;  ///< 4 and 3 floats per light
+};
+LightUniformArrays light_uniform_arrays(const std::vector<envmap::DirectionalLight>& lights);
 
 /// One exported variant: sources, manifest and the BRDF data exactly as the app binds it.
 struct Export {
@@ -113,6 +141,9 @@ struct ExportSet {
     std::vector<ShaderMode> modes{ShaderMode::kConsistent, ShaderMode::kSeed};
     std::vector<Precision> precisions{Precision::kHighp, Precision::kMediump};
     int max_sh_bands = 3;  ///< consistent variants for bands 3 .. this (seed: 3 only)
+    /// Dominant lights (a lighting file's, render/realtime_lights.h): the consistent variants
+    /// shade this many analytically and their manifests carry these lights' uniform values.
+    std::vector<envmap::DirectionalLight> lights;
 };
 /// Parses comma lists: "100,300", "consistent,seed", "highp,mediump". Throws UsageError.
 std::vector<GlslVersion> glsl_versions_from_string(const std::string& list);

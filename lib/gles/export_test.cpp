@@ -10,6 +10,7 @@
 #include <regex>
 #include <set>
 
+#include "core/conventions.h"
 #include "gles/gles_testing.h"
 #include "testing/testing.h"
 
@@ -34,13 +35,27 @@ std::vector<Case> cases() {
     textured.name = "textured";
     textured.albedo_texture_px = {16, 8};
     textured.normal_texture_px = {8, 8};
+    textured.brdf.specular = brdf::Model::kCharlie;  // the lights' lobe of each model
     MaterialInputs albedo_only;
     albedo_only.name = "albedo";
     albedo_only.albedo_texture_px = {5, 3};
+    albedo_only.brdf.specular = brdf::Model::kCookTorranceReport;
     return {{"thetaphi:5x8", 4, 1, plain},
             {"octa:5", 4, 3, textured},
             {"report5x5", 3, 1, albedo_only},
             {"disk:4", 5, 1, textured}};
+}
+
+/// all_variants plus consistent variants with 1 and 3 dominant lights (both versions and
+/// precisions, 3 bands).
+std::vector<Variant> variants_with_lights(int bands) {
+    std::vector<Variant> out = all_variants(bands);
+    for (GlslVersion ver : {GlslVersion::kEs100, GlslVersion::kEs300}) {
+        for (Precision prec : {Precision::kHighp, Precision::kMediump}) {
+            for (int lights : {1, 3}) out.push_back({ver, ShaderMode::kConsistent, 3, prec, lights});
+        }
+    }
+    return out;
 }
 
 int run_glslang(const std::string& path, std::string* log) {
@@ -59,7 +74,7 @@ TEST(ExportVariant, EveryVariantPassesGlslangValidator) {
     const std::vector<Case> all = cases();
     for (const Case& c : all) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 1);
-        for (const Variant& v : all_variants(c.bands)) {
+        for (const Variant& v : variants_with_lights(c.bands)) {
             // Lambert (no table) for the first case only: its code is a subset of the others'.
             std::vector<const brdf::Table*> tables = {&table};
             if (&c == &all.front()) tables.push_back(nullptr);
@@ -88,7 +103,7 @@ TEST(ExportVariant, NoDeadDeclarations) {
         R"(\n(?:uniform|in|varying|attribute|const)\s+(?:highp\s+|mediump\s+)?\w+\s+(\w+)|\n\w+\s+(\w+)\()");
     for (const Case& c : cases()) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 2);
-        for (const Variant& v : all_variants(c.bands)) {
+        for (const Variant& v : variants_with_lights(c.bands)) {
             const Export e = export_variant(&table, c.mat, v, roomy_limits());
             for (const std::string* src : {&e.vertex_source, &e.fragment_source}) {
                 for (auto it = std::sregex_iterator(src->begin(), src->end(), decl);
@@ -157,6 +172,21 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
     mat.name = "bad name";
     v.sh_bands = 3;
     EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
+    // Lights: none in the seed mode (the report's shader has none), none on a Lambert lobe
+    // with a table; two uniform vectors each, counted against the limit.
+    mat.name = "material";
+    v.lights = 1;
+    v.mode = ShaderMode::kSeed;
+    EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
+    v.mode = ShaderMode::kConsistent;
+    mat.brdf.specular = brdf::Model::kLambert;
+    EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
+    mat.brdf.specular = brdf::Model::kGgx;
+    v.version = GlslVersion::kEs300;
+    v.lights = 3;
+    EXPECT_EQ(export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs300))
+                  .fragment_uniform_vectors,
+              9 + 1 + 6);
 }
 
 // RGBA8: every coefficient is offset + scale x byte / 255 within half a step of the float
@@ -208,6 +238,52 @@ TEST(ExportVariant, ManifestListsEveryBinding) {
     }
     EXPECT_EQ(e.manifest["textures"][0]["color_space"], "srgb");
     EXPECT_EQ(e.manifest["precision"]["safe"], "highp");
+}
+
+// A lighting file's lights: the consistent variants shade them, the seed variants do not, and
+// the manifest carries the values the app binds, as light_uniforms() computes them.
+TEST(ExportVariant, LightsInTheManifest) {
+    const brdf::Table table = random_table("octa:5", 3, 1, 8);
+    MaterialInputs mat;
+    mat.name = "satin";
+    ExportSet set;
+    set.versions = {GlslVersion::kEs300};
+    set.precisions = {Precision::kHighp};
+    envmap::DirectionalLight sun, lamp;
+    sun.direction = {0, 0.6, 0.8};
+    sun.flux = {100, 90, 80};
+    sun.angular_radius = 0.5 * kPi / 180;
+    lamp.direction = {1, 0, 0};
+    lamp.flux = {1, 1, 1};
+    lamp.angular_radius = 5e-5;  // below 1e-4 rad: a point (sin alpha bound as 0)
+    set.lights = {sun, lamp};
+    const std::vector<Export> exports = export_material(&table, mat, set);
+    ASSERT_EQ(exports.size(), 2u);
+    EXPECT_EQ(exports[0].name, "satin-es300-consistent-b3-l2-highp");
+    EXPECT_EQ(exports[1].name, "satin-es300-seed-b3-highp");
+    EXPECT_FALSE(exports[1].manifest.contains("lights"));
+    const nlohmann::json& m = exports[0].manifest;
+    EXPECT_EQ(m["lights"]["count"], 2);
+    EXPECT_EQ(m["lights"]["lobe"]["model"], "ggx");
+    for (const auto& u : m["uniforms"]) {
+        if (u["name"] == "u_light_direction") {
+            const std::vector<float> want = {0.0f, 0.6f, 0.8f,
+                                             static_cast<float>(std::sin(0.5 * kPi / 180)),
+                                             1.0f, 0.0f, 0.0f, 0.0f};
+            const auto got = u["values"].get<std::vector<float>>();
+            ASSERT_EQ(got.size(), want.size());
+            for (size_t i = 0; i < want.size(); ++i) EXPECT_FLOAT_EQ(got[i], want[i]) << i;
+        }
+        if (u["name"] == "u_light_irradiance") {
+            const double half = 0.5 * (1 + std::cos(0.5 * kPi / 180));
+            const auto got = u["values"].get<std::vector<float>>();
+            ASSERT_EQ(got.size(), 6u);
+            EXPECT_FLOAT_EQ(got[0], static_cast<float>(100 * half));
+            EXPECT_FLOAT_EQ(got[5], static_cast<float>(0.5 * (1 + std::cos(5e-5))));
+        }
+    }
+    EXPECT_EQ(m["gl_limits_needed"]["max_fragment_uniform_vectors"],
+              exports[0].fragment_uniform_vectors);
 }
 
 }  // namespace

@@ -220,6 +220,16 @@ Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) 
     }
     glUniform3fv(loc("u_sh"), k_count, sh.data());
     glUniform3f(loc("u_albedo"), b.albedo.x(), b.albedo.y(), b.albedo.z());
+    const int lights = e.manifest.contains("lights") ? e.manifest["lights"]["count"].get<int>() : 0;
+    if (static_cast<int>(b.lights.size()) != lights) {
+        throw Error(str("GLES variant ", e.name, ": shades ", lights, " lights, ",
+                        b.lights.size(), " given"));
+    }
+    if (lights > 0) {
+        const LightUniformArrays a = light_uniform_arrays(b.lights);
+        glUniform4fv(loc("u_light_direction"), lights, a.direction_sin.data());
+        glUniform3fv(loc("u_light_irradiance"), lights, a.normal_irradiance.data());
+    }
 
     // Textures in the manifest's units.
     for (const auto& t : e.manifest["textures"]) {

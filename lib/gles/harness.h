@@ -61,6 +61,8 @@ struct Bindings {
     Eigen::Vector2f uv_scale{1, 1};
     Eigen::MatrixXd sh;  ///< count(bands) (or more) x 3 lighting coefficients, device frame
     Eigen::Vector3f albedo{1, 1, 1};
+    /// Dominant lights, device frame (exactly the variant's count; set as light_uniforms()).
+    std::vector<envmap::DirectionalLight> lights;
     const Texture8* albedo_texture = nullptr;  ///< sRGB bytes; required iff the variant has one
     const Texture8* normal_texture = nullptr;  ///< data bytes; required iff the variant has one
     /// Further `uniform float name[n]` arrays (for shaders that are not exports, e.g. the

@@ -16,6 +16,7 @@
 #include "image/image.h"
 #include "render/material.h"
 #include "render/realtime.h"
+#include "render/realtime_lights.h"
 #include "sh/sh.h"
 #include "testing/testing.h"
 
@@ -172,15 +173,24 @@ struct Outcome {
     double pass_fraction = 0, worst = 0;
 };
 
-/// Draws `e` and compares it with the CPU model on the same inputs.
+/// Dominant lights, the material whose lobe shades them and the probe normals for them.
+struct LightSetup {
+    brdf::Material brdf;
+    std::vector<envmap::DirectionalLight> lights;
+    std::vector<Eigen::Vector3d> normals;  ///< kWidth * kHeight
+};
+
+/// Draws `e` and compares it with the CPU model on the same inputs (with `ls`: its lights,
+/// lobe and normals, the CPU model adding render::shade_lights as render_realtime does).
 Outcome compare(Context& ctx, const Export& e, const Variant& v, const Case& s,
-                const Eigen::MatrixXd& sh, TargetFormat format) {
+                const Eigen::MatrixXd& sh, TargetFormat format, const LightSetup* ls = nullptr) {
     const brdf::Grid grid = brdf::parse_grid(s.grid);
     const Texture8 albedo_tex = random_texture(12, 10, 11, false);
     const Texture8 normal_tex = random_texture(9, 7, 12, true);
     std::vector<Eigen::Vector3d> normals =
-        s.textured ? std::vector<Eigen::Vector3d>(kWidth * kHeight, Eigen::Vector3d::UnitZ())
-                   : probe_normals(grid, kWidth * kHeight, 13);
+        ls ? ls->normals
+        : s.textured ? std::vector<Eigen::Vector3d>(kWidth * kHeight, Eigen::Vector3d::UnitZ())
+                     : probe_normals(grid, kWidth * kHeight, 13);
     const Eigen::Vector3d tangent = Eigen::Vector3d::UnitX();
     Bindings b;
     b.sh = sh;
@@ -190,11 +200,13 @@ Outcome compare(Context& ctx, const Export& e, const Variant& v, const Case& s,
         b.albedo_texture = &albedo_tex;
         b.normal_texture = &normal_tex;
     }
+    if (ls) b.lights = ls->lights;
     const Readback gpu = draw(ctx, e, b, probe_mesh(normals, tangent), kWidth, kHeight, format);
 
     render::SurfaceMaterial m;
+    if (ls) m.brdf = ls->brdf;
     m.brdf.albedo = b.albedo.cast<double>();
-    m.brdf.specular = e.table_as_bound ? brdf::Model::kGgx : brdf::Model::kLambert;
+    if (!ls) m.brdf.specular = e.table_as_bound ? brdf::Model::kGgx : brdf::Model::kLambert;
     m.uv_scale = b.uv_scale.cast<double>();
     if (s.textured) {
         m.albedo_texture = as_image(albedo_tex, true);
@@ -214,9 +226,13 @@ Outcome compare(Context& ctx, const Export& e, const Variant& v, const Case& s,
             hit.dpdu = tangent;
             hit.uv = {(x + 0.5) / kWidth, (y + 0.5) / kHeight};
             const render::ShadingPoint sp = render::shade(m, hit, Eigen::Vector3d::UnitZ());
-            const Eigen::Vector3d r = render::shade_realtime(
-                sp.world_from_local.col(2), sp.brdf.albedo, e.table_as_bound.has_value(), sh,
-                e.table_as_bound ? &*e.table_as_bound : nullptr, opt);
+            const brdf::Table* table = e.table_as_bound ? &*e.table_as_bound : nullptr;
+            Eigen::Vector3d r = render::shade_realtime(sp.world_from_local.col(2), sp.brdf.albedo,
+                                                       table != nullptr, sh, table, opt);
+            if (ls) {
+                r += render::shade_lights(ls->lights, sp.world_from_local.col(2), sp.brdf,
+                                          table ? &table->view : nullptr);
+            }
             cpu[y * kWidth + x] = r;
             for (int c = 0; c < 3; ++c) magnitudes.push_back(std::abs(r[c]));
         }
@@ -343,6 +359,96 @@ TEST(GlesHarness, MatchesTheCpuModel) {
     }
 }
 
+envmap::DirectionalLight make_light(const Eigen::Vector3d& d, double radius_deg,
+                                    const Eigen::Vector3d& normal_irradiance) {
+    envmap::DirectionalLight l;
+    l.direction = d.normalized();
+    l.angular_radius = radius_deg * kPi / 180;
+    l.flux = normal_irradiance * 2.0 / (1.0 + std::cos(l.angular_radius));
+    return l;
+}
+
+/// Normals across each light's horizon band (|n.d| < 1.05 sin alpha, where the cap straddles
+/// the horizon and the shader takes Snyder's formula) at several azimuths about d, the upper
+/// hemisphere only; then the lookup's probe normals.
+std::vector<Eigen::Vector3d> light_probe_normals(const brdf::Grid& grid,
+                                                 const std::vector<envmap::DirectionalLight>& ls) {
+    std::vector<Eigen::Vector3d> n;
+    for (const auto& l : ls) {
+        const Eigen::Vector3d d = l.direction;
+        const Eigen::Vector3d a = d.unitOrthogonal(), b = d.cross(a);
+        const double width = 1.05 * std::max(l.angular_radius, 1e-3);
+        for (int i = 0; i < 48; ++i) {  // an even count: no normal exactly at n.d = 0
+            const double beta = kPi / 2 - width + 2 * width * (i + 0.5) / 48;
+            const double psi = 2 * kPi * i / 12.0;
+            const Eigen::Vector3d w = std::cos(psi) * a + std::sin(psi) * b;
+            const Eigen::Vector3d m = std::cos(beta) * d + std::sin(beta) * w;
+            n.push_back(m.z() >= 0 ? m : Eigen::Vector3d(m.x(), m.y(), -m.z()));
+        }
+    }
+    for (const Eigen::Vector3d& p : probe_normals(grid, kWidth * kHeight - n.size(), 15)) n.push_back(p);
+    return n;
+}
+
+// Issue 8 / 14: dominant lights in the shaders equal the CPU model's --rt-lighting shading
+// (render::shade_lights: the cap's exact irradiance, the lobe at its centre) for each lobe
+// model, both versions, on octa:9 at 3 bands and thetaphi:9x16 (whose lookup brings its own
+// atan2) at 4: a sun
+// at the horizon (HDR: 20x the sky), a 12-degree light 0.6 degrees off the pole and a point.
+TEST(GlesHarness, LightsMatchTheCpuModel) {
+    const std::vector<envmap::DirectionalLight> lights = {
+        make_light(direction_from_spherical(kPi / 2, kPi / 6), 0.27, {20, 19, 17}),
+        make_light(direction_from_spherical(0.01, 1.0), 12.0, {2.0, 2.2, 2.5}),
+        make_light(direction_from_spherical(1.1, -2.0), 0.0, {3, 2, 1})};
+    brdf::Material ggx, report, charlie, lambert;
+    ggx.specular = brdf::Model::kGgx;
+    ggx.alpha = 0.25;
+    ggx.f0 = {0.04, 0.05, 0.06};
+    report.specular = brdf::Model::kCookTorranceReport;
+    report.report_f = 0.3;  // a lobe far above the diffuse term, so that its errors show
+    report.specular_scale = 20;
+    charlie.specular = brdf::Model::kCharlie;
+    charlie.alpha = 0.35;
+    charlie.sheen_color = {0.9, 0.8, 0.7};
+    charlie.specular_scale = 3;
+    lambert.specular = brdf::Model::kLambert;
+    for (const std::string grid : {"octa:9", "thetaphi:9x16"}) {
+        brdf::Table t = smooth_table(grid, 4, 1, 6);
+        t.view = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();  // an off-axis fixed view
+        const Case s{grid, 4, 1, false};
+        LightSetup ls;
+        ls.lights = lights;
+        ls.normals = light_probe_normals(t.grid, lights);
+        for (const brdf::Material& lobe : {ggx, report, charlie, lambert}) {
+            ls.brdf = lobe;
+            MaterialInputs mat;
+            mat.name = brdf::to_string(lobe.specular);
+            mat.brdf = lobe;
+            const bool with_table = lobe.specular != brdf::Model::kLambert;
+            for (GlslVersion ver : {GlslVersion::kEs300, GlslVersion::kEs100}) {
+                Context& ctx = ver == GlslVersion::kEs300 ? context3() : context2();
+                {
+                    const int bands = grid == "octa:9" ? 3 : 4;
+                    const Variant v{ver, ShaderMode::kConsistent, bands, Precision::kHighp, 3};
+                    const Export e = export_variant(with_table ? &t : nullptr, mat, v,
+                                                    ctx.info().limits);
+                    const std::string what = str(e.name, " (", grid, ") on ", ctx.info().renderer);
+                    const Eigen::MatrixXd sh = lighting(bands, 7);
+                    const Outcome byte = compare(ctx, e, v, s, sh, TargetFormat::kRgba8, &ls);
+                    EXPECT_GE(byte.pass_fraction, kMinPassFraction)
+                        << what << ", 8-bit: worst " << byte.worst << " codes";
+                    if (!ctx.info().float_color_buffer) continue;
+                    const Outcome f = compare(ctx, e, v, s, sh, TargetFormat::kRgba32f, &ls);
+                    EXPECT_GE(f.pass_fraction, kMinPassFraction)
+                        << what << ", float: worst relative " << f.worst;
+                    std::cout << "[gles] " << what << " with 3 lights, float: "
+                              << f.pass_fraction * 100 << "% within 1e-3, worst " << f.worst
+                              << "; 8-bit worst " << byte.worst << " codes\n";
+                }
+            }
+        }
+    }
+}
 
 // Issue 15: the lookup snippet brdf-sh-bake ships (brdf/glsl.h, both its uniform-array and its
 // texture path) computes brdf::lookup() on a real driver, at the nodes, cell centres, the

@@ -30,6 +30,7 @@ std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOp
             [](char c) { return !(std::isalnum(static_cast<unsigned char>(c)) || c == '_' ||
                                   c == '.' || c == '-'); },
             '_');
+        in.brdf = m.brdf;
         if (m.albedo_texture) in.albedo_texture_px = {m.albedo_texture->width, m.albedo_texture->height};
         if (m.normal_texture) in.normal_texture_px = {m.normal_texture->width, m.normal_texture->height};
         if (m.brdf.specular == brdf::Model::kLambert) {
@@ -179,7 +180,7 @@ Texture8 to_texture8(const image::Image& img, bool srgb) {
 
 SceneFrame render_scene(const Context& context, const render::Scene& scene,
                         const std::vector<Export>& per_material, const Eigen::MatrixXd& coeffs,
-                        int repeat) {
+                        int repeat, const std::vector<envmap::DirectionalLight>& lights) {
     const render::Camera& cam = scene.camera();
     const auto& materials = scene.materials();
     if (per_material.size() != materials.size()) {
@@ -211,6 +212,7 @@ SceneFrame render_scene(const Context& context, const render::Scene& scene,
         Bindings& b = bindings[i];
         b.clip_from_object = clip;
         b.sh = coeffs;
+        b.lights = lights;
         b.albedo = m.brdf.albedo.cast<float>();
         b.uv_scale = m.uv_scale.cast<float>();
         if (m.albedo_texture) {
@@ -244,45 +246,68 @@ SceneFrame render_scene(const Context& context, const render::Scene& scene,
 
 nlohmann::json compare_scene(const render::Scene& scene, const render::RenderResult& truth,
                              const render::CompareOptions& options, const std::string& prefix,
-                             std::vector<render::WrittenFile>& written) {
+                             std::vector<render::WrittenFile>& written,
+                             const render::LightingFile* lighting) {
     const double exposure =
         options.exposure > 0 ? options.exposure : render::auto_exposure(truth.radiance);
-    render::RealtimeLighting lighting;
-    lighting.coeffs = render::project_environment(scene.environment(), options.max_bands);
+    render::RealtimeLighting lighting_sh;
+    lighting_sh.coeffs = render::project_environment(scene.environment(), options.max_bands);
     brdf::BakeOptions bo;
     bo.sh_bands = options.max_bands;
     bo.samples = options.bake_samples;
     const render::Camera& cam = scene.camera();
     bo.view = (cam.position - cam.look_at).normalized();
     const brdf::Grid grid = brdf::parse_grid(options.grid);
-    for (const render::SurfaceMaterial& m : scene.materials()) lighting.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    for (const render::SurfaceMaterial& m : scene.materials()) lighting_sh.tables.push_back(brdf::bake(m.brdf, grid, bo));
 
+    // The lighting file's variants: its residual SH (zero-padded to 3 bands) and its lights.
+    render::RealtimeLighting lit;
+    const int lit_bands = lighting ? std::max(3, lighting->sh.sh_bands) : 0;
     nlohmann::json out = {{"exposure", exposure}, {"variants", nlohmann::json::array()}};
+    if (lighting && lit_bands > brdf::kMaxBakeBands) {
+        const std::string why = str("the lighting file has ", lighting->sh.sh_bands,
+                                    " bands, the BRDF bake at most ", brdf::kMaxBakeBands);
+        log::warn(str("compare gles: no variants with the file's lights: ", why));
+        out["lighting_file_variants_skipped"] = why;
+    } else if (lighting) {
+        lit.coeffs = Eigen::MatrixXd::Zero(sh::count(lit_bands), 3);
+        lit.coeffs.topRows(lighting->sh.coeffs.rows()) = lighting->sh.coeffs;
+        lit.lights = lighting->lights;
+        bo.sh_bands = lit_bands;
+        for (const render::SurfaceMaterial& m : scene.materials()) lit.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    }
+
     for (GlslVersion version : {GlslVersion::kEs300, GlslVersion::kEs100}) {
         const Context context(version == GlslVersion::kEs300 ? 3 : 2);
         out["driver"] = context.info().summary();
-        std::vector<Variant> variants;
+        std::vector<std::pair<Variant, const render::RealtimeLighting*>> variants;
         for (int bands = 3; bands <= options.max_bands; ++bands) {
-            variants.push_back({version, ShaderMode::kConsistent, bands, Precision::kHighp});
+            variants.push_back({{version, ShaderMode::kConsistent, bands, Precision::kHighp}, &lighting_sh});
         }
-        variants.push_back({version, ShaderMode::kSeed, 3, Precision::kHighp});
-        for (const Variant& v : variants) {
+        variants.push_back({{version, ShaderMode::kSeed, 3, Precision::kHighp}, &lighting_sh});
+        if (!lit.tables.empty()) {
+            const int n_lights = static_cast<int>(lit.lights.size());
+            variants.push_back({{version, ShaderMode::kConsistent, lit_bands, Precision::kHighp, n_lights}, &lit});
+        }
+        for (const auto& [v, source] : variants) {
             std::vector<Export> exports;
-            render::RealtimeLighting bound = lighting;
+            render::RealtimeLighting bound = *source;
             std::string name;
             for (size_t i = 0; i < scene.materials().size(); ++i) {
                 const render::SurfaceMaterial& m = scene.materials()[i];
                 MaterialInputs in;
                 in.name = "m" + std::to_string(i);
+                in.brdf = m.brdf;
                 if (m.albedo_texture) in.albedo_texture_px = {m.albedo_texture->width, m.albedo_texture->height};
                 if (m.normal_texture) in.normal_texture_px = {m.normal_texture->width, m.normal_texture->height};
                 const bool lambert = m.brdf.specular == brdf::Model::kLambert;
-                exports.push_back(export_variant(lambert ? nullptr : &lighting.tables[i], in, v,
+                exports.push_back(export_variant(lambert ? nullptr : &source->tables[i], in, v,
                                                  context.info().limits));
                 if (exports.back().table_as_bound) bound.tables[i] = *exports.back().table_as_bound;
                 name = exports.back().name.substr(exports.back().name.find('-') + 1);
             }
-            const SceneFrame frame = render_scene(context, scene, exports, lighting.coeffs, 3);
+            if (source == &lit) name += "-file";  // lit by the --rt-lighting file
+            const SceneFrame frame = render_scene(context, scene, exports, source->coeffs, 3, source->lights);
             // The CPU model on the same inputs, one fragment per pixel (what the GPU shades).
             render::RealtimeOptions ro;
             ro.mode = v.mode == ShaderMode::kSeed ? render::RealtimeMode::kSeed
@@ -309,6 +334,8 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
             j["glsl_version"] = to_string(version);
             j["mode"] = to_string(v.mode);
             j["sh_bands"] = v.sh_bands;
+            j["lights"] = v.lights;
+            if (v.lights > 0) j["lighting_file_bands"] = lighting->sh.sh_bands;
             j["frame_time_ms"] = frame.frame_ms;
             j["cpu_model_fraction_within_1e-3"] = static_cast<double>(within) / n;
             j["cpu_model_vs_truth"] = render::metrics_json(c_cpu.metrics);

@@ -9,6 +9,7 @@
 #include "gles/export.h"
 #include "gles/harness.h"
 #include "render/compare.h"
+#include "render/realtime_lights.h"
 #include "render/scene.h"
 
 namespace inlight::gles {
@@ -44,7 +45,7 @@ struct SceneFrame {
 };
 SceneFrame render_scene(const Context& context, const render::Scene& scene,
                         const std::vector<Export>& per_material, const Eigen::MatrixXd& coeffs,
-                        int repeat = 1);
+                        int repeat = 1, const std::vector<envmap::DirectionalLight>& lights = {});
 
 /// render --compare's GLES column: for ES 1.00 and 3.00 (highp), both modes at 3 bands and the
 /// consistent mode at 3 .. options.max_bands, the scene drawn on the driver (frame time: the
@@ -52,8 +53,13 @@ SceneFrame render_scene(const Context& context, const render::Scene& scene,
 /// truth (the same metrics, heat maps and PNGs as the CPU model: <prefix>_gles_<variant>_*)
 /// and against the CPU model with one fragment per pixel (fraction of pixels within 1e-3
 /// relative). Writes <prefix>_compare3_<variant>.png: truth | CPU model | GLES | GLES error.
+/// With `lighting` (render --compare --rt-lighting FILE): also the consistent variants at the
+/// file's bands (at least 3) with its lights, lit by its residual SH, beside the CPU model
+/// lit the same way (render/realtime_lights.h); a file above the bake's 8 bands is reported
+/// as skipped, never truncated.
 nlohmann::json compare_scene(const render::Scene& scene, const render::RenderResult& truth,
                              const render::CompareOptions& options, const std::string& prefix,
-                             std::vector<render::WrittenFile>& written);
+                             std::vector<render::WrittenFile>& written,
+                             const render::LightingFile* lighting = nullptr);
 
 }  // namespace inlight::gles

@@ -31,6 +31,60 @@ expect_true "ES 1.00 table is RGBA8 within 16 uniform vectors" -- jq -e \
 expect_true "RGBA8 data is width x height x 4 bytes" -- bash -c "test \$(stat -c %s '$WORK/g/satin-es100-consistent-b3-highp.brdf.bin') -eq \
     \$(jq '.textures[0].width * .textures[0].height * 4' '$WORK/g/satin-es100-consistent-b3-highp.json')"
 
+# Dominant lights (issue 14): a lighting file from envmap-project --max-error (a sky of 1 with a
+# one-pixel sun of 30,000), exported into the consistent variants and compared in render.
+EP="$BIN/envmap-project"
+"$TBIN/inlight_make_test_image" "$WORK/sun.exr" 256 128 1 40 40 30000
+expect_exit 0 "envmap-project extracts the sun" -- "$EP" "$WORK/sun.exr" -o "$WORK/sun_sh.json" --max-error 0.01 -q
+expect_exit 1 "a missing lighting file names the option's file" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/l" --export-gles "$WORK/gl" --gles-lighting "$WORK/none.json"
+expect_stderr "none.json" "the error names the lighting file"
+expect_true "nothing written by a bad lighting file" -- test ! -e "$WORK/gl"
+expect_exit 1 "ES 1.00 with a light needs 18 uniform vectors: refused at the ES 2.0 minimum" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/lit" --export-gles "$WORK/gl" --gles-lighting "$WORK/sun_sh.json"
+expect_stderr "lit-es100-consistent-b3-l1-highp: needs 18 fragment uniform vectors" "the refusal names the need"
+expect_exit 0 "brdf-sh-bake --gles-lighting" -- "$B" "${BAKE[@]}" -o "$WORK/lit" --export-gles "$WORK/gl" \
+    --gles-lighting "$WORK/sun_sh.json" --gles-versions 300 --gles-precisions highp --report "$WORK/bl.json"
+expect_true "consistent variants shade the light, seed variants none" -- jq -e \
+    '[.variants[].name] == ["lit-es300-consistent-b3-l1-highp", "lit-es300-seed-b3-highp"]' "$WORK/gl/index.json"
+expect_true "the manifest binds the file's light (direction, sin alpha, E_perp)" -- jq -e --slurpfile f "$WORK/sun_sh.json" \
+    '(.uniforms[] | select(.name == "u_light_direction") | .values | length == 4) and
+     (.uniforms[] | select(.name == "u_light_irradiance") | .values[0] > 0.99 * $f[0].lights[0].flux[0]) and
+     .lights.lobe.model == "ggx"' "$WORK/gl/lit-es300-consistent-b3-l1-highp.json"
+expect_true "the lighting file is a recorded input" -- \
+    jq -e '[.inputs[].path | select(endswith("sun_sh.json"))] | length == 1' "$WORK/bl.json"
+for f in "$WORK"/gl/*.frag; do
+    glslangValidator "$f" > "$WORK/glslang.log" 2>&1 || fail "$f: $(cat "$WORK/glslang.log")"
+done
+pass "every source with lights passes glslangValidator"
+cat > "$WORK/sun_scene.toml" <<'TOML'
+[environment]
+path = "sun.exr"
+# Charlie sheen: the lobe with the shader's own pow and exp (the bake above is GGX).
+[camera]
+width_px = 16
+height_px = 16
+ortho_height = 0.9
+[material.velvet]
+specular = "charlie"
+alpha = 0.4
+sheen_color = [0.9, 0.7, 0.6]
+albedo = [0.4, 0.3, 0.3]
+[[object]]
+shape = "patch"
+material = "velvet"
+TOML
+expect_exit 0 "render --compare --rt-lighting: the GLES column with the file's light" -- "$R" "$WORK/sun_scene.toml" \
+    -o "$WORK/s.exr" --spp 16 --seed 3 --compare --rt-max-bands 3 --rt-bake-samples 256 --rt-supersample 1 \
+    --rt-lighting "$WORK/sun_sh.json" --report "$WORK/s.json"
+expect_true "ES 1.00 and 3.00 variants with the light match the CPU model on >= 99.9% of pixels" -- jq -e \
+    '[.metrics.realtime.gles.variants[] | select(.lights == 1) | .["cpu_model_fraction_within_1e-3"] >= 0.999]
+     | length == 2 and all' "$WORK/s.json"
+expect_true "GLES with the light equals the CPU model's lit error against the truth" -- jq -e \
+    '.metrics.realtime as $r | [$r.gles.variants[] | select(.lights == 1) |
+     (.mean_rel - $r.lighting_file.with_lights.mean_rel) | fabs < 1e-3 * $r.lighting_file.with_lights.mean_rel] | all' "$WORK/s.json"
+expect_true "three-way PNG with the light written" -- test -s "$WORK/s_compare3_es300-consistent-b3-l1-highp-file.png"
+
 # render: the scene's materials, with the albedo texture's size in the manifest.
 if [ -e /usr/share/blender/datafiles/studiolights/world/city.exr ]; then
     expect_exit 0 "render --export-gles" -- "$R" "$SRC/configs/scenes/patch_city.toml" \
