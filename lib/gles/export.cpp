@@ -43,6 +43,15 @@ std::string to_string(TableLayout l) {
     return "?";
 }
 
+std::string to_string(LightingLayout l) {
+    switch (l) {
+        case LightingLayout::kUniformArray: return "uniform_array";
+        case LightingLayout::kFloatTexture: return "rgba32f_texture";
+        case LightingLayout::kRgba8Texture: return "rgba8_texture_16bit";
+    }
+    return "?";
+}
+
 namespace {
 template <typename T>
 std::vector<T> parse_list(const std::string& list, T (*parse)(const std::string&)) {
@@ -92,6 +101,7 @@ struct Plan {
     const MaterialInputs* mat = nullptr;
     const brdf::Table* table = nullptr;  ///< the bound table (bands = variant bands) or null
     TableLayout layout = TableLayout::kNone;
+    LightingLayout lighting = LightingLayout::kUniformArray;
     int texels_per_node = 0;
     bool es3() const { return v->version == GlslVersion::kEs300; }
     int channels() const { return table ? table->channels : 0; }
@@ -291,7 +301,7 @@ std::string shading_source(const Plan& p) {
 /// polynomial, from +, *, / and floor): drivers' exp(), log() and pow() carry no accuracy
 /// requirement (llvmpipe's pow is ~1.5e-3 off, docs/gles.md). The driver's log2() only picks
 /// the binade, corrected by one step either way; powers of two come from exact products.
-std::string exp_log_functions() {
+std::string pow2i_function() {
     return "// 2^k for an integer k in [-255, 255], exactly (products of powers of two).\n"
            "float pow2i(float k) {\n"
            "    float r = 1.0;\n"
@@ -303,8 +313,12 @@ std::string exp_log_functions() {
            "        b *= b;\n"
            "        n = h;\n"
            "    }\n"
-           "    return r;\n}\n"
-           "float exp_f32(float x) {\n"
+           "    return r;\n}\n";
+}
+
+/// Needs pow2i_function() before it.
+std::string exp_log_functions() {
+    return "float exp_f32(float x) {\n"
            "    float k = floor(1.44269504 * x + 0.5);\n"
            "    float r = x - k * 0.693359375 + k * 2.12194440e-4;\n"
            "    float p = ((((1.9875691500e-4 * r + 1.3981999507e-3) * r + 8.3334519073e-3) * r\n"
@@ -466,8 +480,13 @@ std::string fragment_source(const Plan& p, const std::string& name) {
     o << in << " vec3 v_normal;\n";
     if (mat.has_normal_texture()) o << in << " vec3 v_tangent;\n";
     if (uv) o << in << " vec2 v_uv;\n";
-    o << "uniform vec3 u_sh[" << k_count << "];  // lighting L_lm, radiance, linear_srgb\n"
-      << "uniform vec3 u_albedo;  // linear_srgb\n";
+    if (p.lighting == LightingLayout::kUniformArray) {
+        o << "uniform vec3 u_sh[" << k_count << "];  // lighting L_lm, radiance, linear_srgb\n";
+    } else {
+        o << "uniform " << sampler << " u_sh_texture;  // lighting L_lm (" << to_string(p.lighting)
+          << ")\n";
+    }
+    o << "uniform vec3 u_albedo;  // linear_srgb\n";
     if (p.v->lights > 0) {
         o << "uniform vec4 u_light_direction[" << p.v->lights
           << "];  // (d toward the light, sin alpha)\n"
@@ -524,6 +543,30 @@ std::string fragment_source(const Plan& p, const std::string& name) {
              "cell.w, t), f.y), f.x);\n}\n"
           << brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100);
     }
+    const bool charlie_lights = p.v->lights > 0 && p.table && mat.brdf.specular == brdf::Model::kCharlie;
+    if (charlie_lights || p.lighting == LightingLayout::kRgba8Texture) o << pow2i_function();
+    if (p.lighting == LightingLayout::kFloatTexture) {
+        o << "vec3 sh_coeff(int k) { return texelFetch(u_sh_texture, ivec2(k, 0), 0).rgb; }\n";
+    } else if (p.lighting == LightingLayout::kRgba8Texture) {
+        const std::string w = lit(k_count);
+        o << "// A float32 from 4 bytes (gles::bind_lighting): exponent + 127, then the mantissa\n"
+          << "// with its leading 1 replaced by the sign. Exact.\n"
+          << "float unpack_f32(vec4 t) {\n"
+          << "    vec4 b = floor(t * 255.0 + 0.5);\n"
+          << "    if (b.x == 0.0) return 0.0;\n"
+          << "    float neg = step(128.0, b.y);\n"
+          << "    float m = ((b.y - 128.0 * neg + 128.0) * 65536.0 + b.z * 256.0 + b.w) * "
+             "5.96046448e-8;\n"
+          << "    return (1.0 - 2.0 * neg) * m * pow2i(b.x - 127.0);\n}\n"
+          << "// Coefficient k: offset_k + scale_k q / 65535, q the 16 bits of rows 0 and 1.\n"
+          << "vec3 sh_coeff(float k) {\n"
+          << "    float x = (k + 0.5) / " << w << ";\n"
+          << "    vec3 hi = floor(texture2D(u_sh_texture, vec2(x, 0.125)).rgb * 255.0 + 0.5);\n"
+          << "    vec3 lo = floor(texture2D(u_sh_texture, vec2(x, 0.375)).rgb * 255.0 + 0.5);\n"
+          << "    float scale = unpack_f32(texture2D(u_sh_texture, vec2(x, 0.625)));\n"
+          << "    float offset = unpack_f32(texture2D(u_sh_texture, vec2(x, 0.875)));\n"
+          << "    return offset + scale * ((hi * 256.0 + lo) / 65535.0);\n}\n";
+    }
     if (p.v->lights > 0) {
         if (!p.table || !brdf::glsl_grid_coord_has_atan2(p.table->grid)) o << brdf::glsl_atan2_source();
         o << lights_functions(p);
@@ -554,6 +597,11 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << size_literal(mat.albedo_texture_px) << ", v_uv);\n";
     } else {
         o << "    vec3 albedo = u_albedo;\n";
+    }
+    if (p.lighting != LightingLayout::kUniformArray) {
+        for (int k = 0; k < k_count; ++k) {
+            o << "    vec3 sh" << k << " = sh_coeff(" << (es3 ? str(k) : lit(k)) << ");\n";
+        }
     }
     o << "    vec3 n = normalize(v_normal);\n";
     if (mat.has_normal_texture()) {
@@ -592,7 +640,9 @@ std::string fragment_source(const Plan& p, const std::string& name) {
         o << ";\n";
     }
     o << (es3 ? "    o_radiance" : "    gl_FragColor") << " = vec4(radiance, 1.0);\n}\n";
-    return o.str();
+    if (p.lighting == LightingLayout::kUniformArray) return o.str();
+    // The shading code names the coefficients u_sh[k]; here they are the locals sh<k>.
+    return std::regex_replace(o.str(), std::regex(R"(u_sh\[(\d+)\])"), "sh$1");
 }
 
 
@@ -625,9 +675,11 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
     json uniforms = json::array();
     uniforms.push_back({{"name", "u_clip_from_object"}, {"type", "mat4"}, {"count", 1}, {"stage", "vertex"}, {"meaning", "clip from device frame"}});
     if (uv) uniforms.push_back({{"name", "u_uv_scale"}, {"type", "vec2"}, {"count", 1}, {"stage", "vertex"}, {"meaning", "tiles per unit of a_uv"}});
-    uniforms.push_back({{"name", "u_sh"}, {"type", "vec3"}, {"count", sh::count(p.v->sh_bands)}, {"stage", "fragment"},
-                        {"meaning", "lighting SH coefficients L_lm (R, G, B), device frame, real SH without Condon-Shortley phase, index l(l+1)+m"},
-                        {"units", "radiance (linear_srgb, the environment's units)"}});
+    const char* sh_meaning = "lighting SH coefficients L_lm (R, G, B), device frame, real SH without Condon-Shortley phase, index l(l+1)+m";
+    if (p.lighting == LightingLayout::kUniformArray) {
+        uniforms.push_back({{"name", "u_sh"}, {"type", "vec3"}, {"count", sh::count(p.v->sh_bands)}, {"stage", "fragment"},
+                            {"meaning", sh_meaning}, {"units", "radiance (linear_srgb, the environment's units)"}});
+    }
     uniforms.push_back({{"name", "u_albedo"}, {"type", "vec3"}, {"count", 1}, {"stage", "fragment"}, {"meaning", "material albedo, linear_srgb"}, {"range", {0.0, 1.0}}});
     if (p.v->lights > 0) {
         uniforms.push_back({{"name", "u_light_direction"}, {"type", "vec4"}, {"count", p.v->lights}, {"stage", "fragment"},
@@ -715,10 +767,28 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
         }
         m["brdf_table"] = table;
     }
+    const int k_count = sh::count(p.v->sh_bands);
+    if (p.lighting != LightingLayout::kUniformArray) {
+        const bool rgba8 = p.lighting == LightingLayout::kRgba8Texture;
+        json t = {{"uniform", "u_sh_texture"}, {"unit", unit++}, {"internal_format", rgba8 ? "RGBA" : "RGBA32F"},
+                  {"format", "RGBA"}, {"type", rgba8 ? "UNSIGNED_BYTE" : "FLOAT"}, {"width", k_count},
+                  {"height", rgba8 ? 4 : 1}, {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "data"},
+                  {"meaning", sh_meaning}, {"units", "radiance (linear_srgb, the environment's units)"},
+                  {"packing", rgba8 ? "gles::bind_lighting: column k = coefficient k; rows 0, 1 = high, low byte of "
+                                      "q = round((L - offset_k) / scale_k * 65535) per channel (rgb); rows 2, 3 = scale_k, "
+                                      "offset_k as float32 (byte 0 = exponent + 127, 0 = zero; bytes 1-3 = mantissa, its "
+                                      "leading 1 replaced by the sign); offset_k = least channel, scale_k = their spread"
+                                    : "texel k: rgb = L_k, a unused"},
+                  {"updated", "whenever the lighting changes (device rotation): re-pack and re-upload"}};
+        if (rgba8) t["quantization_max_abs_error"] = "scale_k / 131070 per coefficient (16 bits), scale_k the spread of L_k over R, G, B";
+        textures.push_back(t);
+    }
+    m["lighting_layout"] = to_string(p.lighting);
     m["uniforms"] = uniforms;
     m["textures"] = textures;
     int max_side = std::max(mat.albedo_texture_px.maxCoeff(), mat.normal_texture_px.maxCoeff());
     if (p.table && p.layout != TableLayout::kUniformArray) max_side = std::max({max_side, e.data_width, e.data_height});
+    if (p.lighting != LightingLayout::kUniformArray) max_side = std::max(max_side, sh::count(p.v->sh_bands));
     json ext = json::array();
     if (!es3 && p.v->precision == Precision::kHighp) ext.push_back("GL_FRAGMENT_PRECISION_HIGH (highp in fragment shaders)");
     m["gl_limits_needed"] = {{"context", es3 ? "OpenGL ES 3.0" : "OpenGL ES 2.0"},
@@ -859,13 +929,28 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
         p.table = &*e.table_as_bound;
     }
     e.table_layout = p.layout;
+    if (vectors > limits.max_fragment_uniform_vectors) {
+        // The lighting moves into a texture (never truncated): ES 3.00 RGBA32F, ES 1.00 RGBA8
+        // with 16 bits per value (float textures are an ES 2.0 extension).
+        p.lighting = p.es3() ? LightingLayout::kFloatTexture : LightingLayout::kRgba8Texture;
+        vectors -= k_count;
+        ++units;
+        if (k_count > limits.max_texture_size) {
+            throw Error(str("GLES export ", e.name, ": the lighting texture is ", k_count,
+                            " texels wide, GL_MAX_TEXTURE_SIZE is ", limits.max_texture_size));
+        }
+    }
+    e.lighting_layout = p.lighting;
     e.fragment_uniform_vectors = vectors;
     // The material's own textures are the app's to size for its device: their size is stated
     // in gl_limits_needed, not checked against the specification minimum (64 texels in ES 2.0,
     // which no fabric texture meets and no device has).
     if (vectors > limits.max_fragment_uniform_vectors) {
         throw Error(str("GLES export ", e.name, ": needs ", vectors,
-                        " fragment uniform vectors (", k_count, " lighting coefficients",
+                        " fragment uniform vectors (",
+                        p.lighting == LightingLayout::kUniformArray
+                            ? str(k_count, " lighting coefficients")
+                            : std::string("lighting in a texture, u_albedo"),
                         v.lights > 0 ? str(", ", 2 * v.lights, " for ", v.lights, " lights") : "",
                         p.layout == TableLayout::kRgba8Texture ? ", the table's scale and offset"
                                                                : "",
@@ -882,6 +967,66 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     e.fragment_source = fragment_source(p, e.name);
     e.manifest = make_manifest(e, p, limits);
     return e;
+}
+
+namespace {
+/// float32 in 4 bytes as the shaders' unpack_f32 reads it (BoundLighting).
+void pack_f32(float v, uint8_t* out) {
+    int e = 0;
+    const float m = std::frexp(std::abs(v), &e);  // |v| = m 2^e, m in [0.5, 1)
+    if (v == 0.0f || e + 127 < 1) {
+        out[0] = out[1] = out[2] = out[3] = 0;
+        return;
+    }
+    const auto mant = static_cast<uint32_t>(std::ldexp(m, 24));  // exact: 24 bits
+    out[0] = static_cast<uint8_t>(e + 127);
+    out[1] = static_cast<uint8_t>(((mant >> 16) & 0x7f) | (v < 0 ? 0x80 : 0));
+    out[2] = static_cast<uint8_t>((mant >> 8) & 0xff);
+    out[3] = static_cast<uint8_t>(mant & 0xff);
+}
+}  // namespace
+
+BoundLighting bind_lighting(const Export& e, const Eigen::MatrixXd& sh) {
+    const int k_count = sh::count(e.manifest["variant"]["sh_bands"].get<int>());
+    if (e.lighting_layout == LightingLayout::kUniformArray) {
+        throw Error(str("GLES variant ", e.name, ": its lighting is in uniforms, not a texture"));
+    }
+    if (sh.rows() < k_count || sh.cols() != 3 || !sh.topRows(k_count).allFinite()) {
+        throw Error(str("GLES variant ", e.name, ": needs ", k_count,
+                        "x3 finite lighting coefficients"));
+    }
+    BoundLighting b;
+    b.width = k_count;
+    b.as_bound = Eigen::MatrixXd(k_count, 3);
+    if (e.lighting_layout == LightingLayout::kFloatTexture) {
+        b.height = 1;
+        for (int k = 0; k < k_count; ++k) {
+            for (int c = 0; c < 3; ++c) {
+                b.texels.push_back(static_cast<float>(sh(k, c)));
+                b.as_bound(k, c) = b.texels.back();
+            }
+            b.texels.push_back(0.0f);
+        }
+        return b;
+    }
+    b.height = 4;
+    b.bytes.assign(static_cast<size_t>(k_count) * 4 * 4, 0);
+    auto texel = [&](int k, int row) { return &b.bytes[(static_cast<size_t>(row) * k_count + k) * 4]; };
+    for (int k = 0; k < k_count; ++k) {
+        const float offset = static_cast<float>(sh.row(k).minCoeff());
+        const float scale = static_cast<float>(sh.row(k).maxCoeff() - offset);
+        pack_f32(scale, texel(k, 2));
+        pack_f32(offset, texel(k, 3));
+        b.max_abs_error = std::max(b.max_abs_error, scale / 131070.0);
+        for (int c = 0; c < 3; ++c) {
+            const long q = scale > 0 ? std::clamp(std::lround((sh(k, c) - offset) / scale * 65535.0), 0L, 65535L) : 0L;
+            texel(k, 0)[c] = static_cast<uint8_t>(q >> 8);
+            texel(k, 1)[c] = static_cast<uint8_t>(q & 0xff);
+            // As the shader computes it, in float.
+            b.as_bound(k, c) = offset + scale * (static_cast<float>(q) / 65535.0f);
+        }
+    }
+    return b;
 }
 
 LightUniforms light_uniforms(const envmap::DirectionalLight& light) {

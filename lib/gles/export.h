@@ -31,7 +31,8 @@
 //               ES 1.00: always an RGBA8 texture (fragment uniform arrays may only be indexed
 //               by constants in ES 1.00, and float textures are an extension), value =
 //               offset_k + scale_k x texel, scale/offset per coefficient in uniforms.
-//   Lighting    uniform vec3 u_sh[count(bands)].
+//   Lighting    uniform vec3 u_sh[count(bands)] when it fits beside everything else, else a
+//               texture u_sh_texture (LightingLayout, BoundLighting).
 //   Lights      (consistent mode, Variant::lights > 0) per light j two uniform vectors:
 //               u_light_direction[j] = (d, sin alpha) and u_light_irradiance[j] = E_perp =
 //               flux (1 + cos alpha) / 2 (light_uniforms()); each light adds
@@ -55,6 +56,10 @@ enum class GlslVersion { kEs100, kEs300 };
 enum class ShaderMode { kConsistent, kSeed };
 enum class Precision { kHighp, kMediump };
 enum class TableLayout { kNone, kUniformArray, kFloatTexture, kRgba8Texture };
+/// Where the lighting coefficients L_lm sit: uniform vec3 u_sh[] when they fit, else a texture
+/// u_sh_texture (ES 3.00: RGBA32F, count x 1; ES 1.00: RGBA8, count x 4, 16 bits per value
+/// with a scale and offset per coefficient stored in the texture, see bind_lighting()).
+enum class LightingLayout { kUniformArray, kFloatTexture, kRgba8Texture };
 
 /// "100" | "300"; "consistent" | "seed"; "highp" | "mediump". Throw UsageError otherwise.
 GlslVersion glsl_version_from_string(const std::string& name);
@@ -64,6 +69,7 @@ std::string to_string(GlslVersion v);
 std::string to_string(ShaderMode m);
 std::string to_string(Precision p);
 std::string to_string(TableLayout l);
+std::string to_string(LightingLayout l);
 
 /// The GL limits an export must fit (glGetIntegerv names in comments).
 struct Limits {
@@ -118,6 +124,7 @@ struct Export {
     std::string vertex_source, fragment_source;
     nlohmann::json manifest;
     TableLayout table_layout = TableLayout::kNone;
+    LightingLayout lighting_layout = LightingLayout::kUniformArray;
     int data_width = 0, data_height = 0;  ///< texels of the table data (uniform: count x 1)
     std::vector<float> table_texels;      ///< RGBA float texels (uniform and float layouts)
     std::vector<uint8_t> table_bytes;     ///< RGBA8 texels (RGBA8 layout)
@@ -134,6 +141,25 @@ struct Export {
 /// variant, the resource and both numbers.
 Export export_variant(const brdf::Table* table, const MaterialInputs& material,
                       const Variant& variant, const Limits& limits);
+
+/// The lighting as a variant with a lighting texture takes it (the app re-packs it whenever the
+/// coefficients change, e.g. when the device turns). ES 1.00 RGBA8, count x 4 texels: column k
+/// holds coefficient k; rows 0 and 1 the high and low bytes of q_c = round((L_kc - offset_k) /
+/// scale_k x 65535) per channel (rgb), rows 2 and 3 scale_k and offset_k (offset = the least of
+/// the three channels, scale = their spread) as float32 in 4 bytes: byte 0 = exponent + 127 (0 =
+/// zero), bytes 1-3 the 24-bit mantissa with its leading 1 replaced by the sign. Then L_kc =
+/// offset_k + scale_k q_c / 65535, within scale_k / 131070 of the float value. ES 3.00 RGBA32F:
+/// count x 1 texels, rgb = L_k, exact.
+struct BoundLighting {
+    int width = 0, height = 0;
+    std::vector<float> texels;    ///< RGBA32F layout
+    std::vector<uint8_t> bytes;   ///< RGBA8 layout
+    Eigen::MatrixXd as_bound;     ///< count x 3: what the shader reads (give it to the CPU model)
+    double max_abs_error = 0;     ///< the bound max_k scale_k / 131070 (RGBA8), else 0
+};
+/// Throws Error when `sh` has fewer than the variant's coefficients or a non-finite value, and
+/// when the export keeps its lighting in uniforms.
+BoundLighting bind_lighting(const Export& e, const Eigen::MatrixXd& sh);
 
 /// Which variants a tool exports for each material.
 struct ExportSet {

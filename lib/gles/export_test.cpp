@@ -11,6 +11,8 @@
 #include <set>
 
 #include "core/conventions.h"
+#include "core/error.h"
+#include "sh/sh.h"
 #include "gles/gles_testing.h"
 #include "testing/testing.h"
 
@@ -145,16 +147,64 @@ TEST(ExportVariant, LayoutFollowsTheLimits) {
     }
 }
 
+// Above 3 bands the ES 1.00 lighting moves into an RGBA8 texture at the ES 2.0 minimum (instead
+// of the export being refused): u_albedo + the table's scale and offset, + 2 per light.
+TEST(ExportVariant, LightingTextureWhenUniformsDoNotFit) {
+    const brdf::Table table = random_table("octa:5", 5, 1, 9);
+    MaterialInputs mat;
+    for (int bands : {4, 5}) {
+        Variant v{GlslVersion::kEs100, ShaderMode::kConsistent, bands, Precision::kHighp};
+        const Export e = export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs100));
+        EXPECT_EQ(e.lighting_layout, LightingLayout::kRgba8Texture);
+        EXPECT_EQ(e.fragment_uniform_vectors, 1 + 2 * ((sh::count(bands) + 3) / 4));
+        EXPECT_EQ(e.manifest["lighting_layout"], "rgba8_texture_16bit");
+        EXPECT_EQ(e.fragment_source.find("u_sh["), std::string::npos);
+    }
+    Variant lit{GlslVersion::kEs100, ShaderMode::kConsistent, 4, Precision::kHighp, 3};
+    EXPECT_EQ(export_variant(&table, mat, lit, Limits::minimum(GlslVersion::kEs100))
+                  .fragment_uniform_vectors, 9 + 6);
+    // 3 bands stay in uniforms (exactly 16 vectors).
+    const Export b3 = export_variant(&table, mat, Variant{GlslVersion::kEs100}, Limits::minimum(GlslVersion::kEs100));
+    EXPECT_EQ(b3.lighting_layout, LightingLayout::kUniformArray);
+}
+
+// The RGBA8 lighting: 16 bits per value between a per-coefficient offset and scale stored as
+// float32 bytes: every value within scale_k / 131070 (half a 16-bit step) plus float rounding
+// of offset + scale * q (2 ulp of the coefficient's magnitude), and the bound states it.
+TEST(ExportVariant, LightingQuantisationWithinHalfAStep) {
+    const brdf::Table table = random_table("octa:5", 5, 1, 10);
+    const Export e = export_variant(&table, MaterialInputs{}, {GlslVersion::kEs100, ShaderMode::kConsistent, 5},
+                                    Limits::minimum(GlslVersion::kEs100));
+    Eigen::MatrixXd sh = Eigen::MatrixXd::Random(25, 3) * 3.0;
+    sh.row(3).setConstant(-0.25);  // no spread: scale 0, exact
+    sh(5, 1) = 1e-30;
+    const BoundLighting b = bind_lighting(e, sh);
+    ASSERT_EQ(b.bytes.size(), 25u * 4 * 4);
+    double worst = 0;
+    for (int k = 0; k < 25; ++k) {
+        const double spread = sh.row(k).maxCoeff() - sh.row(k).minCoeff();
+        for (int c = 0; c < 3; ++c) {
+            const double err = std::abs(b.as_bound(k, c) - sh(k, c));
+            EXPECT_LE(err, spread / 131070 + 2.4e-7 * std::abs(sh(k, c))) << k << " " << c;
+            worst = std::max(worst, err);
+        }
+    }
+    EXPECT_EQ(b.as_bound(3, 0), -0.25);
+    EXPECT_LE(worst, b.max_abs_error + 1e-6);
+    EXPECT_THROW(bind_lighting(e, Eigen::MatrixXd::Constant(25, 3, NAN)), Error);
+}
+
 TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
     const brdf::Table table = random_table("octa:9", 4, 1, 4);
     MaterialInputs mat;
     Variant v;
     v.version = GlslVersion::kEs100;
-    v.sh_bands = 4;  // u_sh[16] alone is 16 vectors
+    v.sh_bands = 6;  // lighting in a texture, but the table's scale and offset: 2 x 9 vectors
+    const brdf::Table table6 = random_table("octa:5", 6, 1, 4);
     const std::string msg = inlight::testing::error_of(
-        [&] { export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs100)); });
-    EXPECT_NE(msg.find("material-es100-consistent-b4-highp"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("needs 25 fragment uniform vectors"), std::string::npos) << msg;
+        [&] { export_variant(&table6, mat, v, Limits::minimum(GlslVersion::kEs100)); });
+    EXPECT_NE(msg.find("material-es100-consistent-b6-highp"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("needs 19 fragment uniform vectors (lighting in a texture"), std::string::npos) << msg;
     EXPECT_NE(msg.find("GL_MAX_FRAGMENT_UNIFORM_VECTORS is 16"), std::string::npos) << msg;
     // A texture wider than GL_MAX_TEXTURE_SIZE.
     const brdf::Table wide = random_table("thetaphi:5x40", 3, 1, 5);  // 120 texels wide
@@ -163,6 +213,7 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
         [&] { export_variant(&wide, mat, v, Limits::minimum(GlslVersion::kEs100)); });
     EXPECT_NE(msg2.find("120x5 texels, GL_MAX_TEXTURE_SIZE is 64"), std::string::npos) << msg2;
     // Impossible variants are usage errors.
+    v.sh_bands = 4;
     v.mode = ShaderMode::kSeed;
     v.sh_bands = 4;
     EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
@@ -183,6 +234,10 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
     EXPECT_THROW(export_variant(&table, mat, v, roomy_limits()), UsageError);
     mat.brdf.specular = brdf::Model::kGgx;
     v.version = GlslVersion::kEs300;
+    v.lights = 7;  // 9 + 1 + 14 > 16 vectors: the lighting moves to a texture (1 + 14)
+    Limits l16 = roomy_limits();
+    l16.max_fragment_uniform_vectors = 16;
+    EXPECT_EQ(export_variant(&table, mat, v, l16).lighting_layout, LightingLayout::kFloatTexture);
     v.lights = 3;
     EXPECT_EQ(export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs300))
                   .fragment_uniform_vectors,

@@ -214,11 +214,13 @@ Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) 
     if (b.sh.rows() < k_count || b.sh.cols() != 3) {
         throw Error(str("GLES variant ", e.name, ": needs ", k_count, "x3 lighting coefficients"));
     }
-    std::vector<float> sh(static_cast<size_t>(k_count) * 3);
-    for (int k = 0; k < k_count; ++k) {
-        for (int c = 0; c < 3; ++c) sh[k * 3 + c] = static_cast<float>(b.sh(k, c));
+    if (e.lighting_layout == LightingLayout::kUniformArray) {
+        std::vector<float> sh(static_cast<size_t>(k_count) * 3);
+        for (int k = 0; k < k_count; ++k) {
+            for (int c = 0; c < 3; ++c) sh[k * 3 + c] = static_cast<float>(b.sh(k, c));
+        }
+        glUniform3fv(loc("u_sh"), k_count, sh.data());
     }
-    glUniform3fv(loc("u_sh"), k_count, sh.data());
     glUniform3f(loc("u_albedo"), b.albedo.x(), b.albedo.y(), b.albedo.z());
     const int lights = e.manifest.contains("lights") ? e.manifest["lights"]["count"].get<int>() : 0;
     if (static_cast<int>(b.lights.size()) != lights) {
@@ -236,7 +238,12 @@ Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) 
         const std::string name = t["uniform"];
         const int unit = t["unit"];
         GLuint tex = 0;
-        if (name == "u_albedo_texture" || name == "u_normal_texture") {
+        if (name == "u_sh_texture") {
+            const BoundLighting l = bind_lighting(e, b.sh);
+            tex = l.bytes.empty()
+                      ? texture(objs, unit, GL_RGBA32F, GL_RGBA, GL_FLOAT, l.width, l.height, l.texels.data())
+                      : texture(objs, unit, GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, l.width, l.height, l.bytes.data());
+        } else if (name == "u_albedo_texture" || name == "u_normal_texture") {
             const Texture8* img = name == "u_albedo_texture" ? b.albedo_texture : b.normal_texture;
             if (!img || img->width != t["width"] || img->height != t["height"]) {
                 throw Error(str("GLES variant ", e.name, ": ", name, " needs a ", t["width"], "x",

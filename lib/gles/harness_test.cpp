@@ -202,6 +202,10 @@ Outcome compare(Context& ctx, const Export& e, const Variant& v, const Case& s,
     }
     if (ls) b.lights = ls->lights;
     const Readback gpu = draw(ctx, e, b, probe_mesh(normals, tangent), kWidth, kHeight, format);
+    // A lighting texture holds the coefficients as bound (RGBA8: 16 bits each).
+    const Eigen::MatrixXd sh_bound = e.lighting_layout == LightingLayout::kUniformArray
+                                         ? sh
+                                         : bind_lighting(e, sh).as_bound;
 
     render::SurfaceMaterial m;
     if (ls) m.brdf = ls->brdf;
@@ -228,7 +232,7 @@ Outcome compare(Context& ctx, const Export& e, const Variant& v, const Case& s,
             const render::ShadingPoint sp = render::shade(m, hit, Eigen::Vector3d::UnitZ());
             const brdf::Table* table = e.table_as_bound ? &*e.table_as_bound : nullptr;
             Eigen::Vector3d r = render::shade_realtime(sp.world_from_local.col(2), sp.brdf.albedo,
-                                                       table != nullptr, sh, table, opt);
+                                                       table != nullptr, sh_bound, table, opt);
             if (ls) {
                 r += render::shade_lights(ls->lights, sp.world_from_local.col(2), sp.brdf,
                                           table ? &table->view : nullptr);
@@ -336,12 +340,22 @@ TEST(GlesHarness, MatchesTheCpuModel) {
             Context& ctx = es3 ? context3() : context2();
             // ES 3.00 once as a uniform array (the driver's limits) and once as a float texture
             // (the ES 3.0 minimum); ES 1.00 is RGBA8 either way.
+            // Above 3 bands once more with too few uniform vectors for the lighting (ES 2.0's
+            // 16; 12 for ES 3.00): the lighting texture, RGBA8 16-bit or RGBA32F.
             std::vector<Limits> limits = {ctx.info().limits};
             if (es3) limits.push_back(Limits::minimum(GlslVersion::kEs300));
+            if (v.sh_bands > 3) {
+                limits.push_back(ctx.info().limits);
+                limits.back().max_fragment_uniform_vectors = es3 ? 12 : 16;
+            }
             for (const Limits& lim : limits) {
                 const Export e = export_variant(&t, mat, v, lim);
+                if (lim.max_fragment_uniform_vectors <= 16) {
+                    EXPECT_NE(e.lighting_layout, LightingLayout::kUniformArray) << e.name;
+                }
                 const std::string what = str(e.name, " (", s.grid, ", ", to_string(e.table_layout),
-                                             ") on ", ctx.info().renderer);
+                                             ", lighting ", to_string(e.lighting_layout), ") on ",
+                                             ctx.info().renderer);
                 const Outcome byte = compare(ctx, e, v, s, sh, TargetFormat::kRgba8);
                 EXPECT_GE(byte.pass_fraction, kMinPassFraction)
                     << what << ", 8-bit: worst " << byte.worst << " codes";

@@ -40,20 +40,27 @@ expect_exit 1 "a missing lighting file names the option's file" -- \
     "$B" "${BAKE[@]}" -o "$WORK/l" --export-gles "$WORK/gl" --gles-lighting "$WORK/none.json"
 expect_stderr "none.json" "the error names the lighting file"
 expect_true "nothing written by a bad lighting file" -- test ! -e "$WORK/gl"
-expect_exit 1 "ES 1.00 with a light needs 18 uniform vectors: refused at the ES 2.0 minimum" -- \
-    "$B" "${BAKE[@]}" -o "$WORK/lit" --export-gles "$WORK/gl" --gles-lighting "$WORK/sun_sh.json"
-expect_stderr "lit-es100-consistent-b3-l1-highp: needs 18 fragment uniform vectors" "the refusal names the need"
 expect_exit 0 "brdf-sh-bake --gles-lighting" -- "$B" "${BAKE[@]}" -o "$WORK/lit" --export-gles "$WORK/gl" \
-    --gles-lighting "$WORK/sun_sh.json" --gles-versions 300 --gles-precisions highp --report "$WORK/bl.json"
+    --gles-lighting "$WORK/sun_sh.json" --gles-precisions highp --report "$WORK/bl.json"
 expect_true "consistent variants shade the light, seed variants none" -- jq -e \
-    '[.variants[].name] == ["lit-es300-consistent-b3-l1-highp", "lit-es300-seed-b3-highp"]' "$WORK/gl/index.json"
+    '[.variants[].name] == ["lit-es100-consistent-b3-l1-highp", "lit-es100-seed-b3-highp",
+                           "lit-es300-consistent-b3-l1-highp", "lit-es300-seed-b3-highp"]' "$WORK/gl/index.json"
+# 9 + 1 + 2 + 6 = 18 vectors with the lighting in uniforms: it moves into an RGBA8 texture.
+expect_true "ES 1.00 with a light fits the ES 2.0 minimum through the lighting texture" -- jq -e \
+    '.lighting_layout == "rgba8_texture_16bit" and .gl_limits_needed.max_fragment_uniform_vectors == 9' \
+    "$WORK/gl/lit-es100-consistent-b3-l1-highp.json"
 expect_true "the manifest binds the file's light (direction, sin alpha, E_perp)" -- jq -e --slurpfile f "$WORK/sun_sh.json" \
     '(.uniforms[] | select(.name == "u_light_direction") | .values | length == 4) and
      (.uniforms[] | select(.name == "u_light_irradiance") | .values[0] > 0.99 * $f[0].lights[0].flux[0]) and
      .lights.lobe.model == "ggx"' "$WORK/gl/lit-es300-consistent-b3-l1-highp.json"
 expect_true "the lighting file is a recorded input" -- \
     jq -e '[.inputs[].path | select(endswith("sun_sh.json"))] | length == 1' "$WORK/bl.json"
-for f in "$WORK"/gl/*.frag; do
+expect_exit 0 "ES 1.00 above 3 bands is exported (lighting texture)" -- "$B" --material "$SATIN" --grid octa:5 \
+    --sh-bands 5 --samples 256 -o "$WORK/b5" --export-gles "$WORK/gl5" --gles-versions 100 --gles-max-bands 5 \
+    --gles-modes consistent --gles-precisions highp
+expect_true "ES 1.00 at 4 and 5 bands" -- jq -e '[.variants[].name] == ["b5-es100-consistent-b3-highp",
+    "b5-es100-consistent-b4-highp", "b5-es100-consistent-b5-highp"]' "$WORK/gl5/index.json"
+for f in "$WORK"/gl/*.frag "$WORK"/gl5/*.frag; do
     glslangValidator "$f" > "$WORK/glslang.log" 2>&1 || fail "$f: $(cat "$WORK/glslang.log")"
 done
 pass "every source with lights passes glslangValidator"
