@@ -103,6 +103,7 @@ struct Plan {
     TableLayout layout = TableLayout::kNone;
     LightingLayout lighting = LightingLayout::kUniformArray;
     int texels_per_node = 0;
+    int data_width = 0, data_height = 0;  ///< of the table texture
     bool es3() const { return v->version == GlslVersion::kEs300; }
     int channels() const { return table ? table->channels : 0; }
 };
@@ -527,10 +528,14 @@ std::string fragment_source(const Plan& p, const std::string& name) {
                 o << "uniform " << sampler << " u_brdf_texture;  // RGBA8, NEAREST\n"
                   << "uniform vec4 u_brdf_scale[" << t_count << "];\n"
                   << "uniform vec4 u_brdf_offset[" << t_count << "];\n"
+                  << "// Texel i = ((ch * ROWS + i1) * COLS + i2) * " << t_count
+                  << " + t, rows of " << p.data_width << " (wrapped within the texture size).\n"
                   << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
-                  << "    return snap8(texture2D(u_brdf_texture, (vec2(float(i2 * " << t_count
-                  << " + t), float(ch * BRDF_ROWS + i1)) + 0.5) / "
-                  << size_literal({t.grid.cols * t_count, t.channels * t.grid.rows}) << "));\n}\n";
+                  << "    float i = float(((ch * BRDF_ROWS + i1) * BRDF_COLS + i2) * " << t_count
+                  << " + t);\n"
+                  << "    float y = floor((i + 0.5) / " << lit(p.data_width) << ");\n"
+                  << "    return snap8(texture2D(u_brdf_texture, (vec2(i - y * " << lit(p.data_width)
+                  << ", y) + 0.5) / " << size_literal({p.data_width, p.data_height}) << "));\n}\n";
                 break;
             case TableLayout::kNone:
                 break;
@@ -738,7 +743,9 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                       {"sh_bands", t.sh_bands}, {"coeff_count", t.coeff_count()}, {"channels", t.channels},
                       {"texels_per_node", p.texels_per_node},
                       {"view", {t.view.x(), t.view.y(), t.view.z()}},
-                      {"texel_of", "x = i2 * texels_per_node + k / 4, y = channel * rows + i1, component k % 4"},
+                      {"texel_of", p.layout == TableLayout::kRgba8Texture
+                                       ? "i = ((channel * rows + i1) * cols + i2) * texels_per_node + k / 4, x = i % width, y = i / width, component k % 4 (rows wrapped within the texture size; width = cols * texels_per_node when that fits)"
+                                       : "x = i2 * texels_per_node + k / 4, y = channel * rows + i1, component k % 4"},
                       {"units", "dimensionless (reflected radiance per unit lighting coefficient)"},
                       {"value_range", {lo, hi}}};
         if (p.layout == TableLayout::kUniformArray) {
@@ -872,15 +879,24 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
         } else {
             p.layout = TableLayout::kFloatTexture;
         }
+        const int texel_count = size.x() * size.y();
+        if (p.layout == TableLayout::kRgba8Texture && size.x() > limits.max_texture_size) {
+            // Wrapped: the same texels in their linear order, rows of the largest width the
+            // limits allow (ES 2.0: 64), the last row padded.
+            e.data_width = limits.max_texture_size;
+            e.data_height = (texel_count + e.data_width - 1) / e.data_width;
+        }
         if (p.layout != TableLayout::kUniformArray) {
             ++units;
-            if (std::max(size.x(), size.y()) > limits.max_texture_size) {
-                throw Error(str("GLES export ", e.name, ": the BRDF table texture is ", size.x(),
-                                "x", size.y(), " texels, GL_MAX_TEXTURE_SIZE is ",
-                                limits.max_texture_size));
+            if (std::max(e.data_width, e.data_height) > limits.max_texture_size) {
+                throw Error(str("GLES export ", e.name, ": the BRDF table texture is ",
+                                e.data_width, "x", e.data_height, " texels",
+                                p.layout == TableLayout::kRgba8Texture ? " (wrapped)" : "",
+                                ", GL_MAX_TEXTURE_SIZE is ", limits.max_texture_size));
             }
         }
         e.table_texels = brdf::texture_texels(bound);
+        e.table_texels.resize(static_cast<size_t>(e.data_width) * e.data_height * 4, 0.0f);
         if (p.layout == TableLayout::kUniformArray) {
             e.data_width = table_vectors;
             e.data_height = 1;
@@ -890,7 +906,8 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
             const int slots = 4 * p.texels_per_node;
             std::vector<float> lo(slots, 0.0f), hi(slots, 0.0f);
             std::vector<bool> seen(slots, false);
-            for (size_t i = 0; i < e.table_texels.size(); ++i) {
+            const size_t real = static_cast<size_t>(texel_count) * 4;  // not the padding
+            for (size_t i = 0; i < real; ++i) {
                 const int s = static_cast<int>(i % static_cast<size_t>(slots));
                 const float val = e.table_texels[i];
                 lo[s] = seen[s] ? std::min(lo[s], val) : val;
@@ -914,9 +931,9 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
                 for (int i1 = 0; i1 < bound.grid.rows; ++i1) {
                     for (int i2 = 0; i2 < bound.grid.cols; ++i2) {
                         for (int k = 0; k < k_count; ++k) {
-                            const size_t texel =
-                                static_cast<size_t>(ch * bound.grid.rows + i1) * e.data_width +
-                                i2 * tn + k / 4;
+                            const size_t texel =  // linear: the wrapped layout keeps it
+                                (static_cast<size_t>(ch * bound.grid.rows + i1) * bound.grid.cols +
+                                 i2) * tn + k / 4;
                             const float b = e.table_bytes[texel * 4 + k % 4] / 255.0f;
                             bound.coeffs[bound.index(ch, i1, i2, k)] =
                                 e.table_offset[k] + e.table_scale[k] * b;
@@ -929,6 +946,8 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
         p.table = &*e.table_as_bound;
     }
     e.table_layout = p.layout;
+    p.data_width = e.data_width;
+    p.data_height = e.data_height;
     if (vectors > limits.max_fragment_uniform_vectors) {
         // The lighting moves into a texture (never truncated): ES 3.00 RGBA32F, ES 1.00 RGBA8
         // with 16 bits per value (float textures are an ES 2.0 extension).

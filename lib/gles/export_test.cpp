@@ -206,12 +206,18 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
     EXPECT_NE(msg.find("material-es100-consistent-b6-highp"), std::string::npos) << msg;
     EXPECT_NE(msg.find("needs 19 fragment uniform vectors (lighting in a texture"), std::string::npos) << msg;
     EXPECT_NE(msg.find("GL_MAX_FRAGMENT_UNIFORM_VECTORS is 16"), std::string::npos) << msg;
-    // A texture wider than GL_MAX_TEXTURE_SIZE.
-    const brdf::Table wide = random_table("thetaphi:5x40", 3, 1, 5);  // 120 texels wide
+    // ES 1.00 wraps a table wider than GL_MAX_TEXTURE_SIZE into rows of that width; one with
+    // more texels than 64 x 64 is refused.
+    const brdf::Table wide = random_table("thetaphi:5x40", 3, 1, 5);  // 120 x 5 = 600 texels
     v.sh_bands = 3;
+    const Export wrapped = export_variant(&wide, mat, v, Limits::minimum(GlslVersion::kEs100));
+    EXPECT_EQ(wrapped.data_width, 64);
+    EXPECT_EQ(wrapped.data_height, 10);
+    EXPECT_EQ(wrapped.table_bytes.size(), 64u * 10 * 4);
+    const brdf::Table huge = random_table("thetaphi:33x64", 3, 1, 5);  // 6336 texels
     const std::string msg2 = inlight::testing::error_of(
-        [&] { export_variant(&wide, mat, v, Limits::minimum(GlslVersion::kEs100)); });
-    EXPECT_NE(msg2.find("120x5 texels, GL_MAX_TEXTURE_SIZE is 64"), std::string::npos) << msg2;
+        [&] { export_variant(&huge, mat, v, Limits::minimum(GlslVersion::kEs100)); });
+    EXPECT_NE(msg2.find("64x99 texels (wrapped), GL_MAX_TEXTURE_SIZE is 64"), std::string::npos) << msg2;
     // Impossible variants are usage errors.
     v.sh_bands = 4;
     v.mode = ShaderMode::kSeed;

@@ -272,6 +272,7 @@ Outcome compare(Context& ctx, const Export& e, const Variant& v, const Case& s,
 
 const std::vector<Case>& cases() {
     static const std::vector<Case> s = {{"thetaphi:9x16", 4, 1, false},
+                                         {"thetaphi:9x32", 3, 1, false},  // 96 texels wide
                                          {"octa:9", 3, 3, false},
                                          {"report5x5", 3, 1, false},
                                          {"disk:7", 4, 1, false},
@@ -340,20 +341,27 @@ TEST(GlesHarness, MatchesTheCpuModel) {
             Context& ctx = es3 ? context3() : context2();
             // ES 3.00 once as a uniform array (the driver's limits) and once as a float texture
             // (the ES 3.0 minimum); ES 1.00 is RGBA8 either way.
-            // Above 3 bands once more with too few uniform vectors for the lighting (ES 2.0's
-            // 16; 12 for ES 3.00): the lighting texture, RGBA8 16-bit or RGBA32F.
+            // ES 1.00 once more at the ES 2.0 minimum (16 vectors, 64 texels): above 3 bands the
+            // RGBA8 lighting texture, and tables wider than 64 texels wrapped (thetaphi:9x32);
+            // ES 3.00 above 3 bands with 12 vectors: the RGBA32F lighting texture.
             std::vector<Limits> limits = {ctx.info().limits};
             if (es3) limits.push_back(Limits::minimum(GlslVersion::kEs300));
-            if (v.sh_bands > 3) {
+            if (!es3) {
+                limits.push_back(Limits::minimum(GlslVersion::kEs100));  // wraps wide tables
+            } else if (v.sh_bands > 3) {
                 limits.push_back(ctx.info().limits);
-                limits.back().max_fragment_uniform_vectors = es3 ? 12 : 16;
+                limits.back().max_fragment_uniform_vectors = 12;
             }
             for (const Limits& lim : limits) {
                 const Export e = export_variant(&t, mat, v, lim);
-                if (lim.max_fragment_uniform_vectors <= 16) {
+                if (lim.max_fragment_uniform_vectors <= 16 && v.sh_bands > 3) {
                     EXPECT_NE(e.lighting_layout, LightingLayout::kUniformArray) << e.name;
                 }
+                if (lim.max_texture_size == 64) {  // the ES 2.0 minimum: wrapped within it
+                    EXPECT_LE(std::max(e.data_width, e.data_height), 64) << e.name;
+                }
                 const std::string what = str(e.name, " (", s.grid, ", ", to_string(e.table_layout),
+                                             " ", e.data_width, "x", e.data_height,
                                              ", lighting ", to_string(e.lighting_layout), ") on ",
                                              ctx.info().renderer);
                 const Outcome byte = compare(ctx, e, v, s, sh, TargetFormat::kRgba8);

@@ -60,7 +60,12 @@ expect_exit 0 "ES 1.00 above 3 bands is exported (lighting texture)" -- "$B" --m
     --gles-modes consistent --gles-precisions highp
 expect_true "ES 1.00 at 4 and 5 bands" -- jq -e '[.variants[].name] == ["b5-es100-consistent-b3-highp",
     "b5-es100-consistent-b4-highp", "b5-es100-consistent-b5-highp"]' "$WORK/gl5/index.json"
-for f in "$WORK"/gl/*.frag "$WORK"/gl5/*.frag; do
+expect_exit 0 "satin on thetaphi:9x32 (96 texels wide) exports ES 1.00" -- "$B" --material "$SATIN" \
+    --grid thetaphi:9x32 --sh-bands 3 --samples 256 -o "$WORK/wide" --export-gles "$WORK/glw" --gles-versions 100
+expect_true "its table wraps into 64 x 14 texels" -- jq -e \
+    '.textures[] | select(.uniform == "u_brdf_texture") | .width == 64 and .height == 14' \
+    "$WORK/glw/wide-es100-consistent-b3-highp.json"
+for f in "$WORK"/gl/*.frag "$WORK"/gl5/*.frag "$WORK"/glw/*.frag; do
     glslangValidator "$f" > "$WORK/glslang.log" 2>&1 || fail "$f: $(cat "$WORK/glslang.log")"
 done
 pass "every source with lights passes glslangValidator"
