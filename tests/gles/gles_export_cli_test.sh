@@ -2,6 +2,7 @@
 # --export-gles through brdf-sh-bake and render: usage errors before any work, every variant's
 # files and index, sources that pass glslangValidator, manifests naming the scene's textures.
 # shellcheck source=tests/cli/lib.sh
+# shellcheck disable=SC2016  # jq programs name jq variables ($f, $r) in single quotes
 source "$(dirname "$0")/../cli/lib.sh"
 B="$BIN/brdf-sh-bake"
 R="$BIN/render"
