@@ -175,6 +175,18 @@ void OutputTransaction::add_output(const std::string& path, const std::string& w
     if (stdfs::is_directory(path, ec)) {
         throw UsageError(str("output ", shown(path, what), " is an existing folder, not a file"));
     }
+    // A folder the output needs that exists as a file (e.g. --export-gles naming the scene file):
+    // found now, before any work, not when the write fails at the end of the run.
+    for (stdfs::path p = stdfs::path(path).parent_path(); !p.empty(); p = p.parent_path()) {
+        if (stdfs::exists(p, ec)) {
+            if (!stdfs::is_directory(p, ec)) {
+                throw UsageError(str("output ", shown(path, what), " needs the folder '", p.string(),
+                                     "', which is an existing file"));
+            }
+            break;
+        }
+        if (p == p.parent_path()) break;
+    }
     m_outputs.push_back({path, what});
 }
 

@@ -98,6 +98,23 @@ TEST(OutputTransaction, RefusesOutputsThatAreInputs) {
     EXPECT_EQ(fs::read_file(dir + "/in.png"), "pixels");
 }
 
+TEST(OutputTransaction, RefusesAnOutputBelowAnExistingFile) {
+    // render --export-gles scene.toml: the folder is an existing file. Refused when declared,
+    // before any work, naming the option and the file (it failed only when writing, at the end).
+    const std::string dir = testing::temp_dir("txn_below_file");
+    fs::write_text_atomic(dir + "/scene.toml", "x");
+    fs::OutputTransaction txn;
+    const std::string msg = testing::error_of(
+        [&] { fs::declare_output(dir + "/scene.toml/sub/index.json", "--export-gles"); });
+    EXPECT_NE(msg.find(str("(--export-gles) needs the folder '", dir,
+                           "/scene.toml', which is an existing file")),
+              std::string::npos)
+        << msg;
+    fs::declare_output(dir + "/new/sub/index.json", "--export-gles");  // missing folders are fine
+    txn.rollback();
+    EXPECT_EQ(fs::read_file(dir + "/scene.toml"), "x");
+}
+
 TEST(OutputTransaction, RefusesTwoOutputsThatAreOneFile) {
     const std::string dir = testing::temp_dir("txn_outputs");
     fs::OutputTransaction txn;

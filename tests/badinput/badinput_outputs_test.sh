@@ -27,6 +27,14 @@ printf '[environment]\npath = "sky.exr"\n[camera]\nwidth_px = 8\nheight_px = 8\n
 bad 2 "sky.exr" "render -o naming the scene's environment map" -- "$BIN/render" "$WORK/scene.toml" -o "$WORK/sky.exr" --spp 1
 same_file "$WORK/sky.exr" "$WORK/sky_orig.exr" "the environment map is untouched"
 
+# An output folder that exists as a file (here the scene itself): refused before rendering, not
+# when the shaders are written at the end.
+cp "$WORK/scene.toml" "$WORK/scene_orig.toml"
+bad 2 "(--export-gles) needs the folder .*scene.toml', which is an existing file" \
+    "render --export-gles naming the scene file" -- \
+    "$BIN/render" "$WORK/scene.toml" -o "$OUT/g.exr" --spp 1 --export-gles "$WORK/scene.toml"
+same_file "$WORK/scene.toml" "$WORK/scene_orig.toml" "the scene file is untouched"
+
 # Two outputs of one run on one path.
 bad 2 "stderr-output" "render --stderr-output equal to -o" -- \
     "$BIN/render" "$WORK/scene.toml" -o "$OUT/x.exr" --stderr-output "$OUT/x.exr" --spp 1
