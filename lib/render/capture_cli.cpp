@@ -260,8 +260,14 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
     }
     report.add_input(meta_path);
     report.add_input(fabric);
-    const double irradiance = meta.value("irradiance_w_m2", 0.0);
-    const auto window = meta.value("window_mm", std::vector<double>{});
+    double irradiance = 0;
+    std::vector<double> window;
+    try {  // value() throws on a key of another type or on a document that is not an object
+        irradiance = meta.value("irradiance_w_m2", 0.0);
+        window = meta.value("window_mm", std::vector<double>{});
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(str(meta_path, ": not a capture description: ", e.what()));
+    }
     if (!(irradiance > 0) || window.size() != 4) {
         throw Error(str(meta_path, ": needs irradiance_w_m2 > 0 and window_mm [x, y, w, h]"));
     }
