@@ -127,9 +127,14 @@ for did in folders("devices"):
 for env, path in ENVS.items():
     content_key("env-" + env, [path])
 content_key("validate", [VALIDATE_CONFIG, os.path.join(PIPE, "validate-pair.sh"), tool("render"),
-                         tool("bundle")])
+                         tool("bundle"), tool("envmap-project")])
 content_key("report", [os.path.join(PIPE, "validate-report.sh")])
 content_key("index", [tool("bundle")])
+
+# The error decomposition (render --rt-decompose) runs on each fabric's first environment: it
+# costs about as much again as the pair's comparison, and one environment per fabric shows where
+# that fabric's error comes from.
+DECOMPOSE_ENV = sorted(ENVS)[0] if ENVS else None
 
 # One convergence study of the truth (error against spp), on the first fabric and environment.
 FIRST = f"validate/pairs/{FABRICS[0]}/{sorted(ENVS)[0]}/convergence.json" if FABRICS and ENVS else None
@@ -175,9 +180,11 @@ rule pair:
         validate="keys/validate.key",
     output: "validate/pairs/{fid}/{env}/summary.json"
     log: "logs/pair-{fid}-{env}.log"
-    params: envpath=lambda w: ENVS[w.env]
+    params:
+        envpath=lambda w: ENVS[w.env],
+        decompose=lambda w: 1 if w.env == DECOMPOSE_ENV else 0,
     shell:
-        "INLIGHT_BIN={BIN:q} VALIDATE_RENDER_CONFIG={VALIDATE_CONFIG:q} {PIPE}/validate-pair.sh"
+        "INLIGHT_BIN={BIN:q} VALIDATE_RENDER_CONFIG={VALIDATE_CONFIG:q} VALIDATE_DECOMPOSE={params.decompose} {PIPE}/validate-pair.sh"
         " bundles/fabrics/{wildcards.fid} {params.envpath:q} validate/pairs/{wildcards.fid}/{wildcards.env} > {log} 2>&1"
 
 rule convergence:

@@ -90,8 +90,8 @@ if [ -d "$SHARED/data/fisheye-ros-mono" ]; then
     INLIGHT_BIN="$BIN" INLIGHT_SHARED_DIR="$SHARED" "$HERE/calibrate_ros.sh" "$OUT/calibrate_ros"
 fi
 
-# 5. The sample catalogue (samples/catalog: fabrics from blender-data's woven texture, the ROS
-#    fisheye as a device) into verified bundles, the SQLite catalogue and the validation report
+# 5. The sample catalogue (samples/catalog: fabrics from blender-data's woven texture, a
+#    captured-BTF wool twill, the ROS fisheye as a device) into verified bundles, the SQLite catalogue and the validation report
 #    of every fabric under the eight HDRIs, through the Snakemake workflow (progress: "N of M
 #    steps"). Rerunning it rebuilds only what changed.
 echo
@@ -106,7 +106,10 @@ echo
 echo "bundles (catalog.sqlite):"
 sqlite3 -separator '  ' "$OUT/catalog/bundles/catalog.sqlite" \
     "SELECT 'device', id, total_bytes || ' bytes', file_count || ' files' FROM devices
-     UNION ALL SELECT 'fabric', id, total_bytes || ' bytes', file_count || ' files' FROM fabrics"
+     UNION ALL SELECT 'fabric', id, total_bytes || ' bytes', file_count || ' files',
+       shader_variants || ' GLES variants (' || shader_bytes || ' bytes)',
+       CASE WHEN btf_components > 0 THEN 'BTF: ' || btf_components || ' components streamed ('
+            || btf_bytes || ' bytes)' ELSE 'no BTF' END FROM fabrics"
 echo
 echo "validation: $(jq -r 'group_by(.verdict) | map("\(length) \(.[0].verdict)") | join(", ")' \
     "$OUT/catalog/validate/summary.json") of $(jq length "$OUT/catalog/validate/summary.json") fabric x environment pairs"

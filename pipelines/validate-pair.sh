@@ -7,6 +7,12 @@
 # its tile_size_m, lit by the environment (lat-long, device frame). Render options come from
 # ${VALIDATE_RENDER_CONFIG:-configs/pipelines/validate.toml}; the real-time model bakes the BRDF
 # table with the bundle's grid and samples per normal, so it is the table the bundle ships.
+# Two optional studies join the pair's summary:
+#   - the band budget (VALIDATE_MAX_ERROR, default 0.01; 0 = off): envmap-project --max-error on
+#     the environment with the bundle's BRDF table, i.e. the fewest SH bands and dominant lights
+#     whose irradiance and outgoing-radiance error meet the budget (docs/budget.md);
+#   - the error decomposition (VALIDATE_DECOMPOSE=1): render --compare --rt-decompose, the model's
+#     error split into grid, SH truncation, fixed view and visibility (docs/render.md).
 set -euo pipefail
 if [ $# -ne 3 ]; then
     echo "usage: validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR" >&2
@@ -52,15 +58,33 @@ uv=$(jq --argjson w "$PATCH_WIDTH_M" '$w / .properties.tile_size_m' "$M")
     echo "size = [1, 1]"
 } > "$OUTDIR/scene.toml"
 
+decompose=()
+[ "${VALIDATE_DECOMPOSE:-0}" = 1 ] && decompose=(--rt-decompose)
 "$BIN/render" "$OUTDIR/scene.toml" -o "$OUTDIR/render.exr" --config "$CONFIG" --compare \
-    --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
+    "${decompose[@]}" --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
     --rt-bake-samples "$(jq '.properties.brdf_samples_per_normal' "$M")" \
     -q --report "$OUTDIR/render.json"
+
+# The band budget of this environment for this fabric's table: exit 3 means no candidate meets
+# it (the report then holds the least error), which is a finding, not a failure.
+MAX_ERROR=${VALIDATE_MAX_ERROR:-0.01}
+echo '{}' > "$OUTDIR/budget.json.tmp"
+if [ "$(jq -n --argjson e "$MAX_ERROR" '$e > 0')" = true ]; then
+    rc=0
+    "$BIN/envmap-project" "$ENV_MAP" -o "$OUTDIR/budget_sh.json" --max-error "$MAX_ERROR" \
+        --brdf-table "$BUNDLE/$(role brdf_sh_table)" --material "$BUNDLE/$(role material)" \
+        -q --report "$OUTDIR/budget.json.tmp" || rc=$?
+    if [ "$rc" -ne 0 ] && [ "$rc" -ne 3 ]; then
+        echo "validate-pair: envmap-project --max-error failed (exit $rc)" >&2
+        exit "$rc"
+    fi
+fi
+mv "$OUTDIR/budget.json.tmp" "$OUTDIR/budget.json"
 
 # GLES output (issue 8): render --compare also draws the scene with the exported shaders through
 # EGL (metrics.realtime.gles): the third column, beside the CPU model and the truth.
 jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_name" \
-    --arg envpath "$ENV_MAP" '
+    --arg envpath "$ENV_MAP" --slurpfile budget "$OUTDIR/budget.json" '
     $r[0].metrics as $m | $m.realtime as $rt | $b[0] as $bundle |
     {fabric: $bundle.id, fabric_name: $bundle.name, environment: $env, environment_path: $envpath,
      bundle_bytes: $bundle.total_bytes, sh_bands_shipped: $bundle.properties.sh_bands,
@@ -75,6 +99,14 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
                           mean_de2000, max_de2000, frame_time_ms,
                           cpu_model_fraction_within_1e_3: .["cpu_model_fraction_within_1e-3"]}]}
             else null end),
+     budget: ($budget[0].metrics.environments[0].budget // null | if . then
+              {max_error: .max_error, met, metric, sh_bands: .chosen.sh_bands,
+               lights: .chosen.lights, error: .chosen.error, cost: .chosen.cost,
+               pure_sh: ([.candidates[] | select(.lights == 0 and .meets)] | min_by(.sh_bands)
+                         | if . then {sh_bands, error} else null end)} else null end),
+     decomposition: ($rt.decomposition // null | if . then
+              {truth_noise, visibility, fixed_view, map_discretisation, pixel_footprint,
+               by_sh_bands} else null end),
      images: {compare_consistent: "render_compare_consistent.png",
               compare_seed: "render_compare_seed.png",
               compare3_consistent: "render_compare3_es300-consistent-b3-highp.png",

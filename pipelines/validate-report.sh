@@ -7,7 +7,10 @@
 # truth in mean CIEDE2000 after exposure: good <= MAX_DE2000 (default 2: a difference an
 # observer notices only side by side), marginal <= 2 x that, else poor. The truth's own noise
 # is a floor under every figure: a pair whose truth noise exceeds half the model's relative
-# error is marked noise-limited.
+# error is marked noise-limited. Where the pair has them: the GLES column (the exported shader
+# the bundle ships, consistent mode, highp, drawn through EGL), the band budget (what
+# envmap-project --max-error chooses for this environment and table) and the error decomposition
+# at the shipped band count (render --compare --rt-decompose).
 set -euo pipefail
 if [ $# -ne 1 ]; then
     echo "usage: validate-report.sh VALIDATE_DIR" >&2
@@ -30,7 +33,17 @@ jq -s --argjson t "$MAX_DE2000" '
     | ($p.by_sh_bands | map(select(.mean_de2000 <= $t)) | min_by(.sh_bands)) as $enough
     | ($p.by_sh_bands | min_by(.mean_de2000)) as $best
     | (($p.truth.rel_noise // 0) > 0.5 * $ship.mean_rel) as $noisy
-    | $p + {shipped: $ship,
+    | ($p.gles.variants // [] | map(select(.mode == "consistent" and .sh_bands == $p.sh_bands_shipped
+                                             and (.variant | test("highp")))) | sort_by(.glsl_version) | last) as $gl
+    | ($p.decomposition.by_sh_bands // [] | map(select(.sh_bands == $p.sh_bands_shipped))[0]) as $dec
+    | (if $dec then {grid: $dec.grid_interpolation, sh_diffuse: $dec.sh_truncation_diffuse,
+                     sh_specular: $dec.sh_truncation_specular, fixed_view: $p.decomposition.fixed_view,
+                     visibility: $p.decomposition.visibility, truth_noise: $p.decomposition.truth_noise}
+       else null end) as $parts
+    | $p + {shipped: $ship, gles_shipped: $gl, error_parts: $parts,
+            largest_part: (if $parts then ($parts | del(.truth_noise) | to_entries | max_by(.value) | .key) else null end),
+            budget_text: (if $p.budget == null then null
+                          else "\($p.budget.sh_bands) bands + \($p.budget.lights) lights: \($p.budget.error * 1000 | round / 10)% \(if $p.budget.met then "(meets \($p.budget.max_error * 100)%)" else "(best; misses \($p.budget.max_error * 100)%)" end)" end),
             verdict: (if $ship.mean_de2000 <= $t then "good"
                       elif $ship.mean_de2000 <= 2 * $t then "marginal" else "poor" end),
             noise_limited: $noisy,
@@ -154,18 +167,45 @@ plot "$P/pairs.dat" using 3:4 with points pt 7 title "consistent model", \
      "$P/pairs.dat" using 3:7 with points pt 6 title "the report's seed shader"
 GNUPLOT
 
+# Where the error comes from, per decomposed pair (render --rt-decompose at the shipped bands):
+# the parts of the model's error, stacked (their sum bounds the total), and the truth's noise.
+jq -r '.[] | select(.error_parts) | [.fabric + "/" + .environment, .error_parts.grid, .error_parts.sh_diffuse,
+       .error_parts.sh_specular, .error_parts.fixed_view, .error_parts.visibility, .error_parts.truth_noise,
+       .shipped.mean_rel] | @tsv' "$V/summary.json" > "$P/parts.dat"
+if [ -s "$P/parts.dat" ]; then
+    gnuplot <<GNUPLOT3
+set terminal pngcairo size 900,560 font "sans,10"
+set output "$P/error_parts.png"
+set title "Where the model's error comes from (shipped SH bands; render --rt-decompose)"
+set ylabel "relative RMS of luminance"
+set style data histograms
+set style histogram rowstacked
+set style fill solid 0.8 border -1
+set boxwidth 0.6
+set grid y
+set key outside right top font "sans,8"
+set xtics rotate by -30 font "sans,8"
+plot "$P/parts.dat" using 2:xtic(1) title "BRDF grid", "" using 3 title "SH truncation, diffuse", \
+     "" using 4 title "SH truncation, specular", "" using 5 title "fixed view", "" using 6 title "visibility", \
+     "" using 0:7 with points pt 7 lc rgb "black" title "truth noise"
+GNUPLOT3
+fi
+
 # 3. Markdown summary.
 {
     echo "# Validation: real-time model against path-traced truth"
     echo
     echo "Verdict: mean CIEDE2000 of the app's shading (consistent mode, the bundle's SH bands) against"
-    echo "the truth; good <= $MAX_DE2000, marginal <= $(jq -n "2 * $MAX_DE2000"), else poor. GLES column: issue 8."
+    echo "the truth; good <= $MAX_DE2000, marginal <= $(jq -n "2 * $MAX_DE2000"), else poor. GLES: the exported shader (same"
+    echo "exporter, grid and bands as the bundle's; consistent, highp) through EGL against the truth, and the share of its pixels within 1e-3"
+    echo "of the CPU model. Budget: envmap-project --max-error's choice for this environment and table."
+    echo "Largest part: of the model's error at the shipped bands (render --rt-decompose), where run."
     echo
-    echo "| fabric | environment | verdict | dE2000 | rel. error | seed shader dE2000 | truth noise | advice |"
-    echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
-    jq -r '.[] | "| \(.fabric) | \(.environment) | \(.verdict)\(if .noise_limited then " (noise-limited)" else "" end) | \(.shipped.mean_de2000 * 100 | round / 100) | \(.shipped.mean_rel * 1000 | round / 1000) | \(.seed.mean_de2000 * 100 | round / 100) | \(.truth.rel_noise * 1000 | round / 1000) | \(.advice) |"' "$V/summary.json"
+    echo "| fabric | environment | verdict | dE2000 CPU model | GLES dE2000 (agrees) | rel. error | seed shader dE2000 | truth noise | budget | largest part | advice |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    jq -r 'def r(n): . * n | round / n; .[] | "| \(.fabric) | \(.environment) | \(.verdict)\(if .noise_limited then " (noise-limited)" else "" end) | \(.shipped.mean_de2000 | r(100)) | \(if .gles_shipped then "\(.gles_shipped.mean_de2000 | r(100)) (\(.gles_shipped.cpu_model_fraction_within_1e_3 * 100 | round)%)" else "-" end) | \(.shipped.mean_rel | r(1000)) | \(.seed.mean_de2000 | r(100)) | \(.truth.rel_noise | r(1000)) | \(.budget_text // "-") | \(if .largest_part then "\(.largest_part) \(.error_parts[.largest_part] | r(1000))" else "-" end) | \(.advice) |"' "$V/summary.json"
     echo
-    echo "Plots: plots/error_vs_sh_bands.png, plots/error_vs_frame_time.png, plots/error_vs_spp.png (with a convergence study), plots/truth_noise.png, plots/error_vs_bytes.png."
+    echo "Plots: plots/error_vs_sh_bands.png, plots/error_vs_frame_time.png, plots/error_vs_spp.png (with a convergence study), plots/truth_noise.png, plots/error_vs_bytes.png, plots/error_parts.png (with a decomposition)."
     echo "Page: index.html."
 } > "$V/summary.md"
 
@@ -186,13 +226,17 @@ HTML
     echo "app's shading (consistent mode, the SH bands the bundle ships) against the truth after"
     echo "exposure; good &le; $MAX_DE2000, marginal &le; $(jq -n "2 * $MAX_DE2000"), else poor."
     echo "<b>Advice</b> says what would make it better. Images: truth | real-time model | relative"
-    echo "error heat map (0 to 0.5). The GLES column arrives with issue 8; PCA components and bytes"
-    echo "streamed with issue 10.</p>"
-    echo "<h2>Verdicts</h2><table><tr><th>fabric</th><th>environment</th><th>verdict</th><th>dE2000</th><th>seed shader dE2000</th><th>truth noise</th><th>advice</th><th>truth | model | error</th></tr>"
-    jq -r '.[] | "<tr class=\"\(.verdict)\"><td>\(.fabric)</td><td>\(.environment)</td><td>\(.verdict)\(if .noise_limited then " (noise-limited)" else "" end)</td><td>\(.shipped.mean_de2000 * 100 | round / 100)</td><td>\(.seed.mean_de2000 * 100 | round / 100)</td><td>\(.truth.rel_noise * 1000 | round / 1000)</td><td>\(.advice)</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\(.images.compare_consistent)\" alt=\"\(.fabric) \(.environment)\"></td></tr>"' "$V/summary.json"
+    echo "error heat map (0 to 0.5), then truth | CPU model | GLES shader | error where the pair drew the"
+    echo "exported shaders. <b>GLES</b>: the exported GLES shader (same exporter, grid and bands as the bundle's; consistent, highp, through EGL)"
+    echo "against the truth, with the share of its pixels within 1e-3 of the CPU model. <b>Budget</b>:"
+    echo "the fewest SH bands and dominant lights envmap-project --max-error finds for this environment"
+    echo "and the bundle's table. <b>Largest part</b>: of the model's error at the shipped bands"
+    echo "(render --rt-decompose: grid, SH diffuse/specular truncation, fixed view, visibility).</p>"
+    echo "<h2>Verdicts</h2><table><tr><th>fabric</th><th>environment</th><th>verdict</th><th>dE2000 CPU model</th><th>GLES dE2000 (agrees)</th><th>seed shader dE2000</th><th>truth noise</th><th>budget</th><th>largest part</th><th>advice</th><th>truth | model | error</th><th>truth | CPU | GLES | error</th></tr>"
+    jq -r 'def r(n): . * n | round / n; .[] | "<tr class=\"\(.verdict)\"><td>\(.fabric)</td><td>\(.environment)</td><td>\(.verdict)\(if .noise_limited then " (noise-limited)" else "" end)</td><td>\(.shipped.mean_de2000 | r(100))</td><td>\(if .gles_shipped then "\(.gles_shipped.mean_de2000 | r(100)) (\(.gles_shipped.cpu_model_fraction_within_1e_3 * 100 | round)%)" else "-" end)</td><td>\(.seed.mean_de2000 | r(100))</td><td>\(.truth.rel_noise | r(1000))</td><td>\(.budget_text // "-")</td><td>\(if .largest_part then "\(.largest_part) \(.error_parts[.largest_part] | r(1000))" else "-" end)</td><td>\(.advice)</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\(.images.compare_consistent)\" alt=\"\(.fabric) \(.environment)\"></td><td>\(if .gles_shipped then "<img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/render_compare3_\(.gles_shipped.variant).png\" alt=\"GLES\">" else "-" end)</td></tr>"' "$V/summary.json"
     echo "</table>"
     echo "<h2>Error against cost</h2>"
-    for p in error_vs_sh_bands error_vs_frame_time error_vs_spp truth_noise error_vs_bytes; do
+    for p in error_vs_sh_bands error_vs_frame_time error_vs_spp truth_noise error_vs_bytes error_parts; do
         [ -f "$P/$p.png" ] && echo "<p><img src=\"plots/$p.png\" alt=\"$p\"></p>"
     done
     echo "<p>Data: <a href=\"summary.json\">summary.json</a>, <a href=\"summary.md\">summary.md</a>.</p>"

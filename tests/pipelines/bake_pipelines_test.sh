@@ -60,14 +60,26 @@ expect_exit 2 "bake-fabric without material.toml" -- "$PIPE/bake-fabric.sh" "$WO
 expect_stderr "material.toml not found" "names the missing file"
 
 printf 'spp = 8\nwidth-px = 16\nheight-px = 16\nrt-max-bands = 4\nrt-supersample = 1\n' > "$WORK/v.toml"
-expect_exit 0 "validate-pair" -- env VALIDATE_RENDER_CONFIG="$WORK/v.toml" "$PIPE/validate-pair.sh" \
+expect_exit 0 "validate-pair (with the band budget and the decomposition)" -- env \
+    VALIDATE_RENDER_CONFIG="$WORK/v.toml" VALIDATE_DECOMPOSE=1 VALIDATE_MAX_ERROR=0.05 "$PIPE/validate-pair.sh" \
     "$WORK/out/bundles/fabrics/tiny" "$HDRI_DIR/sunset.exr" "$WORK/val/pairs/tiny/sunset"
+S="$WORK/val/pairs/tiny/sunset"
+# shellcheck disable=SC2016  # $b and $r are jq variables
+expect_true "pair summary carries envmap-project's budget choice" -- jq -e --slurpfile b "$S/budget.json" \
+    '.budget.max_error == 0.05 and .budget.sh_bands == $b[0].metrics.environments[0].budget.chosen.sh_bands and .budget.lights == $b[0].metrics.environments[0].budget.chosen.lights and (.budget.met | type) == "boolean"' "$S/summary.json"
+# shellcheck disable=SC2016
+expect_true "pair summary carries render's decomposition, a part per band count" -- jq -e --slurpfile r "$S/render.json" \
+    '.decomposition.visibility == $r[0].metrics.realtime.decomposition.visibility and (.decomposition.by_sh_bands | length) == 4' "$S/summary.json"
+expect_true "pair summary carries the GLES column" -- jq -e '[.gles.variants[] | select(.mode == "consistent")] | length > 0' "$S/summary.json"
 expect_true "pair summary: 4 band counts, seed and consistent modes" -- jq -e \
     '(.by_sh_bands | length) == 4 and .consistent.mean_de2000 > 0 and .seed.mean_de2000 > 0 and .environment == "sunset"' \
     "$WORK/val/pairs/tiny/sunset/summary.json"
 expect_exit 0 "validate-report" -- "$PIPE/validate-report.sh" "$WORK/val"
 expect_true "verdict and advice" -- jq -e '.[0].verdict != null and (.[0].advice | length) > 0' "$WORK/val/summary.json"
-for p in error_vs_sh_bands error_vs_frame_time truth_noise error_vs_bytes; do
+expect_true "report rows: GLES at the shipped bands, budget, largest error part" -- jq -e \
+    '.[0].gles_shipped.sh_bands == .[0].sh_bands_shipped and (.[0].budget_text | test("bands \\+ [0-9] lights")) and (.[0].largest_part | IN("grid", "sh_diffuse", "sh_specular", "fixed_view", "visibility"))' "$WORK/val/summary.json"
+expect_true "Markdown summary has the GLES and budget columns" -- grep -q '| GLES dE2000 (agrees) |.*| budget | largest part |' "$WORK/val/summary.md"
+for p in error_vs_sh_bands error_vs_frame_time truth_noise error_vs_bytes error_parts; do
     expect_true "plot $p is a PNG" -- bash -c "file '$WORK/val/plots/$p.png' | grep -q 'PNG image'"
 done
 expect_true "page links the pair's images" -- grep -q 'pairs/tiny/sunset/render_compare_consistent.png' "$WORK/val/index.html"
