@@ -82,6 +82,7 @@ void check_shaders(const Manifest& m, const Listing& listing) {
                 throw Error(str(listing.where(f), ": files: expected an object"));
             }
             for (auto it = j["files"].begin(); it != j["files"].end(); ++it) {
+                if (it.value().is_null()) continue;  // e.g. brdf_data of a Lambert material
                 const auto role = kShaderFileRoles.find(it.key());
                 if (role == kShaderFileRoles.end()) {
                     throw Error(str(listing.where(f), ": files.", it.key(),

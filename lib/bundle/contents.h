@@ -15,7 +15,8 @@ namespace inlight::bundle {
 /// `manifest`; the files' sizes and hashes must have been checked before (read_bundle does).
 /// Paths inside an inner manifest are relative to that manifest's folder. Throws Error naming
 /// the inner manifest and the entry when:
-///   - a shader_manifest (format "inlight_gles_export") names a file the bundle does not list,
+///   - a shader_manifest (format "inlight_gles_export") names a file (null = none, as a Lambert
+///     material's brdf_data) the bundle does not list,
 ///     or lists with another role (vertex -> shader_vertex, fragment -> shader_fragment,
 ///     brdf_data -> shader_data); the shader_index names a variant manifest that is not a
 ///     shader_manifest of the bundle;

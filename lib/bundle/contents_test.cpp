@@ -84,17 +84,22 @@ struct Fabric {
 
     // One exported GLES variant as render/brdf-sh-bake --export-gles write it (manifest naming
     // its vertex and fragment shaders and table data), plus the index of the variants.
-    void add_shader(const std::string& name, const std::string& vertex_file) {
+    // A Lambert material has no table: its manifest's brdf_data is null.
+    void add_shader(const std::string& name, const std::string& vertex_file, bool table = true) {
         add(name + ".vert", "void main() {}\n", "shaders/" + name + ".vert", "shader_vertex");
         add(name + ".frag", "void main() { /* " + name + " */ }\n", "shaders/" + name + ".frag",
             "shader_fragment");
-        add(name + ".brdf.bin", std::string(48, '\2'), "shaders/" + name + ".brdf.bin",
-            "shader_data");
+        nlohmann::json data;  // null
+        if (table) {
+            add(name + ".brdf.bin", std::string(48, '\2'), "shaders/" + name + ".brdf.bin",
+                "shader_data");
+            data = name + ".brdf.bin";
+        }
         add(name + ".json",
             nlohmann::json({{"format", "inlight_gles_export"},
                             {"files", {{"vertex", vertex_file},
                                        {"fragment", name + ".frag"},
-                                       {"brdf_data", name + ".brdf.bin"}}}})
+                                       {"brdf_data", data}}}})
                 .dump(),
             "shaders/" + name + ".json", "shader_manifest");
     }
@@ -181,7 +186,8 @@ TEST(BundleContents, CarriesExportedShadersWithTheirManifests) {
     Fabric f("shaders");
     f.add_shader("m-es300-highp", "m-es300-highp.vert");
     f.add_shader("m-es300-mediump", "m-es300-mediump.vert");
-    f.add_shader_index({"m-es300-highp", "m-es300-mediump"});
+    f.add_shader("lambert-es300-highp", "lambert-es300-highp.vert", false);
+    f.add_shader_index({"m-es300-highp", "m-es300-mediump", "lambert-es300-highp"});
     write_bundle(f.bundle, f.request);
     const Manifest m = read_bundle(f.bundle);
     // Every file a variant's manifest names is in the bundle, with its source's hash.
@@ -189,6 +195,7 @@ TEST(BundleContents, CarriesExportedShadersWithTheirManifests) {
         if (e.role != "shader_manifest") continue;
         const auto j = nlohmann::json::parse(fs::read_file(f.bundle + "/" + e.path));
         for (const auto& [key, name] : j["files"].items()) {
+            if (name.is_null()) continue;
             const std::string path = "shaders/" + name.get<std::string>();
             const auto it = std::find_if(m.files.begin(), m.files.end(),
                                          [&](const FileEntry& x) { return x.path == path; });
