@@ -105,7 +105,7 @@ fi
 echo
 echo "bundles (catalog.sqlite):"
 sqlite3 -separator '  ' "$OUT/catalog/bundles/catalog.sqlite" \
-    "SELECT 'device', id, total_bytes || ' bytes', file_count || ' files' FROM devices
+    "SELECT 'device', id, total_bytes || ' bytes', file_count || ' files', '', '' FROM devices
      UNION ALL SELECT 'fabric', id, total_bytes || ' bytes', file_count || ' files',
        shader_variants || ' GLES variants (' || shader_bytes || ' bytes)',
        CASE WHEN btf_components > 0 THEN 'BTF: ' || btf_components || ' components streamed ('
