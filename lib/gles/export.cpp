@@ -348,34 +348,43 @@ std::string exp_log_functions() {
 /// irradiance factor and, with a table, the material's specular lobe. Needs atan2_f32.
 std::string lights_functions(const Plan& p) {
     std::ostringstream o;
-    o << "// Irradiance of a uniform cap of half-angle alpha centred at cosine c from the normal,\n"
-      << "// over E_perp: J = I(c, alpha) / (pi sin^2 alpha), I = Snyder 1996's integral of\n"
-      << "// max(0, n.w) over the cap (envmap::cap_cosine_integral). sa = sin alpha (0: a point).\n"
-      << "// Near the horizon the atan and x t terms cancel to O(alpha^3); for u = t tan alpha <\n"
-      << "// 0.1 their difference atan(u) - u is summed as a series instead (float-accurate).\n"
-      << "float cap_factor(float c, float sa) {\n"
-      << "    if (c >= sa) return c;\n"
-      << "    if (c <= -sa) return 0.0;\n"
-      << "    float ca = sqrt(1.0 - sa * sa);\n"
-      << "    float sb = sqrt(1.0 - c * c);\n"
-      << "    float x = ca / sa;\n"
-      << "    float y = clamp(-x * c / sb, -1.0, 1.0);\n"
-      << "    float r = sqrt((1.0 - y) * (1.0 + y));\n"
-      << "    float t = sb * r;\n"
-      << "    float acos_y = atan2_f32(r, y);\n"
-      << "    float j;\n"
-      << "    if (t * sa < 0.1 * ca) {\n"
-      << "        float u = t * sa / ca;\n"
-      << "        float u2 = u * u;\n"
-      << "        float d = u * u2 * (-0.333333333 + u2 * (0.2 + u2 * (-0.142857143 + u2 * "
-         "0.111111111)));\n"
-      << "        j = (c * acos_y + u) * " << lit(kInvPi) << " + d / (" << lit(kPi)
-      << " * sa * sa);\n"
-      << "    } else {\n"
-      << "        j = (c * acos_y - x * t) * " << lit(kInvPi) << " + atan2_f32(t, x) / ("
-      << lit(kPi) << " * sa * sa);\n"
-      << "    }\n"
-      << "    return max(j, 0.0);\n}\n";
+    if (p.v->light_shading == envmap::LightShading::kSmoothCap) {
+        o << "// The smooth cap's factor over E_perp (envmap::smooth_cap_cosine): c above the\n"
+          << "// horizon band |c| < sa, 0 below it, the C1 quadratic (c + sa)^2 / (4 sa) across it.\n"
+          << "float cap_factor(float c, float sa) {\n"
+          << "    if (c >= sa) return c;\n"
+          << "    if (c <= -sa) return 0.0;\n"
+          << "    return (c + sa) * (c + sa) / (4.0 * sa);\n}\n";
+    } else {
+        o << "// Irradiance of a uniform cap of half-angle alpha centred at cosine c from the normal,\n"
+          << "// over E_perp: J = I(c, alpha) / (pi sin^2 alpha), I = Snyder 1996's integral of\n"
+          << "// max(0, n.w) over the cap (envmap::cap_cosine_integral). sa = sin alpha (0: a point).\n"
+          << "// Near the horizon the atan and x t terms cancel to O(alpha^3); for u = t tan alpha <\n"
+          << "// 0.1 their difference atan(u) - u is summed as a series instead (float-accurate).\n"
+          << "float cap_factor(float c, float sa) {\n"
+          << "    if (c >= sa) return c;\n"
+          << "    if (c <= -sa) return 0.0;\n"
+          << "    float ca = sqrt(1.0 - sa * sa);\n"
+          << "    float sb = sqrt(1.0 - c * c);\n"
+          << "    float x = ca / sa;\n"
+          << "    float y = clamp(-x * c / sb, -1.0, 1.0);\n"
+          << "    float r = sqrt((1.0 - y) * (1.0 + y));\n"
+          << "    float t = sb * r;\n"
+          << "    float acos_y = atan2_f32(r, y);\n"
+          << "    float j;\n"
+          << "    if (t * sa < 0.1 * ca) {\n"
+          << "        float u = t * sa / ca;\n"
+          << "        float u2 = u * u;\n"
+          << "        float d = u * u2 * (-0.333333333 + u2 * (0.2 + u2 * (-0.142857143 + u2 * "
+             "0.111111111)));\n"
+          << "        j = (c * acos_y + u) * " << lit(kInvPi) << " + d / (" << lit(kPi)
+          << " * sa * sa);\n"
+          << "    } else {\n"
+          << "        j = (c * acos_y - x * t) * " << lit(kInvPi) << " + atan2_f32(t, x) / ("
+          << lit(kPi) << " * sa * sa);\n"
+          << "    }\n"
+          << "    return max(j, 0.0);\n}\n";
+    }
     if (!p.table) return o.str();
     const brdf::Material& m = p.mat->brdf;
     const double scale = m.specular_scale;
@@ -573,7 +582,10 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    return offset + scale * ((hi * 256.0 + lo) / 65535.0);\n}\n";
     }
     if (p.v->lights > 0) {
-        if (!p.table || !brdf::glsl_grid_coord_has_atan2(p.table->grid)) o << brdf::glsl_atan2_source();
+        const bool exact_cap = p.v->light_shading == envmap::LightShading::kCap;  // uses atan2
+        if (exact_cap && (!p.table || !brdf::glsl_grid_coord_has_atan2(p.table->grid))) {
+            o << brdf::glsl_atan2_source();
+        }
         o << lights_functions(p);
     }
     if (mat.has_albedo_texture()) {
@@ -701,8 +713,13 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
         json lights = {{"count", p.v->lights},
                        {"lighting_file", "docs/formats.md, \"SH coefficients with lights\": envmap-project --max-error's lights array; "
                                          "u_sh then holds the residual map's coefficients"},
-                       {"shading", "per light: albedo / pi E(n) + f_s(n; view, d) E(n), E = E_perp J(n.d, alpha), J = Snyder's cap "
-                                   "integral over pi sin^2(alpha) (= max(0, n.d) for a point); f_s the material's lobe"},
+                       {"shading", p.v->light_shading == envmap::LightShading::kSmoothCap
+                                       ? "per light: albedo / pi E(n) + f_s(n; view, d) E(n), E = E_perp J(n.d, alpha), J = the smooth "
+                                         "cap: c = n.d above sin(alpha), 0 below -sin(alpha), (c + sin alpha)^2 / (4 sin alpha) between; "
+                                         "f_s the material's lobe"
+                                       : "per light: albedo / pi E(n) + f_s(n; view, d) E(n), E = E_perp J(n.d, alpha), J = Snyder's cap "
+                                         "integral over pi sin^2(alpha) (= max(0, n.d) for a point); f_s the material's lobe"},
+                       {"irradiance", envmap::to_string(p.v->light_shading)},
                        {"uniform_vectors", 2 * p.v->lights}};
         if (p.table) {
             const brdf::Material& b = mat.brdf;
@@ -1069,6 +1086,19 @@ LightUniformArrays light_uniform_arrays(const std::vector<envmap::DirectionalLig
     return a;
 }
 
+envmap::LightShading common_light_shading(const std::vector<envmap::DirectionalLight>& lights) {
+    if (lights.empty()) return envmap::LightShading::kCap;
+    for (const envmap::DirectionalLight& l : lights) {
+        if (l.shading != lights.front().shading) {
+            throw UsageError(str("GLES export: the lighting file mixes light irradiance formulas (",
+                                 envmap::to_string(lights.front().shading), " and ",
+                                 envmap::to_string(l.shading),
+                                 "); a variant shades all its lights with one"));
+        }
+    }
+    return lights.front().shading;
+}
+
 std::vector<Export> export_material(const brdf::Table* table, const MaterialInputs& material,
                                     const ExportSet& set) {
     std::vector<Export> out;
@@ -1080,7 +1110,8 @@ std::vector<Export> export_material(const brdf::Table* table, const MaterialInpu
                     mode == ShaderMode::kSeed ? 0 : static_cast<int>(set.lights.size());
                 for (Precision precision : set.precisions) {
                     Export e = export_variant(table, material,
-                                              {version, mode, bands, precision, lights},
+                                              {version, mode, bands, precision, lights,
+                                               common_light_shading(set.lights)},
                                               Limits::minimum(version));
                     if (lights > 0) {  // the values the app binds for these lights
                         const LightUniformArrays a = light_uniform_arrays(set.lights);

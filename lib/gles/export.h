@@ -101,7 +101,13 @@ struct Variant {
     Precision precision = Precision::kHighp;
     /// Dominant lights shaded analytically (consistent mode only; the report's shader has none).
     int lights = 0;
+    /// How those lights' irradiance is shaded (the lighting file's per-light "irradiance":
+    /// envmap::LightShading, docs/formats.md); one formula for all lights of a variant.
+    envmap::LightShading light_shading = envmap::LightShading::kCap;
 };
+
+/// The one irradiance formula of `lights` (kCap when empty); UsageError when they mix formulas.
+envmap::LightShading common_light_shading(const std::vector<envmap::DirectionalLight>& lights);
 
 /// One light's uniforms as the shader takes them: direction_sin = (d, sin alpha), with sin
 /// alpha = 0 below alpha = 1e-4 rad (the point limit, as envmap::light_irradiance), and

@@ -287,7 +287,9 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
         variants.push_back({{version, ShaderMode::kSeed, 3, Precision::kHighp}, &lighting_sh});
         if (!lit.tables.empty()) {
             const int n_lights = static_cast<int>(lit.lights.size());
-            variants.push_back({{version, ShaderMode::kConsistent, lit_bands, Precision::kHighp, n_lights}, &lit});
+            variants.push_back({{version, ShaderMode::kConsistent, lit_bands, Precision::kHighp, n_lights,
+                                 common_light_shading(lit.lights)},
+                                &lit});
         }
         for (const auto& [v, source] : variants) {
             std::vector<Export> exports;
