@@ -48,16 +48,18 @@ mode_args() {
 MACHINE="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), load $(cut -d' ' -f1-3 /proc/loadavg), $(date -u '+%F %H:%M') UTC"
 echo "render-convergence: $MACHINE"
 
-# Runs whose report exists are kept (delete OUT to rerun): plots and tables can be redone.
+# Runs whose report says "ok" are kept (delete OUT to rerun them): plots and tables can be redone.
+# A failed run also leaves a report (status "failed"); that run is done again.
+ran_ok() { [ -f "$1" ] && [ "$(jq -r .status "$1")" = ok ]; }
 # The patch's reference: one converged render for every mode.
 REF="$OUT/patch_ref_${PATCH_PX}px_${PATCH_REF}spp.exr"
-if [ ! -f "$REF" ]; then
+if ! ran_ok "${REF%.exr}.json"; then
     "$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$REF" \
         --spp "$PATCH_REF" --width-px "$PATCH_PX" --height-px "$PATCH_PX" --seed 1000 \
         --threads "$THREADS" -q --report "${REF%.exr}.json"
 fi
 for mode in "${MODES[@]}"; do
-    [ -f "$OUT/patch_$mode.json" ] && [ -f "$OUT/sphere_$mode.json" ] && continue
+    ran_ok "$OUT/patch_$mode.json" && ran_ok "$OUT/sphere_$mode.json" && continue
     # shellcheck disable=SC2046 # mode_args is a list of words
     "$BIN/render" "$ROOT/configs/scenes/sphere_city.toml" -o "$OUT/sphere_$mode.exr" \
         --spp "$MAX_SPP" --width-px "$SPHERE_PX" --height-px "$SPHERE_PX" --no-jitter \
