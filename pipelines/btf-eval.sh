@@ -2,36 +2,54 @@
 # The Table 7.1-style evaluation of btf-pca (docs/btf.md), one Markdown table per fabric for k in
 # {1,3,9,81} and C in {1,2,4,8,16,32}, the streaming curve of k=3 C=32 (table and gnuplot SVG)
 # and every run's report under $OUT:
-#  - woven: every configs/fabrics/*.toml captured with render --btf-capture (UBO2003 dome, 81 x 81,
-#    CAP_PX^2, CAP_SPP paths per pixel, 8-bit sRGB PNG); the fabrics in NOISE_FABRICS are captured
-#    a second time with another seed, and their tables add the error against that independent
-#    capture (btf-pca --reference): the capture noise, the floor no model can go below;
+#  - woven: the fabrics of configs/fabrics/ captured with render --btf-capture (UBO2003 dome,
+#    81 x 81, CAP_PX^2, CAP_SPP paths per pixel, 8-bit sRGB PNG); the fabrics in NOISE_FABRICS are
+#    captured a second time with another seed, and their tables add the error against that
+#    independent capture (btf-pca --reference): the capture noise, the floor no model can go
+#    below; $OUT/thesis.md puts the thesis' wool rows beside ours with that floor;
 #  - analytic: the rank-6 BTF of lib/btf/synthetic.h at SIZE_PX^2 (8-bit PNG), plain and saturated.
 #   pipelines/btf-eval.sh [OUT] [SIZE_PX] [CAP_PX] [CAP_SPP]  (defaults: out/btf-eval, 32, 64, 4)
-#   BTF_EVAL_SETS="woven analytic" (default both), NOISE_FABRICS="wool-twill" (default)
-# Captures are reused when their folder exists. Minutes per capture: run it under nice.
+#   BTF_EVAL_SETS="woven analytic" (default both),
+#   BTF_EVAL_FABRICS="wool-twill denim-plain satin" (names in configs/fabrics/, in this order;
+#   default all of them), NOISE_FABRICS="wool-twill" (default)
+# A capture is reused when its report says ok and its capture.json has this CAP_PX, CAP_SPP and
+# seed; a capture of other settings under OUT is an error (use another OUT), an unfinished one
+# (killed run, no ok report) is done again. Minutes per capture: run it under nice.
 set -euo pipefail
 OUT=${1:-out/btf-eval}
 SIZE=${2:-32}
 CAP_PX=${3:-64}
 CAP_SPP=${4:-4}
 SETS=${BTF_EVAL_SETS:-woven analytic}
+FABRICS=${BTF_EVAL_FABRICS:-$(for t in configs/fabrics/*.toml; do basename "$t" .toml; done)}
 NOISE_FABRICS=${NOISE_FABRICS:-wool-twill}
 BIN=${INLIGHT_BIN:-build/bin}
 TBIN=${INLIGHT_TEST_BIN:-build/tests}
-mkdir -p "$OUT"
 say() { echo "[btf-eval] $*" >&2; }
+die() { echo "btf-eval: $*" >&2; exit "${2:-1}"; }
+for v in "$SIZE" "$CAP_PX" "$CAP_SPP"; do
+    [[ $v =~ ^[1-9][0-9]*$ ]] || die "SIZE_PX, CAP_PX and CAP_SPP must be positive integers, got '$v'" 2
+done
+for f in $FABRICS; do
+    [ -f "configs/fabrics/$f.toml" ] || die "BTF_EVAL_FABRICS: configs/fabrics/$f.toml not found (run from the repository root)" 2
+done
+mkdir -p "$OUT"
 
 # table NAME BTF_DIR [REFERENCE_DIR]: $OUT/NAME/table.md from one btf-pca run per k with C = 32;
 # the rows for C = 1..16 are that model cut to C components (the same figures as a run with
-# that C: test CompressToFolder.TableRowsEqualRunsWithThatManyComponents).
+# that C: test CompressToFolder.TableRowsEqualRunsWithThatManyComponents). A run whose report says
+# ok, is newer than BTF_DIR (and the reference) and names the same reference is reused.
+# With a reference: its columns, and the model's RMSE from the noise-free BTF estimated as
+# sqrt(RMSE_ref^2 - n^2 / 2), n the input's RMSE against the reference (two captures of equal spp
+# and independent noise: each carries n^2 / 2 of it, and the reference's is independent of the
+# model fitted to the input).
 table() {
     local name=$1 btf=$2 ref=${3:-} k run
     local tab="$OUT/$name/table.md" extra=() head="" rule=""
     if [ -n "$ref" ]; then
         extra=(--reference "$ref")
-        head=" MAE Lab vs seed 2 | RMSE RGB vs seed 2 |"
-        rule=" --- | --- |"
+        head=" MAE Lab vs seed 2 | RMSE RGB vs seed 2 | RMSE RGB vs noise-free (est.) |"
+        rule=" --- | --- | --- |"
     fi
     {
         echo "| k | C | MAE Lab | MAE RGB (8-bit) | RMSE RGB (8-bit) | mean dE2000 | raw : params float32 | raw : stored | PNG input : stored | stored MiB | run time s (C=32) | peak MiB |$head"
@@ -39,33 +57,73 @@ table() {
     } >"$tab"
     for k in 1 3 9 81; do
         run="$OUT/$name/k${k}"
-        "$BIN/btf-pca" "$btf" -o "$run" -k "$k" -c 32 --table-components 1,2,4,8,16,32 \
-            --color-samples 65536 "${extra[@]}" -q --report "$run.json"
+        if [ -f "$run.json" ] && [ "$run.json" -nt "$btf" ] && { [ -z "$ref" ] || [ "$run.json" -nt "$ref" ]; } && [ -d "$run" ] \
+            && jq -e --arg r "$ref" '.status == "ok" and (.metrics.reference.path // "") == $r' "$run.json" >/dev/null; then
+            say "$name k=$k: reusing $run"
+        else
+            "$BIN/btf-pca" "$btf" -o "$run" -k "$k" -c 32 --table-components 1,2,4,8,16,32 \
+                --color-samples 65536 "${extra[@]}" -q --report "$run.json"
+        fi
+        # shellcheck disable=SC2016  # $k, $m and $n are jq variables
         jq -r --arg k "$k" 'def r2: . * 100 | round / 100;
-            .metrics as $m | $m.table[] | "| \($k) | \(.components) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.delta_e2000_mean|r2) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.input_files_to_stored*10|round/10) | \(.stored_bytes/1048576*1000|round/1000) | \($m.time.total_s*10|round/10) | \($m.peak_rss_mib|round) |"
-            + (if .vs_reference then " \(.vs_reference.mae_lab|r2) | \(.vs_reference.rmse_rgb8|r2) |" else "" end)' \
+            .metrics as $m | ($m.reference.input.rmse_rgb8 // 0) as $n | $m.table[] | "| \($k) | \(.components) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.delta_e2000_mean|r2) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.input_files_to_stored*10|round/10) | \(.stored_bytes/1048576*1000|round/1000) | \($m.time.total_s*10|round/10) | \($m.peak_rss_mib|round) |"
+            + (if .vs_reference then " \(.vs_reference.mae_lab|r2) | \(.vs_reference.rmse_rgb8|r2) | \([.vs_reference.rmse_rgb8 * .vs_reference.rmse_rgb8 - $n * $n / 2, 0] | max | sqrt | r2) |" else "" end)' \
             "$run.json" >>"$tab"
     done
+    if [ -f "$btf.json" ]; then
+        jq -r 'def r2: . * 100 | round / 100; .metrics.capture
+            | "\nCapture: \(.width_px) x \(.height_px) px, \(.spp) spp, per-image relative noise (render'"'"'s estimate) median \(.rel_error_median|r2), p90 \(.rel_error_p90|r2)."' \
+            "$btf.json" >>"$tab"
+    fi
     if [ -n "$ref" ]; then
         jq -r 'def r2: . * 100 | round / 100; .metrics.reference.input
-            | "\nThe input itself against the seed-2 capture (the noise floor x sqrt 2 in RMSE): MAE Lab \(.mae_lab|r2), MAE RGB \(.mae_rgb8|r2), RMSE RGB \(.rmse_rgb8|r2), mean dE2000 \(.delta_e2000_mean|r2)."' \
+            | "\nThe input itself against the seed-2 capture (the noise floor x sqrt 2 in RMSE): MAE Lab \(.mae_lab|r2), MAE RGB \(.mae_rgb8|r2), RMSE RGB \(.rmse_rgb8|r2), mean dE2000 \(.delta_e2000_mean|r2); one capture'"'"'s noise: RMSE RGB \(.rmse_rgb8 / (2|sqrt)|r2)."' \
             "$OUT/$name/k1.json" >>"$tab"
     fi
     say "$name: $tab"
     (cd "$OUT/$name/k3" && gnuplot streaming.gp) || say "gnuplot failed: no streaming.svg"
 }
 
-# capture FABRIC_TOML DIR SEED: the UBO2003 capture, unless DIR exists.
+# thesis NAME...: $OUT/thesis.md, the thesis' three wool rows of Table 7.1 beside the same (k, C)
+# of each named fabric (measured against its input, and against the seed-2 capture when there is
+# one), with the noise floor between the two captures.
+thesis() {
+    local t="$OUT/thesis.md" name
+    {
+        echo "| fabric | k | C | MAE Lab | MAE Lab vs seed 2 | noise floor: MAE Lab seed 1 vs seed 2 | raw : stored | raw : params float32 | thesis (wool, Bonn): MAE Lab at ratio |"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        for name in "$@"; do
+            # shellcheck disable=SC2016  # $f, $k, $c, $th, $k1 are jq variables
+            jq -r -n --arg f "$name" --slurpfile k1 "$OUT/$name/k1.json" --slurpfile k3 "$OUT/$name/k3.json" '
+                def r2: . * 100 | round / 100;
+                ($k1[0].metrics.reference.input.mae_lab // null) as $floor
+                | [[1, 8, "2.14 at 1:23"], [3, 8, "2.19 at 1:70"], [3, 32, "2.22 at 1:17"]][]
+                | . as [$k, $c, $th]
+                | (if $k == 1 then $k1[0] else $k3[0] end).metrics.table[] | select(.components == $c)
+                | "| \($f) | \($k) | \($c) | \(.mae_lab|r2) | \(.vs_reference.mae_lab // "-" | if type == "number" then r2 else . end) | \($floor // "-" | if type == "number" then r2 else . end) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | \($th) |"'
+        done
+    } >"$t"
+    say "thesis comparison: $t"
+}
+
+# capture FABRIC_TOML DIR SEED: the UBO2003 capture, unless DIR holds a finished one of these
+# settings.
 capture() {
-    [ -d "$2" ] && return 0
-    say "capturing $(basename "$1") (seed $3, ${CAP_PX}x${CAP_PX} px, $CAP_SPP spp, 6561 images)"
-    "$BIN/render" "$1" --btf-capture -o "$2" --width-px "$CAP_PX" --height-px "$CAP_PX" --spp "$CAP_SPP" \
-        --seed "$3" -q --report "$2.json"
+    local toml=$1 dir=$2 seed=$3 have
+    if [ -f "$dir.json" ] && [ "$(jq -r .status "$dir.json")" = ok ] && [ -f "$dir/capture.json" ]; then
+        have=$(jq -r '"\(.width_px) \(.height_px) \(.spp) \(.seed)"' "$dir/capture.json")
+        [ "$have" = "$CAP_PX $CAP_PX $CAP_SPP $seed" ] && return 0
+        die "$dir: a capture of width, height, spp, seed = $have, not $CAP_PX $CAP_PX $CAP_SPP $seed: use another OUT or delete it"
+    fi
+    [ -e "$dir" ] && { say "$dir: no finished capture (its report is missing or not ok): capturing again"; rm -rf "$dir"; }
+    say "capturing $(basename "$toml") (seed $seed, ${CAP_PX}x${CAP_PX} px, $CAP_SPP spp, 6561 images)"
+    "$BIN/render" "$toml" --btf-capture -o "$dir" --width-px "$CAP_PX" --height-px "$CAP_PX" --spp "$CAP_SPP" \
+        --seed "$seed" -q --report "$dir.json"
 }
 
 if [[ " $SETS " == *" woven "* ]]; then
-    for toml in configs/fabrics/*.toml; do
-        name=$(basename "$toml" .toml)
+    for name in $FABRICS; do
+        toml=configs/fabrics/$name.toml
         capture "$toml" "$OUT/$name/capture" 1
         ref=""
         if [[ " $NOISE_FABRICS " == *" $name "* ]]; then
@@ -74,6 +132,8 @@ if [[ " $SETS " == *" woven "* ]]; then
         fi
         table "$name" "$OUT/$name/capture" "$ref"
     done
+    # shellcheck disable=SC2086  # FABRICS is a list of names
+    thesis $FABRICS
 fi
 
 if [[ " $SETS " == *" analytic "* ]]; then

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Slow-labelled (~30 CPU s, minutes of wall time under load): 3 full-dome captures of 6561 files
+# and 8 btf-pca runs over them.
+# pipelines/btf-eval.sh on one woven fabric at 4 x 4 px: the CAP_SPP option reaches both captures
+# (seeds 1 and 2), the table gets the seed-2 columns and thesis.md the thesis' rows beside ours
+# with the noise floor; a rerun reuses what is finished, refuses captures of other settings under
+# the same OUT and redoes an unfinished one; bad options are usage errors.
+HERE=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=tests/cli/lib.sh
+source "$HERE/../cli/lib.sh"
+cd "${INLIGHT_SOURCE_DIR:?}" || exit 1
+export BTF_EVAL_SETS=woven BTF_EVAL_FABRICS=wool-twill NOISE_FABRICS=wool-twill
+E="$WORK/eval"
+W="$E/wool-twill"
+
+expect_exit 0 "btf-eval at 4 x 4 px, 2 spp" -- pipelines/btf-eval.sh "$E" 8 4 2
+# shellcheck disable=SC2016  # $s is a jq variable
+for c in "capture 1" "capture-seed2 2"; do
+    read -r d seed <<<"$c"
+    expect_true "$d: 2 spp, 4 x 4 px, seed $seed (capture.json)" -- \
+        jq -e --argjson s "$seed" '.spp == 2 and .width_px == 4 and .height_px == 4 and .seed == $s and .images == 6561' "$W/$d/capture.json"
+done
+rows=$(grep -c '^| [0-9]' "$W/table.md")
+expect_true "24 rows (k in 1,3,9,81 x C in 1,2,4,8,16,32), got $rows" -- test "$rows" -eq 24
+expect_true "rows carry the three seed-2 columns" -- test "$(grep '^| [0-9]' "$W/table.md" | awk -F'|' '{print NF}' | sort -u)" = 17
+expect_true "the table states the capture's spp" -- grep -q '^Capture: 4 x 4 px, 2 spp' "$W/table.md"
+floor=$(jq '.metrics.reference.input.mae_lab * 100 | round / 100' "$W/k1.json")
+expect_true "thesis.md: the thesis' three rows with the noise floor ($floor) of k1.json" -- \
+    test "$(grep -c "^| wool-twill | .* | $floor | .* | 2\.[12][0-9] at 1:" "$E/thesis.md")" -eq 3
+# Two captures of one fabric differ only by their noise: a positive floor, smaller than the
+# model's error at C = 1 against the same second capture.
+expect_true "noise floor > 0 and below the k=1 C=1 row against seed 2" -- jq -e \
+    '.metrics.reference.input.mae_lab > 0 and .metrics.reference.input.mae_lab < .metrics.table[0].vs_reference.mae_lab' "$W/k1.json"
+
+expect_exit 0 "a rerun of the same settings" -- pipelines/btf-eval.sh "$E" 8 4 2
+expect_true "reuses both captures and the four runs" -- test "$(grep -c 'capturing' "$WORK/stderr")" -eq 0 -a "$(grep -c 'reusing' "$WORK/stderr")" -eq 4
+expect_exit 1 "a rerun at another CAP_SPP into the same OUT" -- pipelines/btf-eval.sh "$E" 8 4 3
+expect_stderr "$W/capture: a capture of width, height, spp, seed = 4 4 2 1, not 4 4 3 1" "names the capture and the settings that differ"
+rm "$W/capture-seed2.json"  # as after a killed run: the folder without an ok report
+expect_exit 0 "a rerun after an unfinished seed-2 capture" -- pipelines/btf-eval.sh "$E" 8 4 2
+expect_stderr "capture-seed2: no finished capture" "captures seed 2 again"
+expect_true "seed 2 captured again with 2 spp" -- jq -e '.status == "ok" and .metrics.capture.spp == 2' "$W/capture-seed2.json"
+
+expect_exit 2 "CAP_SPP 0" -- pipelines/btf-eval.sh "$E" 8 4 0
+expect_stderr "CAP_SPP must be positive integers, got '0'" "names the option"
+expect_exit 2 "an unknown fabric" -- env BTF_EVAL_FABRICS=silk pipelines/btf-eval.sh "$E" 8 4 2
+expect_stderr "configs/fabrics/silk.toml not found" "names the file"
+finish
