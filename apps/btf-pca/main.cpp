@@ -33,6 +33,14 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 1000))->capture_default_str();
     cli.add_option("--power-iterations", o.pca.power_iterations, "Randomized SVD: power iterations")
         ->check(CLI::Range(0, 20))->capture_default_str();
+    int64_t max_memory_mib = 0;
+    cli.add_option("--max-memory-mib", max_memory_mib, "Memory budget per view group (MiB): a group whose "
+                   "in-core fit would exceed it is streamed from the images a block of views at a time "
+                   "(out of core, same result); 0 = half the physical memory")
+        ->check(CLI::Range(int64_t(0), int64_t(1) << 30))->capture_default_str();
+    cli.add_option("--stream-views", o.pca.stream_views, "Fit groups larger than this many views out of "
+                   "core, this many views per block (0 = chosen from --max-memory-mib)")
+        ->check(CLI::Range(0, 100000))->capture_default_str();
     cli.add_option("--format", format, "Component images: 8-bit PNG with scale/offset each, or "
                    "half/float EXR")->check(CLI::IsMember({"png", "exr-half", "exr-float"}))->capture_default_str();
     cli.add_option("--light-directions", o.open.light_directions, "Light direction file "
@@ -50,7 +58,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"thesis", "delaunay", "nearest"}))->capture_default_str()->needs(ip);
     cli.add_option("--truth", interp.truth, "Interpolation: a capture of the same pairs to compare with")
         ->check(CLI::ExistingDirectory)->needs(ip);
-    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format"})
+    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format", "--max-memory-mib", "--stream-views"})
         ip->excludes(cli.get_option(opt));
     bool linear = false;
     cli.add_flag("--linear-input", linear, "8/16-bit images hold linear values (default: sRGB-encoded)");
@@ -69,6 +77,7 @@ int main(int argc, char** argv) {
     o.pca.method = btf::pca_method_from_string(method);
     o.encoding = btf::component_encoding_from_string(format);
     o.pca.seed = common.seed;
+    o.max_memory_bytes = uint64_t(max_memory_mib) << 20;
     interp.input = o.input;
     interp.output = o.output;
     interp.open = o.open;

@@ -21,8 +21,9 @@ namespace {
 /// Fixed partial sums of the reductions over rows: the parallelism of A^T X and of the Gram
 /// matrix, independent of the thread count so the sums are bit-identical.
 constexpr int64_t kPartials = 4;
-/// Doubles per temporary block converted from float (4 Mi = 32 MiB per worker).
-constexpr int64_t kBlockElements = int64_t(1) << 22;
+/// Doubles per temporary block converted from float (256 Ki = 2 MiB per worker: the GEMMs on it
+/// block for the cache themselves, and the budget of --max-memory-mib counts it per worker).
+constexpr int64_t kBlockElements = int64_t(1) << 18;
 
 int64_t block_rows(int64_t cols) { return std::clamp<int64_t>(kBlockElements / std::max<int64_t>(cols, 1), 16, 4096); }
 
@@ -334,6 +335,43 @@ Eigen::MatrixXd gram_of_columns(const Eigen::MatrixXf& a) {
     return g;
 }
 
+uint64_t fit_memory_bytes(int64_t p, int64_t n, int64_t block_columns, const PcaOptions& o, int threads) {
+    check_options(o);
+    const uint64_t P = uint64_t(std::max<int64_t>(p, 1)), N = uint64_t(std::max<int64_t>(n, 1));
+    const uint64_t c = std::min<uint64_t>(uint64_t(o.components), std::min(P, N));
+    const uint64_t workers = uint64_t(std::max(threads, 1));
+    const bool streamed = block_columns < n;
+    const uint64_t held = streamed ? uint64_t(std::max<int64_t>(block_columns, 1)) : N;  // columns in memory
+    PcaMethod method = o.method;
+    if (method == PcaMethod::kAuto) method = std::min(P, N) <= uint64_t(o.gram_max_side) ? PcaMethod::kGram : PcaMethod::kRandomized;
+    // Temporary double blocks converted from float, one per worker (times, sum_over).
+    const uint64_t conversion = workers * 8 * uint64_t(std::min<int64_t>(kBlockElements, 4096 * int64_t(std::max(N, P))));
+    uint64_t bytes = 4 * P * held + conversion;
+    uint64_t factors = 8 * (P + N) * c * 2;  // V, A_c V
+    switch (method) {
+        case PcaMethod::kGram:
+            if (N <= P) {
+                factors += 8 * N * N * (kPartials + 4);  // partials, total, eigenvectors, solver
+                if (streamed) bytes += 4 * P * N;         // this path reads the group whole
+            } else {
+                factors += 8 * P * P * (kPartials + 4) + 8 * N * c * kPartials;
+            }
+            break;
+        case PcaMethod::kRandomized: {
+            const uint64_t l = std::min<uint64_t>(c + uint64_t(o.oversampling), std::min(P, N));
+            factors += 8 * (P * l * 3 + N * l * (kPartials + 4));  // Q, Y, A Q; Omega, partials, B^T, its SVD
+            break;
+        }
+        case PcaMethod::kFullSvd:
+            factors += 8 * P * N * 3 + 8 * N * N;  // the double copy, U, work; V
+            break;
+        case PcaMethod::kAuto:
+            break;
+    }
+    // Results: mean, basis (P x C), weights (N x C) in float.
+    return bytes + factors + 4 * (P + P * c + N * c);
+}
+
 double GroupPca::rmse(int c) const {
     INLIGHT_CHECK(c >= 0 && c < static_cast<int>(residual_energy.size())) << c;
     const double samples = double(pixels) * columns;
@@ -417,6 +455,7 @@ CompressStats compress_btf(const BtfSource& source, const PcaOptions& options,
             stats.read_time_s += st.read_time_s;
             stats.fit_time_s += std::chrono::duration<double>(Clock::now() - t0).count() - st.read_time_s;
             stats.stream_passes += st.passes;
+            ++stats.streamed_groups;
         } else {
             source.read_group(groups[gi], fit.centred);
             auto t1 = Clock::now();

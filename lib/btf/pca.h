@@ -112,6 +112,13 @@ struct StreamStats {
 GroupPca fit_group_streamed(const BtfSource& source, const std::vector<int>& views, const PcaOptions& options,
                             uint64_t group_seed, StreamStats* stats = nullptr);
 
+/// An upper estimate of the memory fit_group (block_columns >= n: the group held, its P x N
+/// floats included) or fit_group_streamed (block_columns < n: one block of that many columns
+/// held at a time) allocates for a group of `p` pixels x `n` columns with `threads` workers:
+/// the data, the method's double factors and partial sums (kAuto resolved as fit_components
+/// does), the per-worker temporary blocks and the results. Not the process's own base.
+uint64_t fit_memory_bytes(int64_t p, int64_t n, int64_t block_columns, const PcaOptions& options, int threads);
+
 /// What compress_btf hands to its sink for each group, then frees.
 struct GroupFit {
     int index = 0;           ///< group number, in view_groups() order
@@ -131,6 +138,7 @@ struct CompressStats {
     double read_time_s = 0;       ///< reading and decoding images
     double fit_time_s = 0;        ///< PCA
     int stream_passes = 0;        ///< passes over the images of groups fitted out of core
+    int streamed_groups = 0;      ///< groups fitted out of core
     uint64_t peak_rss_bytes = 0;  ///< the process's peak resident memory after the run
 };
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numeric>
 
@@ -77,14 +78,72 @@ std::string group_file(int g, int c, const std::string& ext) {
     return buf;
 }
 
+/// Which fit a run uses: every group in core, or groups larger than `stream_views` views out of
+/// core, and the estimates that chose it.
+struct MemoryPlan {
+    uint64_t budget = 0;
+    std::string budget_source;
+    int stream_views = 0;          ///< 0: in core
+    uint64_t in_core_bytes = 0;    ///< estimate for the largest group held whole
+    uint64_t planned_bytes = 0;    ///< estimate for the plan chosen
+};
+
+/// Estimate for one group of `views` views held `block` views at a time (block >= views: whole).
+uint64_t group_memory_bytes(const BtfShape& shape, const PcaRunOptions& o, bool reference, int views, int block) {
+    const int64_t P = shape.pixel_count(), per_view = shape.group_columns(1);
+    const int64_t N = per_view * views, held = per_view * std::min(views, block);
+    const uint64_t C = uint64_t(std::min<int64_t>(o.pca.components, std::min(P, N)));
+    const uint64_t workers = uint64_t(std::max(parallel::thread_count(), 1));
+    uint64_t bytes = fit_memory_bytes(P, N, block >= views ? N : held, o.pca, parallel::thread_count());
+    bytes += 2 * 4 * uint64_t(P + P * C + N * C) + uint64_t(P) * C;           // stored and thesis copies, codes
+    bytes += workers * 4 * uint64_t(rows_per_block(held)) * uint64_t(held);  // error blocks
+    if (reference) bytes += 4 * uint64_t(P) * uint64_t(held);
+    return bytes;
+}
+
+MemoryPlan plan_memory(const BtfShape& shape, const PcaRunOptions& o, bool reference) {
+    MemoryPlan m;
+    m.budget = o.max_memory_bytes;
+    m.budget_source = "--max-memory-mib";
+    if (m.budget == 0) {
+        m.budget = physical_memory_bytes() / 2;
+        m.budget_source = "half of the physical memory";
+        if (m.budget == 0) m.budget = std::numeric_limits<uint64_t>::max(), m.budget_source = "none (memory size unknown)";
+    }
+    int largest = 0;
+    for (const auto& g : view_groups(shape.views, o.pca.view_group_size)) largest = std::max(largest, int(g.size()));
+    m.in_core_bytes = group_memory_bytes(shape, o, reference, largest, largest);
+    auto mib = [](uint64_t b) { return str(std::ceil(double(b) / 1048576.0)); };
+    if (o.pca.stream_views > 0) {
+        m.stream_views = o.pca.stream_views >= largest ? 0 : o.pca.stream_views;
+        m.planned_bytes = group_memory_bytes(shape, o, reference, largest, o.pca.stream_views);
+        if (m.planned_bytes > m.budget)
+            throw UsageError(str("--stream-views ", o.pca.stream_views, ": needs about ", mib(m.planned_bytes),
+                                 " MiB per group, above the memory budget of ", mib(m.budget), " MiB (", m.budget_source, ")"));
+        return m;
+    }
+    m.planned_bytes = m.in_core_bytes;
+    if (m.in_core_bytes <= m.budget) return m;
+    for (int b = largest - 1; b >= 1; --b) {
+        m.planned_bytes = group_memory_bytes(shape, o, reference, largest, b);
+        if (m.planned_bytes <= m.budget) {
+            m.stream_views = b;
+            return m;
+        }
+    }
+    throw UsageError(str("--max-memory-mib: a group of ", largest, " views needs about ", mib(m.in_core_bytes),
+                         " MiB in core and ", mib(group_memory_bytes(shape, o, reference, largest, 1)),
+                         " MiB out of core at one view per block, above the budget of ", mib(m.budget), " MiB (",
+                         m.budget_source, ")"));
+}
+
 }  // namespace
 
 nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& o,
                                   uint64_t input_stored_bytes, Report* report, const BtfSource* reference) {
     const auto t_start = Clock::now();
+    const uint64_t rss_before = current_rss_bytes();
     const BtfShape& shape = source.shape();
-    if (o.pca.stream_views > 0)
-        throw UsageError("btf-pca measures each group in memory: out-of-core groups (stream_views) are library-only");
     if (reference) {
         const BtfShape& r = reference->shape();
         auto same = [](const std::vector<Direction>& a, const std::vector<Direction>& b) {
@@ -98,6 +157,9 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                             "x", r.height, " px, the input has ", shape.n_lights(), " x ", shape.n_views(), " of ", shape.width,
                             "x", shape.height, " (or other directions)"));
     }
+    const MemoryPlan plan = plan_memory(shape, o, reference != nullptr);
+    PcaOptions pca_options = o.pca;
+    pca_options.stream_views = plan.stream_views;
     const int64_t P = shape.pixel_count();
     const double samples = shape.sample_count();
     const double total_triples = samples / 3;
@@ -115,13 +177,14 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     int sigma_overflows = 0;
     uint64_t thesis_u_bytes = 0, thesis_v_bytes = 0;
     double store_s = 0, measure_s = 0;
+    int measure_passes = 0;  // passes over the images of out-of-core groups to measure them
     std::map<std::string, int> methods;
     auto write_file = [&](const std::string& name, const std::string& bytes, const std::string& kind) {
         fs::write_text_atomic(dir + "/" + name, bytes);
         if (report) report->add_output(dir + "/" + name, kind, kind == "btf_pca_manifest" ? "linear_srgb" : "");
     };
 
-    const CompressStats stats = compress_btf(source, o.pca, [&](GroupFit& fit) {
+    const CompressStats stats = compress_btf(source, pca_options, [&](GroupFit& fit) {
         const GroupPca& pca = fit.pca;
         const int C = pca.components();
         const int64_t N = pca.columns;
@@ -168,77 +231,108 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         thesis_v_bytes += uint64_t(N) * C + 2 * uint64_t(C);  // V as 8-bit texels, Sigma in two channels
         store_s += seconds_since(t0);
 
-        // Exact errors of the stored model after 0..C components, row block by row block.
+        // Errors of the stored model, one block of the group's columns at a time: the whole
+        // centred group when it is in memory, else each block of `stream_views` views read again
+        // and centred as fit_group_streamed centres it (the same floats).
         t0 = Clock::now();
         const Eigen::VectorXf dmean = pca.mean - q.mean;
-        const std::vector<double> sums = parallel::reduce(
-            P, rows_per_block(N), std::vector<double>(size_t(C) + 3, 0.0),
-            [&](int64_t b, int64_t e) {
-                std::vector<double> s(size_t(C) + 3, 0.0);
-                Eigen::MatrixXf err = fit.centred.middleRows(b, e - b);
-                err.colwise() += dmean.segment(b, e - b);
-                auto energy = [&] {
-                    double x = 0;
-                    for (int64_t j = 0; j < N; ++j) x += err.col(j).cast<double>().squaredNorm();
-                    return x;
-                };
-                s[0] = energy();
-                for (int c = 0; c < C; ++c) {
-                    err.noalias() -= q.basis.col(c).segment(b, e - b) * q.weights.col(c).transpose();
-                    s[size_t(c) + 1] = energy();
-                }
-                for (int64_t j = 0; j < N; ++j) s[size_t(C) + 1] += err.col(j).cast<double>().cwiseAbs().sum();
-                s[size_t(C) + 2] = err.size() ? double(err.cwiseAbs().maxCoeff()) : 0.0;
-                return s;
-            },
-            [](std::vector<double> a, const std::vector<double>& b) {
-                for (size_t i = 0; i + 1 < a.size(); ++i) a[i] += b[i];
-                a.back() = std::max(a.back(), b.back());
-                return a;
-            });
-        rec.sse.assign(sums.begin(), sums.begin() + C + 1);
-        rec.sae = sums[size_t(C) + 1];
-        rec.max_abs = sums[size_t(C) + 2];
-
-        // Display-referred errors on the strided triples, ours and the thesis' packing.
-        Eigen::MatrixXf ref;
-        if (reference) reference->read_group(pca.views, ref);
         const size_t T = table.size(), n_sums = 2 + T + (reference ? 1 + T : 0);
-        const int64_t group_triples = P * (N / 3);
-        const int64_t picks = (group_triples + stride - 1) / stride;
+        std::vector<double> sums(size_t(C) + 3, 0.0);
         // Sums: [0] ours with all components, [1] the thesis' packing, [2 + i] ours cut to
         // table[i]; with a reference: [2 + T] the input against it, [3 + T + i] row i against it.
         using Sums = std::vector<ColorSums>;
-        const Sums cs = parallel::reduce(
-            picks, 4096, Sums(n_sums),
-            [&](int64_t b, int64_t e) {
-                Sums s(n_sums);
-                for (int64_t k = b; k < e; ++k) {
-                    const int64_t t = k * stride, p = t % P, j = (t / P) * 3;
-                    Eigen::Vector3d truth, th3;
-                    Eigen::Matrix<double, 3, Eigen::Dynamic> prefix(3, C + 1);  // after 0..C components
-                    for (int ch = 0; ch < 3; ++ch) {
-                        truth[ch] = double(fit.centred(p, j + ch)) + pca.mean[p];
-                        prefix(ch, 0) = q.mean[p];
-                        for (int c = 0; c < C; ++c)
-                            prefix(ch, c + 1) = prefix(ch, c) + double(q.basis(p, c)) * q.weights(j + ch, c);
-                        th3[ch] = th.mean[p] + double(th.basis.row(p).dot(th.weights.row(j + ch)));
+        Sums cs(n_sums);
+        // `blk`: the centred columns [j0, j0 + blk.cols()) of the group; `ref`: the reference's.
+        auto measure = [&](int64_t j0, const Eigen::MatrixXf& blk, const Eigen::MatrixXf& ref) {
+            const int64_t nb = blk.cols();
+            // Exact errors after 0..C components, row block by row block.
+            const std::vector<double> s_blk = parallel::reduce(
+                P, rows_per_block(nb), std::vector<double>(size_t(C) + 3, 0.0),
+                [&](int64_t b, int64_t e) {
+                    std::vector<double> s(size_t(C) + 3, 0.0);
+                    Eigen::MatrixXf err = blk.middleRows(b, e - b);
+                    err.colwise() += dmean.segment(b, e - b);
+                    auto energy = [&] {
+                        double x = 0;
+                        for (int64_t j = 0; j < nb; ++j) x += err.col(j).cast<double>().squaredNorm();
+                        return x;
+                    };
+                    s[0] = energy();
+                    for (int c = 0; c < C; ++c) {
+                        err.noalias() -= q.basis.col(c).segment(b, e - b) * q.weights.col(c).segment(j0, nb).transpose();
+                        s[size_t(c) + 1] = energy();
                     }
-                    add_color(s[0], truth, prefix.col(C));
-                    add_color(s[1], truth, th3);
-                    for (size_t i = 0; i < T; ++i) add_color(s[2 + i], truth, prefix.col(std::min(table[i], C)));
-                    if (reference) {
-                        const Eigen::Vector3d r3(ref(p, j), ref(p, j + 1), ref(p, j + 2));
-                        add_color(s[2 + T], r3, truth);
-                        for (size_t i = 0; i < T; ++i) add_color(s[3 + T + i], r3, prefix.col(std::min(table[i], C)));
+                    for (int64_t j = 0; j < nb; ++j) s[size_t(C) + 1] += err.col(j).cast<double>().cwiseAbs().sum();
+                    s[size_t(C) + 2] = err.size() ? double(err.cwiseAbs().maxCoeff()) : 0.0;
+                    return s;
+                },
+                [](std::vector<double> a, const std::vector<double>& b) {
+                    for (size_t i = 0; i + 1 < a.size(); ++i) a[i] += b[i];
+                    a.back() = std::max(a.back(), b.back());
+                    return a;
+                });
+            for (size_t i = 0; i + 1 < sums.size(); ++i) sums[i] += s_blk[i];
+            sums.back() = std::max(sums.back(), s_blk.back());
+
+            // Display-referred errors on the strided triples (t = k stride over the group's
+            // pixels x colour columns) that fall in this block, ours and the thesis' packing.
+            const int64_t t_begin = P * (j0 / 3), t_end = P * ((j0 + nb) / 3);
+            const int64_t k_begin = (t_begin + stride - 1) / stride, k_end = (t_end + stride - 1) / stride;
+            const Sums cs_blk = parallel::reduce(
+                k_end - k_begin, 4096, Sums(n_sums),
+                [&](int64_t b, int64_t e) {
+                    Sums s(n_sums);
+                    for (int64_t k = k_begin + b; k < k_begin + e; ++k) {
+                        const int64_t t = k * stride, p = t % P, j = (t / P) * 3, jb = j - j0;
+                        Eigen::Vector3d truth, th3;
+                        Eigen::Matrix<double, 3, Eigen::Dynamic> prefix(3, C + 1);  // after 0..C components
+                        for (int ch = 0; ch < 3; ++ch) {
+                            truth[ch] = double(blk(p, jb + ch)) + pca.mean[p];
+                            prefix(ch, 0) = q.mean[p];
+                            for (int c = 0; c < C; ++c)
+                                prefix(ch, c + 1) = prefix(ch, c) + double(q.basis(p, c)) * q.weights(j + ch, c);
+                            th3[ch] = th.mean[p] + double(th.basis.row(p).dot(th.weights.row(j + ch)));
+                        }
+                        add_color(s[0], truth, prefix.col(C));
+                        add_color(s[1], truth, th3);
+                        for (size_t i = 0; i < T; ++i) add_color(s[2 + i], truth, prefix.col(std::min(table[i], C)));
+                        if (reference) {
+                            const Eigen::Vector3d r3(ref(p, jb), ref(p, jb + 1), ref(p, jb + 2));
+                            add_color(s[2 + T], r3, truth);
+                            for (size_t i = 0; i < T; ++i) add_color(s[3 + T + i], r3, prefix.col(std::min(table[i], C)));
+                        }
                     }
-                }
-                return s;
-            },
-            [](Sums x, const Sums& y) {
-                for (size_t i = 0; i < x.size(); ++i) x[i] += y[i];
-                return x;
-            });
+                    return s;
+                },
+                [](Sums x, const Sums& y) {
+                    for (size_t i = 0; i < x.size(); ++i) x[i] += y[i];
+                    return x;
+                });
+            for (size_t i = 0; i < cs.size(); ++i) cs[i] += cs_blk[i];
+        };
+        Eigen::MatrixXf ref;
+        if (fit.centred.size() > 0) {
+            if (reference) reference->read_group(pca.views, ref);
+            measure(0, fit.centred, ref);
+        } else {
+            const size_t per = static_cast<size_t>(plan.stream_views);
+            const int64_t cols_per_view = shape.group_columns(1);
+            Eigen::MatrixXf blk;
+            for (size_t v0 = 0; v0 < pca.views.size(); v0 += per) {
+                const std::vector<int> part(pca.views.begin() + std::ptrdiff_t(v0),
+                                            pca.views.begin() + std::ptrdiff_t(std::min(pca.views.size(), v0 + per)));
+                source.read_group(part, blk);
+                parallel::for_chunks(P, rows_per_block(blk.cols()), [&](int64_t b, int64_t e) {
+                    for (int64_t j = 0; j < blk.cols(); ++j) blk.col(j).segment(b, e - b) -= pca.mean.segment(b, e - b);
+                });
+                if (reference) reference->read_group(part, ref);
+                measure(int64_t(v0) * cols_per_view, blk, ref);
+            }
+            ++measure_passes;
+        }
+        rec.sse.assign(sums.begin(), sums.begin() + C + 1);
+        rec.sae = sums[size_t(C) + 1];
+        rec.max_abs = sums[size_t(C) + 2];
         ours += cs[0];
         thesis += cs[1];
         if (reference) ref_input += cs[2 + T];
@@ -336,6 +430,16 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                  {"measure_s", measure_s}, {"total_s", seconds_since(t_start)}};
     m["peak_rss_bytes"] = stats.peak_rss_bytes;
     m["peak_rss_mib"] = stats.peak_rss_bytes / 1048576.0;
+    m["memory"] = {{"fit", plan.stream_views > 0 ? "out-of-core" : "in-core"},
+                   {"stream_views", plan.stream_views},
+                   {"groups_out_of_core", stats.streamed_groups},
+                   {"passes_over_images", stats.stream_passes + measure_passes},
+                   {"budget_mib", plan.budget == std::numeric_limits<uint64_t>::max() ? -1.0 : plan.budget / 1048576.0},
+                   {"budget_source", plan.budget_source},
+                   {"estimate_in_core_mib", plan.in_core_bytes / 1048576.0},
+                   {"estimate_mib", plan.planned_bytes / 1048576.0},
+                   {"rss_before_mib", rss_before / 1048576.0},
+                   {"peak_rss_mib", stats.peak_rss_bytes / 1048576.0}};
     nlohmann::json err = ours.to_json();
     err.update({{"rmse_linear", std::sqrt(total_sse / samples)}, {"mae_linear", total_sae / samples},
                 {"max_abs_linear", max_abs}, {"rmse_linear_unquantised", std::sqrt(unquantised / samples)}});

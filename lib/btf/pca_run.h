@@ -40,6 +40,13 @@ struct PcaRunOptions {
     /// capture with the same noise the input's error is the noise floor times sqrt(2) in RMSE.
     /// "" = none.
     std::string reference;
+    /// Memory budget for one group (its fit and its measurement, btf::fit_memory_bytes plus
+    /// the stored copies and a reference block), bytes: a group whose in-core estimate exceeds
+    /// it is fitted out of core (fit_group_streamed) with the most views per block that fit, and
+    /// measured by streaming its views once more. 0 = half the machine's physical memory. A
+    /// budget that even one view per block exceeds is a UsageError naming --max-memory-mib.
+    /// pca.stream_views > 0 forces that block size (the budget is still checked).
+    uint64_t max_memory_bytes = 0;
 };
 
 /// Compresses `source` into options.output and returns the metrics (also the report's). Every

@@ -6,8 +6,8 @@
 namespace inlight {
 namespace {
 
-uint64_t status_kib(const std::string& key) {
-    std::ifstream in("/proc/self/status");
+uint64_t status_kib(const std::string& key, const char* file = "/proc/self/status") {
+    std::ifstream in(file);
     std::string line;
     while (std::getline(in, line)) {
         if (line.compare(0, key.size(), key) == 0 && line.size() > key.size() &&
@@ -22,5 +22,6 @@ uint64_t status_kib(const std::string& key) {
 
 uint64_t peak_rss_bytes() { return status_kib("VmHWM") * 1024; }
 uint64_t current_rss_bytes() { return status_kib("VmRSS") * 1024; }
+uint64_t physical_memory_bytes() { return status_kib("MemTotal", "/proc/meminfo") * 1024; }
 
 }  // namespace inlight

@@ -10,5 +10,7 @@ namespace inlight {
 uint64_t peak_rss_bytes();
 /// Current resident set size (VmRSS), bytes; 0 when not reported.
 uint64_t current_rss_bytes();
+/// The machine's physical memory (MemTotal of /proc/meminfo), bytes; 0 when not reported.
+uint64_t physical_memory_bytes();
 
 }  // namespace inlight

@@ -13,7 +13,7 @@ DIRS=(--light-directions "$WORK/lights.txt" --view-directions "$WORK/views.txt")
 "$MK" "$WORK/btf" 24 16 4 1.0 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf"
 
 expect_exit 0 "--help" -- "$PCA" --help
-for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples; do
+for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views; do
     grep -q -- "$opt" "$WORK/stdout" || fail "--help lacks $opt"
 done
 
@@ -45,6 +45,37 @@ expect_exit 0 "zip input" -- "$PCA" "$WORK/btf.zip" -o "$WORK/zout" -k 3 -c 4 "$
 expect_true "zip and folder give identical component files" -- cmp "$WORK/out/g001-c03.png" "$WORK/zout/g001-c03.png"
 expect_true "1 and 2 threads give identical outputs" -- bash -c \
     "'$PCA' '$WORK/btf' -o '$WORK/t1' -k 3 -c 4 --threads 1 ${DIRS[*]} -q && '$PCA' '$WORK/btf' -o '$WORK/t2' -k 3 -c 4 --threads 2 ${DIRS[*]} -q && diff -r '$WORK/t1' '$WORK/t2'"
+
+# Out of core: a group streamed from the images a block of views at a time gives the in-core
+# result. The floats of every block are the in-core ones (same centring), so the stored files are
+# identical; only the double sums run in another order: each figure is a sum of at most
+# n = P N = 16384 x 120 = 2.0e6 terms of one sign, relative error <= n u = 2.0e6 x 1.1e-16 = 2.2e-10
+# per ordering, hence REL = 5e-10 for two orderings.
+"$MK" "$WORK/big" 128 128 4 1.5 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf 128"
+BIG=("$WORK/big" -k 5 -c 4 --method randomized --table-components "1,2" --threads 2 "${DIRS[@]}")
+expect_exit 0 "in core" -- "$PCA" "${BIG[@]}" -o "$WORK/in" --report "$WORK/in.json"
+expect_exit 0 "out of core, 2 views per block" -- "$PCA" "${BIG[@]}" -o "$WORK/ooc" --stream-views 2 --report "$WORK/ooc.json"
+expect_true "reports say which fit ran" -- jq -e --slurpfile i "$WORK/in.json" '.metrics.memory as $m |
+    $m.fit == "out-of-core" and $m.stream_views == 2 and $m.groups_out_of_core == 1 and $m.passes_over_images == 9 and
+    $m.peak_rss_mib > 0 and $i[0].metrics.memory.fit == "in-core" and $i[0].metrics.memory.groups_out_of_core == 0' "$WORK/ooc.json"
+expect_true "out of core: component images and weights identical to in core" -- bash -c \
+    "for f in '$WORK'/in/g*.png '$WORK'/in/weights.bin; do cmp \"\$f\" '$WORK/ooc/'\"\$(basename \"\$f\")\" || exit 1; done"
+expect_true "out of core: every error figure within REL = 5e-10 of in core" -- jq -e --slurpfile i "$WORK/in.json" '
+    def figs: [.error.rmse_linear, .error.mae_linear, .error.max_abs_linear, .error.rmse_linear_unquantised,
+               .error.mae_lab, .error.delta_e2000_mean, .error.rmse_rgb8, .thesis_packing.mae_lab]
+              + .streaming.rmse_linear + [.table[] | .rmse_linear, .mae_lab];
+    [(.metrics | figs), ($i[0].metrics | figs)] | transpose | length > 10 and
+    all(.[]; (.[0] - .[1] | fabs) <= 5e-10 * (.[0] | fabs) + 1e-300)' "$WORK/ooc.json"
+# (9 passes: 4 + 2 q for the randomized SVD with q = 2 power iterations, btf/pca.h, and one to measure.)
+# The budget chooses the path: below the in-core estimate the group streams, within the budget.
+est=$(jq '.metrics.memory.estimate_in_core_mib | ceil' "$WORK/in.json")
+expect_exit 0 "--max-memory-mib below the in-core estimate" -- "$PCA" "${BIG[@]}" -o "$WORK/budget_ooc" \
+    --max-memory-mib "$((est - 1))" --report "$WORK/bo.json"
+expect_true "budget: out of core, estimate within the budget, same components" -- bash -c \
+    "jq -e '.metrics.memory | .fit == \"out-of-core\" and .stream_views >= 1 and .stream_views < 5 and .estimate_mib <= .budget_mib and .budget_source == \"--max-memory-mib\"' '$WORK/bo.json' &&
+     cmp '$WORK/in/g000-c03.png' '$WORK/budget_ooc/g000-c03.png'"
+expect_exit 2 "--max-memory-mib 1: not even one view fits" -- "$PCA" "${BIG[@]}" -o "$WORK/bad" --max-memory-mib 1
+expect_stderr "max-memory-mib" "the budget error names the option"
 
 # Bad input: usage errors (exit 2) name the option; nothing is written.
 expect_exit 2 "-k 0" -- "$PCA" "$WORK/btf" -o "$WORK/bad" -k 0 "${DIRS[@]}"
