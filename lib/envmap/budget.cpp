@@ -203,11 +203,20 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
         throw UsageError(
             str(env.source, ": the radiance check (--brdf-table) needs a full-sphere map"));
     const auto t_start = std::chrono::steady_clock::now();
+    if (options.extra_start_regions < 0)
+        throw UsageError("budget: extra_start_regions must be >= 0");
     BudgetPlan plan;
-    plan.extraction = extract_lights(env, options.extract, saturated);
+    // Fit the lights of every candidate (light_fit.h) where the brute force sees the whole
+    // sphere unclipped and the SH are the plain truncation the fit models.
+    const bool fit = options.fit_normals > 0 && options.extract.max_lights > 0 &&
+                     env.full_sphere() && !saturated &&
+                     options.project.window == sh::Window::kNone;
+    ExtractOptions pool = options.extract;
+    if (fit) pool.max_lights += options.extra_start_regions;
+    plan.extraction = extract_lights(env, pool, saturated);
     for (auto& l : plan.extraction.lights) l.shading = options.light_shading;
     const auto& lights = plan.extraction.lights;
-    const int max_k = static_cast<int>(lights.size());
+    const int max_k = std::min(options.extract.max_lights, static_cast<int>(lights.size()));
 
     // References: brute force over the original map's pixels.
     const auto normals =
@@ -257,17 +266,30 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
         }
     }
 
-    // Fit the lights of every candidate (light_fit.h) where the brute force sees the whole
-    // sphere unclipped and the SH are the plain truncation the fit models.
-    const bool fit = options.fit_normals > 0 && max_k > 0 && env.full_sphere() && !saturated &&
-                     options.project.window == sh::Window::kNone;
     std::vector<Eigen::Vector3d> fit_set;
     Eigen::MatrixXd e_fit;
-    if (fit) {
+    // Per band count b - 1: the fitted light sets for 1 .. max_k lights.
+    std::vector<std::vector<LightSetFit>> fitted(static_cast<size_t>(options.max_bands));
+    if (fit && max_k > 0) {
         fit_set = fit_normals(options.fit_normals);
         t0 = std::chrono::steady_clock::now();
         e_fit = brute_force_irradiance(env, fit_set);
         plan.reference_time_s += seconds_since(t0);
+        for (int b = 1; b <= options.max_bands; ++b) {
+            auto& f = fitted[static_cast<size_t>(b - 1)];
+            const Eigen::MatrixXd& map = proj[0][static_cast<size_t>(b - 1)].coeffs_unwindowed;
+            if (b > 1 && sh::cosine_zonal(b - 1) == 0) {
+                // A_{b-1} = 0: band b - 1 adds nothing to irradiance, so the fit (which sees
+                // only irradiance) is that of b - 1 bands; only the coefficients grow.
+                f = fitted[static_cast<size_t>(b - 2)];
+                for (auto& s : f) {
+                    s.coeffs = map.topRows(sh::count(b));
+                    for (const auto& l : s.lights) s.coeffs -= cap_coefficients(l, b);
+                }
+                continue;
+            }
+            f = fit_light_sets(lights, max_k, b, map, fit_set, e_fit);
+        }
     }
 
     std::unique_ptr<ObservedIrradiance> observed;
@@ -280,13 +302,14 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
             c.lights = k;
             c.sh_bands = b;
             c.light_set = found;
+            for (int j = 0; j < k; ++j) c.start_regions.push_back(j);
             if (fit && k > 0) {
                 // The map minus the fitted lights replaces the residual of the regions.
-                const LightFitResult f =
-                    fit_lights(found, b, proj[0][static_cast<size_t>(b - 1)].coeffs_unwindowed,
-                               fit_set, e_fit);
+                const LightSetFit& f =
+                    fitted[static_cast<size_t>(b - 1)][static_cast<size_t>(k - 1)];
                 c.light_set = f.lights;
                 c.lights_fitted = true;
+                c.start_regions = f.regions;
                 r.coeffs = r.coeffs_unwindowed = f.coeffs;
             }
             const std::vector<DirectionalLight>& used = c.light_set;
@@ -376,6 +399,7 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
         if (c.has_radiance) j["radiance"] = error_json(c.radiance);
         if (c.lights > 0) {
             j["lights_fitted"] = c.lights_fitted;
+            j["start_regions"] = c.start_regions;
             j["light_set"] = nlohmann::json::array();
             for (const auto& l : c.light_set) {
                 const nlohmann::json lj = to_json(l);
@@ -402,6 +426,7 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
             {"lights_found", lights},
             {"light_shading", to_string(options.light_shading)},
             {"fit_normals", options.fit_normals},
+            {"extra_start_regions", options.extra_start_regions},
             {"median_luminance", plan.extraction.median_luminance},
             {"regions_examined", plan.extraction.regions_examined},
             {"normals", plan.normals},

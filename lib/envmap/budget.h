@@ -108,6 +108,10 @@ struct BudgetOptions {
     /// fit normals (+6), distinct from the validation normals; 0 = shade the extracted regions'
     /// caps as found (the only way for camera frames).
     int fit_normals = 512;
+    /// Regions extracted beyond extract.max_lights as further starts of the fit
+    /// (fit_light_sets): the k-th light may start from any of the strongest
+    /// extract.max_lights + extra_start_regions regions.
+    int extra_start_regions = 3;
     const RadianceCheck* radiance = nullptr;  ///< optional
 };
 
@@ -120,11 +124,14 @@ struct BudgetCandidate {
     ShaderCost cost;
     std::vector<DirectionalLight> light_set;  ///< the lights shaded (fitted, or as extracted)
     bool lights_fitted = false;
+    std::vector<int> start_regions;  ///< indices into extraction.lights the lights started from
     double error = 0;  ///< the budget's value: max of the metric over irradiance and radiance
     bool meets = false;
 };
 
 struct BudgetPlan {
+    /// The regions found, strongest first: up to extract.max_lights (+ extra_start_regions when
+    /// the lights are fitted); a candidate of k lights without the fit shades the first k.
     Extraction extraction;
     std::vector<BudgetCandidate> candidates;  ///< lights-major, bands 1 .. max_bands
     int chosen = -1;                          ///< index into candidates

@@ -7,6 +7,7 @@
 
 #include "core/conventions.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "envmap/validate.h"
 #include "sh/sh.h"
 
@@ -237,6 +238,54 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
     }
     out.coeffs = map_coeffs.topRows(sh::count(sh_bands));
     for (const auto& l : out.lights) out.coeffs -= cap_coefficients(l, sh_bands);
+    return out;
+}
+
+std::vector<LightSetFit> fit_light_sets(const std::vector<DirectionalLight>& regions,
+                                        int max_lights, int sh_bands,
+                                        const Eigen::MatrixXd& map_coeffs,
+                                        const std::vector<Eigen::Vector3d>& normals,
+                                        const Eigen::MatrixXd& e_ref,
+                                        const LightFitOptions& options) {
+    const int nr = static_cast<int>(regions.size());
+    if (max_lights < 0 || max_lights > nr)
+        throw UsageError(str("fit_light_sets: ", max_lights, " lights from ", nr, " regions"));
+    std::vector<LightSetFit> out;
+    for (int k = 1; k <= max_lights; ++k) {
+        // The starts: (light set, region indices).
+        std::vector<std::pair<std::vector<DirectionalLight>, std::vector<int>>> starts;
+        std::vector<int> strongest(static_cast<size_t>(k));
+        for (int j = 0; j < k; ++j) strongest[static_cast<size_t>(j)] = j;
+        if (k > 1)
+            starts.emplace_back(std::vector<DirectionalLight>(regions.begin(), regions.begin() + k),
+                                strongest);
+        const LightSetFit* prev = k > 1 ? &out.back() : nullptr;
+        for (int j = 0; j < nr; ++j) {
+            std::vector<DirectionalLight> set = prev ? prev->lights : std::vector<DirectionalLight>{};
+            std::vector<int> idx = prev ? prev->regions : std::vector<int>{};
+            if (std::find(idx.begin(), idx.end(), j) != idx.end()) continue;
+            set.push_back(regions[static_cast<size_t>(j)]);
+            idx.push_back(j);
+            starts.emplace_back(std::move(set), std::move(idx));
+        }
+        std::vector<LightFitResult> fits(starts.size());
+        parallel::for_chunks(static_cast<int64_t>(starts.size()), 1, [&](int64_t b, int64_t e) {
+            for (int64_t s = b; s < e; ++s)
+                fits[static_cast<size_t>(s)] = fit_lights(starts[static_cast<size_t>(s)].first,
+                                                          sh_bands, map_coeffs, normals, e_ref,
+                                                          options);
+        });
+        size_t best = 0;
+        for (size_t s = 1; s < fits.size(); ++s)
+            if (fits[s].rms_fitted < fits[best].rms_fitted) best = s;
+        LightSetFit r;
+        r.lights = std::move(fits[best].lights);
+        r.coeffs = std::move(fits[best].coeffs);
+        r.rms_fitted = fits[best].rms_fitted;
+        r.regions = starts[best].second;
+        r.starts = static_cast<int>(starts.size());
+        out.push_back(std::move(r));
+    }
     return out;
 }
 

@@ -51,6 +51,32 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
                           const std::vector<Eigen::Vector3d>& normals,
                           const Eigen::MatrixXd& e_ref, const LightFitOptions& options = {});
 
+/// One light count's best fit among several starts (fit_light_sets).
+struct LightSetFit {
+    std::vector<DirectionalLight> lights;  ///< fitted
+    Eigen::MatrixXd coeffs;                ///< count(sh_bands) x 3: SH_b(map) - sum of caps
+    double rms_fitted = 0;                 ///< luminance RMS on the fit normals
+    std::vector<int> regions;  ///< the indices into `regions` the lights started from, in order
+    int starts = 0;            ///< starts tried for this light count
+};
+
+/// Lights for k = 1 .. max_lights (element k - 1), each the best, by the fit-set RMS, of
+/// several starts fitted by fit_lights:
+///   - the k strongest regions as extracted (`regions` is strongest first);
+///   - the best k - 1 lights, fitted, plus any one region not among them (every region for
+///     k = 1): a greedy search over the regions.
+/// So the k-th light can start from a weaker region that carries what the bands leave (a
+/// region's flux says how bright it is, not how much of it b bands miss), and adding a region
+/// to a fitted set starts the fit next to the k - 1 optimum rather than from raw regions.
+/// Starts are fitted in parallel; the result does not depend on the thread count (ties: the
+/// order above, then the region's index). max_lights <= regions.size().
+std::vector<LightSetFit> fit_light_sets(const std::vector<DirectionalLight>& regions,
+                                        int max_lights, int sh_bands,
+                                        const Eigen::MatrixXd& map_coeffs,
+                                        const std::vector<Eigen::Vector3d>& normals,
+                                        const Eigen::MatrixXd& e_ref,
+                                        const LightFitOptions& options = {});
+
 /// The fit normals: `count` Fibonacci normals turned by a fixed rotation off the validation set
 /// (validate.h), so no fit normal is a validation normal.
 std::vector<Eigen::Vector3d> fit_normals(int count);

@@ -156,5 +156,76 @@ TEST(FitLights, NeverEndsAboveItsStart) {
     EXPECT_THROW(fit_lights({scene.truth()}, 6, map, normals, e_ref), UsageError);
 }
 
+// A wide bright cap (the stronger region) and a small dimmer one over a smooth sky. What b
+// bands leave of a cap of flux Phi is Phi^2 sum_{l >= b} A_l^2 k_l(alpha)^2 (2l + 1) / (4 pi)
+// in squared irradiance (light_fit.h); the wide cap's k_l fall with l, so at 3 bands the wide
+// one leaves 0.20 / (4 pi), the small one, 1.3x weaker, 0.27 / (4 pi): one light should
+// start from the weaker region.
+struct TwoCapScene {
+    DirectionalLight wide, small;
+    Environment env;
+    TwoCapScene(int w, int h) {
+        wide.direction = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+        wide.angular_radius = 20 * kPi / 180;
+        small.direction = Eigen::Vector3d(-0.6, 0.4, 0.3).normalized();
+        small.angular_radius = 2 * kPi / 180;
+        const double l_wide = 4, l_small = 300;  // fluxes 1.52 and 1.15
+        for (auto* l : {&wide, &small}) l->shading = LightShading::kCap;
+        wide.flux = Eigen::Vector3d::Constant(l_wide * 2 * kPi * (1 - std::cos(wide.angular_radius)));
+        small.flux =
+            Eigen::Vector3d::Constant(l_small * 2 * kPi * (1 - std::cos(small.angular_radius)));
+        env.layout = Layout::kLatLong;
+        env.source = "two-cap-scene";
+        env.radiance = image::Image(w, h, 3);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                double in_w = 0, in_s = 0;
+                for (int sy = 0; sy < 8; ++sy)
+                    for (int sx = 0; sx < 8; ++sx) {
+                        const Eigen::Vector3d d =
+                            latlong_direction((x + (sx + 0.5) / 8) / w, (y + (sy + 0.5) / 8) / h);
+                        in_w += d.dot(wide.direction) >= std::cos(wide.angular_radius);
+                        in_s += d.dot(small.direction) >= std::cos(small.angular_radius);
+                    }
+                const Eigen::Vector3d d = latlong_direction((x + 0.5) / w, (y + 0.5) / h);
+                const double v = 1.0 + 0.3 * d.z() + l_wide * in_w / 64 + l_small * in_s / 64;
+                for (int c = 0; c < 3; ++c) env.radiance.at(x, y, c) = static_cast<float>(v);
+            }
+    }
+};
+
+TEST(FitLightSets, OneLightStartsFromTheRegionTheBandsCannotCarryNotTheStrongest) {
+    const TwoCapScene scene(512, 256);
+    ASSERT_GT(luminance_flux(scene.wide), 1.3 * luminance_flux(scene.small));  // wide is stronger
+    ProjectOptions po;
+    po.sh_bands = 3;
+    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
+    const auto normals = fit_normals(256);
+    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    // The regions as an extraction orders them: strongest first.
+    const std::vector<DirectionalLight> regions = {scene.wide, scene.small};
+    const std::vector<LightSetFit> sets = fit_light_sets(regions, 2, 3, map, normals, e_ref);
+    ASSERT_EQ(sets.size(), 2u);
+    // One light: the fit from the strongest region alone (the start the budget used to take)
+    // ends above the fit from the small one; the search keeps the small one.
+    const LightFitResult from_wide = fit_lights({scene.wide}, 3, map, normals, e_ref);
+    const LightFitResult from_small = fit_lights({scene.small}, 3, map, normals, e_ref);
+    EXPECT_LT(from_small.rms_fitted, from_wide.rms_fitted);
+    EXPECT_EQ(sets[0].regions, std::vector<int>{1});
+    EXPECT_EQ(sets[0].rms_fitted, from_small.rms_fitted);  // the same deterministic fit
+    EXPECT_EQ(sets[0].starts, 2);
+    // Two lights: the strongest-first start and the greedy one (small fitted + wide), at least
+    // as good as the better; the true pair is reachable, so the fit ends within the truth's
+    // misfit (pixel quadrature and rasterised edges) of it.
+    LightFitOptions none;
+    none.max_iterations = 0;
+    const double rms_truth = fit_lights(regions, 3, map, normals, e_ref, none).rms_start;
+    EXPECT_EQ(sets[1].starts, 2);
+    EXPECT_LE(sets[1].rms_fitted, fit_lights(regions, 3, map, normals, e_ref).rms_fitted);
+    EXPECT_LE(sets[1].rms_fitted, rms_truth * (1 + 1e-6));
+    EXPECT_LT(sets[1].rms_fitted, sets[0].rms_fitted);
+    EXPECT_THROW(fit_light_sets(regions, 3, 3, map, normals, e_ref), UsageError);
+}
+
 }  // namespace
 }  // namespace inlight::envmap
