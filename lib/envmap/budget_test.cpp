@@ -112,6 +112,34 @@ TEST(PlanBudget, TwoSunsAreTwoLightsOverOneBand) {
     }
 }
 
+TEST(PlanBudget, LightAtAPoleOrOnTheSeamIsOneFittedLightOverOneBand) {
+    // A 3-degree disc 2e4 times the sky at either pole and on the lat-long seam (u = 0 and 1
+    // both face -x): the region is one light (not one per side of the seam, not a ring of
+    // phi), the fit keeps it on its axis, and the uniform residual needs one band.
+    const int w = 256, h = 128;
+    const double pitch = kPi / h;  // a pixel's angular size in theta
+    for (const Eigen::Vector3d axis :
+         {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(-1, 0, 0)}) {
+        const Environment env = latlong(w, h, [&](const Eigen::Vector3d& d) {
+            return Eigen::Vector3d::Constant(d.dot(axis) > std::cos(3 * kPi / 180) ? 2e4 : 1.0);
+        });
+        BudgetOptions o;
+        o.max_error = 1e-3;
+        o.validate_normals = 64;
+        const BudgetPlan p = plan_budget(env, o);
+        ASSERT_EQ(p.extraction.lights.size(), 1u) << axis.transpose();
+        ASSERT_TRUE(p.met) << axis.transpose();
+        EXPECT_EQ(p.lights, 1);
+        EXPECT_EQ(p.sh_bands, 1);
+        ASSERT_EQ(p.chosen_lights.size(), 1u);
+        EXPECT_TRUE(p.chosen_lights[0].fitted);
+        // The disc is rasterised at pixel centres, symmetric about its axis to a pixel: the
+        // fitted direction stays within half a pitch of it.
+        EXPECT_LT(std::acos(std::min(1.0, p.chosen_lights[0].direction.dot(axis))), pitch / 2)
+            << axis.transpose();
+    }
+}
+
 TEST(PlanBudget, LampCutByTheFisheyeRimIsShadedWithItsFluxStatedAsALowerBound) {
     // A 165-degree frame, a lamp of radius 4 deg centred at 81 deg (the field ends at 82.5):
     // the extraction sees part of it; the plan reports the bound and still checks the model
