@@ -121,26 +121,37 @@ TEST(ProjectLatLong, SeparableSchemeEqualsPerPixelBoxIntegral) {
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(f(k, c), ref(k, c), bound(k, c)) << k << " " << c;
 }
 
+/// Maps that stress the float row sums, w x w/2: smooth random values in [-0.01, 2], and a 1e5
+/// sun (12 x 12 pixels at 4096 wide, at (1000, 600) scaled to w) on a 0.1 sky with slightly
+/// negative pixels, as the blender-data EXRs have.
+std::vector<std::pair<std::string, image::Image>> float_stress_maps(int w, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-0.01, 2);
+    const int h = w / 2;
+    const double scale = w / 4096.0;
+    image::Image smooth(w, h, 3), hdr(w, h, 3);
+    for (float& p : smooth.pixels) p = static_cast<float>(u(rng));
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const bool sun = std::abs(x - 1000 * scale) < 6 * scale &&
+                             std::abs(y - 600 * scale) < 6 * scale;
+            for (int c = 0; c < 3; ++c)
+                hdr.at(x, y, c) = sun ? 1e5f : static_cast<float>(0.1 * u(rng));
+        }
+    }
+    std::vector<std::pair<std::string, image::Image>> maps;
+    maps.emplace_back("smooth random", std::move(smooth));
+    maps.emplace_back("sun on sky", std::move(hdr));
+    return maps;
+}
+
 TEST(ProjectLatLong, FloatRowSumsMatchDouble) {
     // The float path against the double reference, on maps that stress it: smooth random
     // values, a high-dynamic-range map (a 1e5 sun on a 1e-1 sky, with slightly negative pixels
     // as the blender-data EXRs have) and, when installed, city.exr; 1..8 bands, 4096 columns
     // (64 float blocks per row). Required: the 1e-6 of the largest coefficient.
     constexpr double kFloatRel = 1e-6;
-    std::vector<std::pair<std::string, image::Image>> maps;
-    std::mt19937_64 rng(3);
-    std::uniform_real_distribution<double> u(-0.01, 2);
-    image::Image smooth(4096, 2048, 3), hdr(4096, 2048, 3);
-    for (float& p : smooth.pixels) p = static_cast<float>(u(rng));
-    for (int y = 0; y < 2048; ++y) {
-        for (int x = 0; x < 4096; ++x) {
-            const bool sun = std::abs(x - 1000) < 6 && std::abs(y - 600) < 6;
-            for (int c = 0; c < 3; ++c)
-                hdr.at(x, y, c) = sun ? 1e5f : static_cast<float>(0.1 * u(rng));
-        }
-    }
-    maps.emplace_back("smooth random", std::move(smooth));
-    maps.emplace_back("sun on sky", std::move(hdr));
+    std::vector<std::pair<std::string, image::Image>> maps = float_stress_maps(4096, 3);
     const std::string dir = testing::blender_hdri_dir();
     if (!dir.empty()) maps.emplace_back("city.exr", image::read_image(dir + "/city.exr"));
     for (const auto& [name, img] : maps) {
@@ -156,6 +167,39 @@ TEST(ProjectLatLong, FloatRowSumsMatchDouble) {
                 << name << ", " << bands << " bands: outside the derived bound";
             std::printf("%-14s %d bands: float path error %.2e of the largest coefficient\n",
                         name.c_str(), bands, err);
+        }
+    }
+}
+
+TEST(ProjectLatLong, BaselineIsaRowSumsMatchDouble) {
+    // The fallback for CPUs without AVX2 + FMA (the baseline build, SSE2 on x86-64: separate
+    // multiply and add, 4-lane registers), forced with FloatRowSumIsa::kBaseline, against the
+    // double reference within the same derived bound, kFloatRowSumBound (its error analysis is
+    // the same length-16 float inner product; without FMA each term rounds twice, which the
+    // bound's gamma_16 already covers). 1024 columns (64 float blocks per row), both paddings
+    // (K = 8 up to 4 bands, 16 above), maps like the smooth and the HDR map of the test above.
+    for (const auto& [name, img] : float_stress_maps(1024, 5)) {
+        for (int bands : {2, 3, 5, 8}) {
+            const Eigen::MatrixXd ref = project_latlong(img, bands, LatlongPrecision::kDouble);
+            const Eigen::MatrixXd base = project_latlong(
+                img, bands, LatlongPrecision::kFloatRowSums, FloatRowSumIsa::kBaseline);
+            const Eigen::MatrixXd bound = float_path_bound(img, bands);
+            const Eigen::MatrixXd err = (base - ref).cwiseAbs();
+            EXPECT_TRUE((err.array() <= bound.array()).all())
+                << name << ", " << bands << " bands: the baseline float path is outside the "
+                << "derived bound; worst " << (err.array() / bound.array()).maxCoeff() << " of it";
+            EXPECT_GT(err.maxCoeff(), 0.0) << "the float path did not run";
+            if (float_row_sums_use_avx2()) {
+                // The default ran the AVX2 + FMA code: FMA's single rounding per term makes the
+                // two differ, so equal results would mean the override did not take effect.
+                const Eigen::MatrixXd best = project_latlong(img, bands);
+                EXPECT_GT((best - base).cwiseAbs().maxCoeff(), 0.0)
+                    << bands << " bands: kBaseline gave the AVX2 result";
+            }
+            std::printf("%-14s %d bands: baseline (SSE2) float path error %.2e of the largest "
+                        "coefficient, %.2e of the derived bound\n",
+                        name.c_str(), bands, err.maxCoeff() / ref.cwiseAbs().maxCoeff(),
+                        (err.array() / bound.array()).maxCoeff());
         }
     }
 }

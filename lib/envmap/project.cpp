@@ -95,17 +95,33 @@ bool cpu_has_avx2_fma() {
     return has;
 }
 #endif
+// The baseline instantiation is kept out of line so that it stays a separate function compiled
+// for the baseline target (it is what CPUs without AVX2 run, and what kBaseline selects).
 template <int K>
-void row_sums_float(const float* px, const float* trig, int w, double* out) {
-#ifdef INLIGHT_ENVMAP_AVX2
-    if (cpu_has_avx2_fma()) return row_sums_float_avx2<K>(px, trig, w, out);
-#endif
+__attribute__((noinline)) void row_sums_float_baseline(const float* px, const float* trig, int w,
+                                                       double* out) {
     row_sums_float_body<K>(px, trig, w, out);
+}
+template <int K>
+void row_sums_float(const float* px, const float* trig, int w, double* out, bool avx2) {
+#ifdef INLIGHT_ENVMAP_AVX2
+    if (avx2) return row_sums_float_avx2<K>(px, trig, w, out);
+#endif
+    row_sums_float_baseline<K>(px, trig, w, out);
 }
 
 }  // namespace
 
-Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands, LatlongPrecision precision) {
+bool float_row_sums_use_avx2() {
+#ifdef INLIGHT_ENVMAP_AVX2
+    return cpu_has_avx2_fma();
+#else
+    return false;
+#endif
+}
+
+Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands, LatlongPrecision precision,
+                                FloatRowSumIsa isa) {
     INLIGHT_CHECK_EQ(img.channels, 3);
     INLIGHT_CHECK_EQ(img.width, 2 * img.height);
     const int w = img.width, h = img.height, n = sh::count(sh_bands);
@@ -128,6 +144,7 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands, LatlongPr
     const bool use_float = precision == LatlongPrecision::kFloatRowSums &&
                            sh_bands <= kMaxFloatBands;
     const int k_pad = 2 * sh_bands <= 8 ? 8 : 16;
+    const bool avx2 = isa == FloatRowSumIsa::kBest && float_row_sums_use_avx2();
     // The float weights are trig / dphi (dphi is applied to the sums in double): the m = 0
     // weight is then exactly 1, so the m = 0 sums round only in the additions.
     std::vector<float> trig_f;
@@ -183,9 +200,9 @@ Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands, LatlongPr
                 const float* px = img.pixels.data() + static_cast<size_t>(r) * w * 3;
                 if (use_float) {
                     if (k_pad == 8) {
-                        row_sums_float<8>(px, trig_f.data(), w, fsums.data());
+                        row_sums_float<8>(px, trig_f.data(), w, fsums.data(), avx2);
                     } else {
-                        row_sums_float<16>(px, trig_f.data(), w, fsums.data());
+                        row_sums_float<16>(px, trig_f.data(), w, fsums.data(), avx2);
                     }
                     for (int ch = 0; ch < 3; ++ch)
                         for (int k = 0; k < 2 * sh_bands; ++k)

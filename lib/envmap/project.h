@@ -43,6 +43,15 @@ constexpr int kFloatBlock = 16;
 constexpr double kFloatRowSumBound =
     kFloatBlock * 0x1p-24 / (1.0 - kFloatBlock * 0x1p-24) * (1.0 + 0x1p-24) + 0x1p-24;
 
+/// Instruction set of the float row sums. kBest: AVX2 + FMA where the CPU has them (x86-64,
+/// GCC/Clang, checked at run time), else the baseline; kBaseline: the code compiled for the
+/// build's baseline target (SSE2 on x86-64) on every CPU, the fallback of CPUs without AVX2.
+/// Both are within kFloatRowSumBound; their sums differ in rounding only (FMA rounds once per
+/// term). kBaseline exists so that tests and benchmarks can run the fallback on an AVX2 CPU.
+enum class FloatRowSumIsa { kBest, kBaseline };
+/// True when kBest runs the AVX2 + FMA code on this CPU.
+bool float_row_sums_use_avx2();
+
 struct ProjectOptions {
     int sh_bands = 3;                       ///< max l + 1, 1..sh::kMaxBands
     sh::Window window = sh::Window::kNone;  ///< optional band-limiting window (off by default)
@@ -85,8 +94,10 @@ ProjectResult project(const Environment& env, const ProjectOptions& options);
 /// bound: its m = 0 weights are exactly 1, so only m != 0 terms see the weights' rounding). Separable: per row the column sums
 /// f cos(m phi), f sin(m phi) cost O(W sh_bands), the row factors O(sh_bands^2).
 ///
+/// `isa` only affects kFloatRowSums.
 Eigen::MatrixXd project_latlong(const image::Image& img, int sh_bands,
-                                LatlongPrecision precision = LatlongPrecision::kFloatRowSums);
+                                LatlongPrecision precision = LatlongPrecision::kFloatRowSums,
+                                FloatRowSumIsa isa = FloatRowSumIsa::kBest);
 /// "float" | "double"; throws UsageError otherwise.
 LatlongPrecision latlong_precision_from_string(const std::string& name);
 
