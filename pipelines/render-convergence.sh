@@ -35,16 +35,21 @@ BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
 THREADS=${THREADS:-2}
 # The issue's figures: at 64 spp the peer's error 0.039 against render-independent's 0.10.
 PEER_E64=0.039 PEER_SLOPE=-0.67 PEER_COST=2.5 ISSUE_IND64=0.10
-# sobol-g2: two scramble groups instead of four (longer nets per group, a 1-dof noise map).
-MODES=(independent sobol adaptive sobol-g2)
+# Sobol with G independently scrambled groups per pixel (-gG; the noise map has G - 1 dof per
+# pixel, each group's net is G times shorter than one sequence); the tool's default is G = 2.
+# The groups are always given, so a run does not depend on the binary's default.
+MODES=(independent sobol-g2 adaptive-g2 sobol-g4 adaptive-g4)
 mode_args() {
     case $1 in
         independent) echo "--sampler independent" ;;
-        sobol) echo "--sampler sobol" ;;
-        adaptive) echo "--sampler sobol --adaptive" ;;
-        sobol-g2) echo "--sampler sobol --scramble-groups 2" ;;
+        sobol-g*) echo "--sampler sobol --scramble-groups ${1#sobol-g}" ;;
+        adaptive-g*) echo "--sampler sobol --adaptive --scramble-groups ${1#adaptive-g}" ;;
     esac
 }
+# SCENES="sphere" runs only the sphere (the peer comparison's scene), e.g. to reach the 1024-spp
+# peer point, which needs ~2600 spp of render (MAX_SPP 3072).
+read -r -a SCENE_LIST <<< "${SCENES:-sphere patch}"
+has_scene() { [[ " ${SCENE_LIST[*]} " == *" $1 "* ]]; }
 MACHINE="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), load $(cut -d' ' -f1-3 /proc/loadavg), $(date -u '+%F %H:%M') UTC"
 echo "render-convergence: $MACHINE"
 
@@ -53,29 +58,32 @@ echo "render-convergence: $MACHINE"
 ran_ok() { [ -f "$1" ] && [ "$(jq -r .status "$1")" = ok ]; }
 # The patch's reference: one converged render for every mode.
 REF="$OUT/patch_ref_${PATCH_PX}px_${PATCH_REF}spp.exr"
-if ! ran_ok "${REF%.exr}.json"; then
+if has_scene patch && ! ran_ok "${REF%.exr}.json"; then
     "$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$REF" \
         --spp "$PATCH_REF" --width-px "$PATCH_PX" --height-px "$PATCH_PX" --seed 1000 \
         --threads "$THREADS" -q --report "${REF%.exr}.json"
 fi
 for mode in "${MODES[@]}"; do
-    ran_ok "$OUT/patch_$mode.json" && ran_ok "$OUT/sphere_$mode.json" && continue
-    # shellcheck disable=SC2046 # mode_args is a list of words
-    "$BIN/render" "$ROOT/configs/scenes/sphere_city.toml" -o "$OUT/sphere_$mode.exr" \
-        --spp "$MAX_SPP" --width-px "$SPHERE_PX" --height-px "$SPHERE_PX" --no-jitter \
-        --convergence-ref-irradiance --threads "$THREADS" -q --report "$OUT/sphere_$mode.json" \
-        $(mode_args "$mode")
-    # shellcheck disable=SC2046
-    "$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/patch_$mode.exr" \
-        --spp "$MAX_SPP" --width-px "$PATCH_PX" --height-px "$PATCH_PX" \
-        --convergence-ref-image "$REF" --threads "$THREADS" -q \
-        --report "$OUT/patch_$mode.json" $(mode_args "$mode")
+    if has_scene sphere && ! ran_ok "$OUT/sphere_$mode.json"; then
+        # shellcheck disable=SC2046 # mode_args is a list of words
+        "$BIN/render" "$ROOT/configs/scenes/sphere_city.toml" -o "$OUT/sphere_$mode.exr" \
+            --spp "$MAX_SPP" --width-px "$SPHERE_PX" --height-px "$SPHERE_PX" --no-jitter \
+            --convergence-ref-irradiance --threads "$THREADS" -q \
+            --report "$OUT/sphere_$mode.json" $(mode_args "$mode")
+    fi
+    if has_scene patch && ! ran_ok "$OUT/patch_$mode.json"; then
+        # shellcheck disable=SC2046
+        "$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/patch_$mode.exr" \
+            --spp "$MAX_SPP" --width-px "$PATCH_PX" --height-px "$PATCH_PX" \
+            --convergence-ref-image "$REF" --threads "$THREADS" -q \
+            --report "$OUT/patch_$mode.json" $(mode_args "$mode")
+    fi
 done
 
 # One row per scene, mode and snapshot: the error metrics and the CPU time to get there.
 {
     printf 'scene\tmode\tspp\tmean_spp\tcpu_s\twall_s\trel_rmse\tmean_rel\tpredicted_over_actual\tslope\n'
-    for scene in sphere patch; do
+    for scene in "${SCENE_LIST[@]}"; do
         for mode in "${MODES[@]}"; do
             jq -r --arg s "$scene" --arg m "$mode" '.metrics.convergence as $c | $c.points[] |
                 [$s, $m, .spp, .mean_spp, .cpu_time_s, .time_s, .rel_rmse_corrected,
@@ -87,7 +95,7 @@ done
 } > "$OUT/convergence.tsv"
 
 # The table: error at 64 / 256 / 1024 spp per mode, the slope, and (sphere) equal time.
-awk -F'\t' -v e64="$PEER_E64" -v ps="$PEER_SLOPE" -v pc="$PEER_COST" -v i64="$ISSUE_IND64" -v machine="$MACHINE" '
+awk -F'\t' -v modelist="${MODES[*]}" -v e64="$PEER_E64" -v ps="$PEER_SLOPE" -v pc="$PEER_COST" -v i64="$ISSUE_IND64" -v machine="$MACHINE" '
 NR == 1 { next }
 {
     k = $1 SUBSEP $2; n[k]++; spp[k, n[k]] = $4; err[k, n[k]] = ($1 == "sphere" ? $8 : $7)
@@ -108,7 +116,7 @@ END {
     print ""
     print "| scene | sampler | 16 spp | 64 spp | 256 spp | 1024 spp | slope | CPU per sample / independent | predicted / actual (last) |"
     print "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    split("sphere patch", scenes, " "); nm = split("independent sobol adaptive sobol-g2", modes, " ")
+    split("sphere patch", scenes, " "); nm = split(modelist, modes, " ")
     for (si = 1; si <= 2; si++) for (mi = 1; mi <= nm; mi++) {
         k = scenes[si] SUBSEP modes[mi]; if (!(k in slope)) continue
         base = scenes[si] SUBSEP "independent"
@@ -138,8 +146,8 @@ END {
 }' "$OUT/convergence.tsv" > "$OUT/convergence.md"
 cat "$OUT/convergence.md"
 
-# Plots: error against spp and against CPU time, one line per scene and mode.
-for scene in sphere patch; do
+# Plots: error against spp and against CPU time, one panel per scene, one line per mode.
+for scene in "${SCENE_LIST[@]}"; do
     for mode in "${MODES[@]}"; do
         awk -F'\t' -v s="$scene" -v m="$mode" '$1 == s && $2 == m {
             print $4, $5, (s == "sphere" ? $8 : $7) }' "$OUT/convergence.tsv" > "$OUT/$scene.$mode.dat"
@@ -148,20 +156,26 @@ done
 MODES_LIST="${MODES[*]}"
 for axis in spp time; do
     if [ "$axis" = spp ]; then col=1; xl="samples per pixel (mean)"; else col=2; xl="CPU seconds (all threads)"; fi
+    # One gnuplot panel per scene: panel SCENE TITLE [EXTRA PLOT TERMS]
+    panel() {
+        printf 'set title "%s"\nplot for [m in "%s"] "%s/%s.".m.".dat" using %s:3 with linespoints pt 7 ps 0.6 title m%s\n' \
+            "$2" "$MODES_LIST" "$OUT" "$1" "$col" "${3:-}"
+    }
+    panels=""
+    peer=""
+    [ "$axis" = spp ] && peer=", $PEER_E64 * (x / 64) ** ($PEER_SLOPE) with lines dashtype 2 lc rgb 'black' title 'peer (issue), per spp'"
+    has_scene sphere && panels+=$(panel sphere "sphere\\_city ${SPHERE_PX}^2: mean rel. error vs brute force" "$peer")$'\n'
+    has_scene patch && panels+=$(panel patch "patch\\_city ${PATCH_PX}^2: rel. RMSE vs ${PATCH_REF} spp")$'\n'
     gnuplot <<GNUPLOT
-set terminal svg size 900,420 font "sans,11"
+set terminal svg size $((450 * ${#SCENE_LIST[@]})),420 font "sans,11"
 set output "$OUT/convergence_$axis.svg"
-set multiplot layout 1,2 title "render: error against $axis ($MACHINE)" font "sans,10"
+set multiplot layout 1,${#SCENE_LIST[@]} title "render: error against $axis ($MACHINE)" font "sans,10"
 set logscale xy
 set grid
 set format y "%.0e"
 set xlabel "$xl"
 set key bottom left
-set title "sphere\\\_city ${SPHERE_PX}^2: mean rel. error vs brute force"
-plot for [m in "$MODES_LIST"] "$OUT/sphere.".m.".dat" using $col:3 with linespoints pt 7 ps 0.6 title m$( [ "$axis" = spp ] && echo ", \\
-     $PEER_E64 * (x / 64) ** ($PEER_SLOPE) with lines dashtype 2 lc rgb 'black' title 'peer (issue), per spp'")
-set title "patch\\\_city ${PATCH_PX}^2: rel. RMSE vs ${PATCH_REF} spp"
-plot for [m in "$MODES_LIST"] "$OUT/patch.".m.".dat" using $col:3 with linespoints pt 7 ps 0.6 title m
+$panels
 unset multiplot
 GNUPLOT
 done
