@@ -209,14 +209,23 @@ std::string shading_source(const Plan& p) {
                 if (!e.empty()) o << "    vec3 m" << i << j << " = " << e << ";\n";
             }
         }
+        // seed: the report's L_lm carry the Condon-Shortley phase (its Figure 6) that R&H's
+        // matrix does not expect: the terms odd in (x, y) change sign, E = E(-x, -y, z).
         std::string sum;
         for (int i = 0; i < 4; ++i) {
             for (int j = i; j < 4; ++j) {
                 if (matrix_entry(i, j).empty()) continue;
                 const std::string mono = monomial(i, j);
-                sum += str(sum.empty() ? "" : "\n        + ", i == j ? "" : "2.0 * ", "m", i, j,
-                           mono.empty() ? "" : " * (" + mono + ")");
+                const bool flip = seed && ((i < 2) != (j < 2));  // odd degree in x, y
+                sum += str(sum.empty() ? (flip ? "-" : "") : (flip ? "\n        - " : "\n        + "),
+                           i == j ? "" : "2.0 * ", "m", i, j, mono.empty() ? "" : " * (" + mono + ")");
             }
+        }
+        if (seed) {
+            o << "    // The report's slip: its L_lm carry the Condon-Shortley phase (its Figure 6) "
+                 "that\n"
+              << "    // this matrix does not expect, so the terms odd in (x, y) change sign: E at "
+                 "(-x, -y, z).\n";
         }
         o << "    vec3 e = " << sum << ";\n";
     } else {
@@ -631,7 +640,15 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    if (dot(n, VIEW) <= 0.0) n = ng;\n";
     }
     if (p.table) {
-        o << "    ivec4 cell;\n    vec2 f;\n    brdf_grid_coord(n, cell, f);\n";
+        if (p.v->mode == ShaderMode::kSeed) {
+            o << "    // The report's getBRDF takes phi = atan(y / x), losing the quadrant: a normal "
+                 "with x < 0\n"
+              << "    // reads the table at its mirror (-x, -y, z) (render/realtime.h, seed mode).\n"
+              << "    ivec4 cell;\n    vec2 f;\n"
+              << "    brdf_grid_coord(n.x < 0.0 ? vec3(-n.x, -n.y, n.z) : n, cell, f);\n";
+        } else {
+            o << "    ivec4 cell;\n    vec2 f;\n    brdf_grid_coord(n, cell, f);\n";
+        }
         for (int t = 0; t < t_count; ++t) {
             for (int ch = 0; ch < p.channels(); ++ch) {
                 const std::string var = p.channels() == 1 ? str("b", t) : str("b", t, "_", ch);

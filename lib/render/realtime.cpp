@@ -92,18 +92,27 @@ Eigen::Vector3d shade_fragment(const Eigen::Vector3d& n, const Eigen::Vector3d& 
     float b[3][sh::count(brdf::kMaxBakeBands)] = {};
     const bool specular = has_specular && table != nullptr;
     int k_spec = 0;
+    const bool seed = options.mode == RealtimeMode::kSeed;
     if (specular) {
         k_spec = sh::count(std::min(bands, table->sh_bands));
-        for (int c = 0; c < table->channels; ++c) lookup(*table, n.cast<float>(), c, b[c]);
+        // The report's getBRDF takes phi = atan(y / x), which loses the quadrant: a normal with
+        // x < 0 reads the table at its mirror (-x, -y, z). (At x = y = 0 it divides 0 by 0; the
+        // pole's value, the limit from every side, is taken there.)
+        const Eigen::Vector3d nb = seed && n.x() < 0 ? Eigen::Vector3d(-n.x(), -n.y(), n.z()) : n;
+        for (int c = 0; c < table->channels; ++c) lookup(*table, nb.cast<float>(), c, b[c]);
     }
     auto table_channel = [&](int c) { return table && table->channels == 3 ? c : 0; };
 
     Eigen::Vector3d out;
-    if (options.mode == RealtimeMode::kSeed) {
+    if (seed) {
+        // The report's L_lm carry the Condon-Shortley phase of its Figure 6 while its matrix
+        // (R&H eq. 12) assumes none: the odd-m terms change sign, E(x, y, z) -> E(-x, -y, z).
+        // (In the specular products L_lm B_lm the phases of L and B cancel.)
+        const Eigen::Vector4d n4_slip(-n.x(), -n.y(), n.z(), 1.0);
         double mean_irradiance = 0;
         Eigen::Vector3d spec = Eigen::Vector3d::Zero();
         for (int c = 0; c < 3; ++c) {
-            mean_irradiance += n4.dot(u.matrices[c] * n4) / 3.0;
+            mean_irradiance += n4_slip.dot(u.matrices[c] * n4_slip) / 3.0;
             if (specular) spec[c] = seed_specular(u.matrices[c], b[table_channel(c)], n4) * 0.05;
         }
         return albedo * (mean_irradiance * 0.3) + spec;

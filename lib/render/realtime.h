@@ -16,8 +16,11 @@
 //    channel multiplied entry by entry by the BRDF coefficients (m[i][j] = M[i][j] * B_k for
 //    the k of that entry, m[3][3] = c4L00 B_0 - c5L20 B_6 with the shader's 0.743125 and
 //    0.247708), specular_c = n^T m_c n * 0.05, and diffuse = mean_c(n^T M_c n) * 0.3 * albedo.
-//    Only 3 bands exist in this mode. The lookup is brdf::lookup (the report's own getBRDF
-//    returns NaN at the pole of a flat patch; brdf::lookup_report_original reproduces that).
+//    Only 3 bands exist in this mode. With the report's two slips: its getBRDF takes phi =
+//    atan(y/x), so a normal with x < 0 reads the table at its mirror (-x, -y, z) (brdf::lookup
+//    there; at the pole, where the report divides 0 by 0, the pole's value); and its L_lm carry
+//    the Condon-Shortley phase (its Figure 6) that R&H's matrix does not expect, so the gray
+//    irradiance is E(-x, -y, z) (the phases cancel in the specular products L_lm B_lm).
 // Fragments are shaded at `supersample` x `supersample` stratified positions per pixel and
 // averaged (the box filter of the path tracer; 1 = the pixel centre, as a GPU does).
 #pragma once

@@ -165,31 +165,37 @@ TEST(Realtime, SeedModeIsTheReportShader) {
     brdf::BakeOptions bo;
     bo.samples = 1024;
     const brdf::Table table = brdf::bake(mat, brdf::parse_grid("octa:9"), bo);
-    const Eigen::Vector3d n = Eigen::Vector3d(0.2, -0.3, 0.9).normalized();
     const Eigen::Vector3d albedo(0.4, 0.5, 0.6);
-    RealtimeOptions seed;
-    seed.mode = RealtimeMode::kSeed;
-    const Eigen::Vector3d rt = shade_realtime(n, albedo, true, coeffs, &table, seed);
+    // One normal with x > 0 and one with x < 0 (where the report's atan(y/x) loses the quadrant).
+    for (const Eigen::Vector3d& n : {Eigen::Vector3d(0.2, -0.3, 0.9).normalized(),
+                                     Eigen::Vector3d(-0.4, 0.3, 0.8).normalized()}) {
+        RealtimeOptions seed;
+        seed.mode = RealtimeMode::kSeed;
+        const Eigen::Vector3d rt = shade_realtime(n, albedo, true, coeffs, &table, seed);
 
-    // The report's formula written out: gray irradiance x 0.3 x albedo, plus 0.05 x the
-    // irradiance of the products L_k B_k (the entry-wise product applies the cosine lobe's A_l
-    // to L_k B_k once more).
-    float b[9];
-    brdf::lookup(table, n.cast<float>(), 0, b);
-    double gray = 0;
-    for (int c = 0; c < 3; ++c) gray += sh::irradiance(3, coeffs.col(c).data(), n) / 3.0;
-    // The shader's c3 = 0.743125 and c5 = 0.247708 are rounded to 6 digits (relative ~1e-6).
-    constexpr double kShaderConstRel = 1e-5;
-    for (int c = 0; c < 3; ++c) {
-        double lb[9];
-        for (int k = 0; k < 9; ++k) lb[k] = coeffs(k, c) * b[k];
-        const double expect = albedo[c] * gray * 0.3 + 0.05 * sh::irradiance(3, lb, n);
-        EXPECT_NEAR(rt[c], expect, kShaderConstRel * std::abs(expect)) << c;
+        // The report's formula written out: gray irradiance x 0.3 x albedo, plus 0.05 x the
+        // irradiance of the products L_k B_k (the entry-wise product applies the cosine lobe's
+        // A_l to L_k B_k once more). Its slips: B looked up at phi = atan(y/x) (the mirror
+        // (-x, -y, z) when x < 0), and L with the Condon-Shortley phase in R&H's matrix: the
+        // gray irradiance taken at (-x, -y, z); in L_k B_k the two phases cancel.
+        const Eigen::Vector3d mirror(-n.x(), -n.y(), n.z());
+        float b[9];
+        brdf::lookup(table, (n.x() < 0 ? mirror : n).cast<float>(), 0, b);
+        double gray = 0;
+        for (int c = 0; c < 3; ++c) gray += sh::irradiance(3, coeffs.col(c).data(), mirror) / 3.0;
+        // The shader's c3 = 0.743125 and c5 = 0.247708 are rounded to 6 digits (relative ~1e-6).
+        constexpr double kShaderConstRel = 1e-5;
+        for (int c = 0; c < 3; ++c) {
+            double lb[9];
+            for (int k = 0; k < 9; ++k) lb[k] = coeffs(k, c) * b[k];
+            const double expect = albedo[c] * gray * 0.3 + 0.05 * sh::irradiance(3, lb, n);
+            EXPECT_NEAR(rt[c], expect, kShaderConstRel * std::abs(expect)) << c;
+        }
+        // And it is not the consistent model (which is several times brighter in specular).
+        RealtimeOptions consistent;
+        const Eigen::Vector3d ok = shade_realtime(n, albedo, true, coeffs, &table, consistent);
+        EXPECT_GT((ok - rt).norm(), 0.1 * ok.norm());
     }
-    // And it is not the consistent model (which is several times brighter in specular).
-    RealtimeOptions consistent;
-    const Eigen::Vector3d ok = shade_realtime(n, albedo, true, coeffs, &table, consistent);
-    EXPECT_GT((ok - rt).norm(), 0.1 * ok.norm());
 }
 
 TEST(Realtime, RejectsImpossibleOptions) {
