@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <limits>
 
 #include "brdf/bake.h"
 #include "brdf/glsl.h"
@@ -226,6 +228,59 @@ TEST(TableFiles, BinaryRoundTripAndErrors) {
         EXPECT_NE(std::string(e.what()).find("magic.bin: not an inlight BRDF SH table"),
                   std::string::npos);
     }
+}
+
+// Seen by reading brdf::read_binary for fuzz/brdftable_fuzz.cpp: the header is checked, sizes
+// included, before anything is allocated or read, and no NaN or impossible grid gets to lookup().
+TEST(TableFiles, BadHeadersAreErrorsNamingTheFile) {
+    const std::string dir = testing::temp_dir("brdf_table_bad");
+    Table t = synthetic(parse_grid("octa:3"), 2);
+    write_binary(dir + "/t.bin", t);
+    const std::string good = fs::read_file(dir + "/t.bin");
+    auto patched = [&](size_t offset, uint32_t value) {
+        std::string b = good;
+        for (int i = 0; i < 4; ++i) b[offset + i] = static_cast<char>((value >> (8 * i)) & 0xff);
+        return b;
+    };
+    auto float_bits = [](float f) {
+        uint32_t v;
+        std::memcpy(&v, &f, 4);
+        return v;
+    };
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    // 65536 x 65536 nodes, 64 bands, 3 channels: 2^46 values claimed by a 100-byte file (this
+    // overflowed the int node count and asked for 2^48 bytes).
+    std::string huge = patched(20, 65536);
+    for (int i = 0; i < 4; ++i) huge[24 + i] = huge[20 + i];
+    huge.replace(28, 4, patched(28, 64).substr(28, 4));
+    huge.replace(32, 4, patched(32, 4096).substr(32, 4));
+    huge.replace(36, 4, patched(36, 3).substr(36, 4));
+    const struct {
+        std::string bytes;
+        std::string message;
+    } cases[] = {
+        {huge, "expected"},
+        {patched(20, 4), "inconsistent header"},                  // octa 4 x 3: not square
+        {patched(16, 0), "inconsistent header"},                  // report5x5 with 3 x 3 nodes
+        {patched(44, float_bits(nan)), "not a direction"},        // view x
+        {patched(52, float_bits(0)), "not a direction"},          // view (0, 0, 0)
+        {patched(64 + 4 * 5, float_bits(nan)), "coefficient 5 is not finite"},
+    };
+    for (const auto& c : cases) {
+        fs::write_text_atomic(dir + "/bad.bin", c.bytes);
+        const std::string e = testing::error_of([&] { read_binary(dir + "/bad.bin"); });
+        EXPECT_NE(e.find("bad.bin: "), std::string::npos) << e;
+        EXPECT_NE(e.find(c.message), std::string::npos) << e;
+    }
+    // A thetaphi table with a NaN theta_max.
+    Table tp = synthetic(parse_grid("thetaphi:3x4"), 2);
+    write_binary(dir + "/tp.bin", tp);
+    std::string b = fs::read_file(dir + "/tp.bin");
+    const uint32_t bits = float_bits(nan);
+    for (int i = 0; i < 4; ++i) b[40 + i] = static_cast<char>((bits >> (8 * i)) & 0xff);
+    fs::write_text_atomic(dir + "/bad.bin", b);
+    EXPECT_NE(testing::error_of([&] { read_binary(dir + "/bad.bin"); }).find("theta_max nan"),
+              std::string::npos);
 }
 
 TEST(TableFiles, TextureLayoutPacksFourCoefficientsPerTexel) {

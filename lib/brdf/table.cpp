@@ -124,19 +124,34 @@ Table read_binary(const std::string& path) {
     t.grid.theta_max = get_f32(in, 40);
     if (t.grid.kind != GridKind::kThetaPhi) t.grid.theta_max = kPi / 2;
     t.view = Eigen::Vector3d(get_f32(in, 44), get_f32(in, 48), get_f32(in, 52));
-    if (t.grid.rows < 1 || t.grid.cols < 1 || t.grid.rows > 65536 || t.grid.cols > 65536 ||
-        t.sh_bands < 1 || t.sh_bands > 64 || count != static_cast<uint32_t>(t.coeff_count()) ||
+    // The grid as parse_grid() makes them: what lookup() and grid_coord() assume.
+    const bool square = t.grid.rows == t.grid.cols;
+    const bool grid_ok =
+        t.grid.kind == GridKind::kReport5x5 ? t.grid.rows == 5 && square
+        : t.grid.kind == GridKind::kThetaPhi
+            ? t.grid.rows >= 2 && t.grid.cols >= 3 && t.grid.theta_max > 0 && t.grid.theta_max <= kPi
+            : t.grid.rows >= 2 && square;
+    if (!grid_ok || t.grid.rows > 65536 || t.grid.cols > 65536 || t.sh_bands < 1 ||
+        t.sh_bands > 64 || count != static_cast<uint32_t>(t.coeff_count()) ||
         (t.channels != 1 && t.channels != 3) || header < kHeaderBytes) {
         throw Error(str(path, ": inconsistent header (grid ", t.grid.rows, "x", t.grid.cols,
-                        ", sh_bands ", t.sh_bands, ", coeff_count ", count, ", channels ",
-                        t.channels, ")"));
+                        ", theta_max ", t.grid.theta_max, ", sh_bands ", t.sh_bands,
+                        ", coeff_count ", count, ", channels ", t.channels, ")"));
     }
-    t.resize();
-    const size_t need = header + 4 * t.coeffs.size();
+    if (!t.view.allFinite() || t.view.norm() == 0) {
+        throw Error(str(path, ": view direction (", t.view.transpose(), ") is not a direction"));
+    }
+    // Sizes in 64 bits before anything is allocated: rows x cols x 4096 x 3 exceeds an int.
+    const uint64_t values = uint64_t(t.channels) * uint64_t(t.grid.rows) * uint64_t(t.grid.cols) * count;
+    const uint64_t need = header + 4 * values;
     if (in.size() != need) {
         throw Error(str(path, ": expected ", need, " bytes, got ", in.size(), " (truncated?)"));
     }
-    for (size_t i = 0; i < t.coeffs.size(); ++i) t.coeffs[i] = get_f32(in, header + 4 * i);
+    t.resize();
+    for (size_t i = 0; i < t.coeffs.size(); ++i) {
+        t.coeffs[i] = get_f32(in, header + 4 * i);
+        if (!std::isfinite(t.coeffs[i])) throw Error(str(path, ": coefficient ", i, " is not finite"));
+    }
     return t;
 }
 

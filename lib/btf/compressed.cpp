@@ -64,15 +64,27 @@ Direction direction_of(const nlohmann::json& j, const std::string& where) {
     return Direction{j[0].get<double>(), j[1].get<double>()};
 }
 
-/// A stored column read back: value = offset + scale * stored.
-void read_column(const std::string& dir, const nlohmann::json& meta, const BtfShape& s, float* out) {
+/// An integer in [lo, hi] (get<int>() of 1e300 is undefined behaviour, of 2^32 + 3 it is 3).
+int64_t integer(const nlohmann::json& j, int64_t lo, int64_t hi, const std::string& what) {
+    if (!j.is_number_integer() || (j.is_number_unsigned() && j.get<uint64_t>() > uint64_t(hi)) ||
+        j.get<int64_t>() < lo || j.get<int64_t>() > hi)
+        throw Error(str(what, " must be an integer in [", lo, ", ", hi, "]"));
+    return j.get<int64_t>();
+}
+
+/// A stored column read back: value = offset + scale * stored. Sized by the image read (checked
+/// against the manifest's size), so the manifest's width and height allocate nothing.
+Eigen::VectorXf read_column(const std::string& dir, const nlohmann::json& meta, const BtfShape& s) {
     const std::string path = dir + "/" + meta.at("file").get<std::string>();
     const image::Image img = image::read_image(path, {false});
     if (img.width != s.width || img.height != s.height || img.channels != 1)
         throw Error(str(path, ": expected a ", s.width, "x", s.height, " one-channel image, got ", img.width,
                         "x", img.height, "x", img.channels));
     const float scale = meta.at("scale").get<float>(), offset = meta.at("offset").get<float>();
-    for (size_t i = 0; i < img.pixels.size(); ++i) out[i] = offset + scale * img.pixels[i];
+    Eigen::VectorXf out(static_cast<Eigen::Index>(img.pixels.size()));
+    for (size_t i = 0; i < img.pixels.size(); ++i)
+        out[static_cast<Eigen::Index>(i)] = offset + scale * img.pixels[i];
+    return out;
 }
 
 }  // namespace
@@ -87,11 +99,11 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
     }
     const nlohmann::json& m = b->m_manifest;
     try {
-        if (m.at("format").get<std::string>() != "inlight-btf-pca" || m.at("version").get<int>() != 1)
+        if (m.at("format").get<std::string>() != "inlight-btf-pca" || m.at("version") != 1)
             throw Error(str(manifest_path, ": unknown format or version"));
         BtfShape& s = b->m_shape;
-        s.width = m.at("width").get<int>();
-        s.height = m.at("height").get<int>();
+        s.width = static_cast<int>(integer(m.at("width"), 1, 65536, manifest_path + ": width"));
+        s.height = static_cast<int>(integer(m.at("height"), 1, 65536, manifest_path + ": height"));
         for (const auto& d : m.at("lights")) s.lights.push_back(direction_of(d, manifest_path));
         for (const auto& d : m.at("views")) s.views.push_back(direction_of(d, manifest_path));
         if (s.width < 1 || s.height < 1 || s.lights.empty() || s.views.empty())
@@ -102,26 +114,34 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
         b->m_index_in_group.assign(s.views.size(), -1);
         for (const auto& gj : m.at("groups")) {
             Group g;
-            g.views = gj.at("views").get<std::vector<int>>();
             const int gi = static_cast<int>(b->m_groups.size());
+            for (const auto& vj : gj.at("views"))
+                g.views.push_back(static_cast<int>(
+                    integer(vj, 0, s.n_views() - 1, str(manifest_path, ": group ", gi, ": a view"))));
             for (size_t i = 0; i < g.views.size(); ++i) {
                 const int v = g.views[i];
-                if (v < 0 || v >= s.n_views() || b->m_group_of_view[static_cast<size_t>(v)] >= 0)
-                    throw Error(str(manifest_path, ": group ", gi, " names view ", v, " twice or out of range"));
+                if (b->m_group_of_view[static_cast<size_t>(v)] >= 0)
+                    throw Error(str(manifest_path, ": group ", gi, " names view ", v, " twice"));
                 b->m_group_of_view[static_cast<size_t>(v)] = gi;
                 b->m_index_in_group[static_cast<size_t>(v)] = static_cast<int>(i);
             }
             const int64_t n = s.group_columns(static_cast<int>(g.views.size()));
             const auto& comps = gj.at("components");
+            if (!comps.is_array())
+                throw Error(str(manifest_path, ": group ", gi, ": components must be an array"));
             const int c = static_cast<int>(comps.size());
-            g.mean.resize(s.pixel_count());
-            read_column(dir, gj.at("mean"), s, g.mean.data());
+            // V (n x c floats) must fit in weights.bin: checked before the component images are
+            // read or anything sized by n or c is allocated, without overflow.
+            const uint64_t offset = static_cast<uint64_t>(integer(
+                gj.at("weights_offset_bytes"), 0, int64_t(weights.size()), manifest_path + ": weights_offset_bytes"));
+            const uint64_t room = weights.size() - offset;
+            if (c > 0 && uint64_t(n) > room / sizeof(float) / uint64_t(c))
+                throw Error(str(weights_path, ": ", weights.size(), " bytes, group ", gi, " needs ", n, " x ", c,
+                                " floats from byte ", offset));
+            const uint64_t bytes = uint64_t(n) * uint64_t(c) * sizeof(float);
+            g.mean = read_column(dir, gj.at("mean"), s);
             g.basis.resize(s.pixel_count(), c);
-            for (int i = 0; i < c; ++i) read_column(dir, comps[static_cast<size_t>(i)], s, g.basis.col(i).data());
-            const uint64_t offset = gj.at("weights_offset_bytes").get<uint64_t>();
-            const uint64_t bytes = uint64_t(n) * c * sizeof(float);
-            if (offset + bytes > weights.size())
-                throw Error(str(weights_path, ": ", weights.size(), " bytes, group ", gi, " needs ", offset + bytes));
+            for (int i = 0; i < c; ++i) g.basis.col(i) = read_column(dir, comps[static_cast<size_t>(i)], s);
             g.weights.resize(n, c);
             std::memcpy(g.weights.data(), weights.data() + offset, bytes);
             if (!g.weights.allFinite() || !g.basis.allFinite() || !g.mean.allFinite())
@@ -131,9 +151,9 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
         for (size_t v = 0; v < s.views.size(); ++v)
             if (b->m_group_of_view[v] < 0) throw Error(str(manifest_path, ": view ", v, " is in no group"));
         for (const auto& e : m.at("stream")) {
-            const int g = e.at(0).get<int>(), c = e.at(1).get<int>();
-            if (g < 0 || g >= static_cast<int>(b->m_groups.size()) || c < 0 || c >= b->components(g))
-                throw Error(str(manifest_path, ": stream entry [", g, ", ", c, "] out of range"));
+            const std::string where = str(manifest_path, ": a stream entry's ");
+            const int g = static_cast<int>(integer(e.at(0), 0, int64_t(b->m_groups.size()) - 1, where + "group"));
+            const int c = static_cast<int>(integer(e.at(1), 0, b->components(g) - 1, where + "component"));
             b->m_stream.emplace_back(g, c);
         }
     } catch (const nlohmann::json::exception& e) {

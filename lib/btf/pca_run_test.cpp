@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 
 #include "btf/compressed.h"
 #include "btf/quantize.h"
 #include "btf/synthetic.h"
+#include "core/fs.h"
 #include "testing/testing.h"
 
 namespace inlight::btf {
@@ -183,6 +185,45 @@ TEST(CompressedBtf, BadFolderNamesTheFile) {
     compress_to_folder(btf, o, 0);
     std::filesystem::remove(dir + "/g001-c01.png");
     EXPECT_NE(testing::error_of([&] { CompressedBtf::open(dir); }).find("g001-c01.png"), std::string::npos);
+}
+
+// Seen by reading CompressedBtf::open for fuzz/btfpca_fuzz.cpp: numbers in the manifest are
+// checked as integers in range before they size or index anything (get<int>() of 1e300 is
+// undefined behaviour; a weights offset near 2^64 wrapped the size check and memcpy read past
+// weights.bin; a 65536 x 65536 claim allocated 16 GiB before the mean image was read).
+TEST(CompressedBtf, ManifestNumbersAreCheckedBeforeUse) {
+    const std::string dir = testing::temp_dir("btf_pca_numbers");
+    PcaRunOptions o;
+    o.output = dir;
+    o.pca.components = 2;
+    compress_to_folder(AnalyticBtf(small_btf()), o, 0);
+    const nlohmann::json good = nlohmann::json::parse(fs::read_file(dir + "/btf-pca.json"));
+    const uint64_t weights_bytes = fs::read_file(dir + "/weights.bin").size();
+    const struct {
+        std::function<void(nlohmann::json&)> edit;
+        std::string message;
+    } cases[] = {
+        {[](nlohmann::json& m) { m["width"] = 1e300; }, "width must be an integer in [1, 65536]"},
+        {[](nlohmann::json& m) { m["height"] = 65537; }, "height must be an integer in [1, 65536]"},
+        {[](nlohmann::json& m) { m["width"] = m["width"].get<int>() * 2; }, "g000-mean.png: expected a"},
+        {[](nlohmann::json& m) { m["groups"][0]["weights_offset_bytes"] = UINT64_MAX - 3; },
+         "weights_offset_bytes must be an integer"},
+        {[&](nlohmann::json& m) { m["groups"][0]["weights_offset_bytes"] = weights_bytes - 4; },
+         "weights.bin: "},
+        {[](nlohmann::json& m) { m["groups"][0]["views"][0] = -1; }, "group 0: a view must be an integer"},
+        {[](nlohmann::json& m) { m["groups"][0]["views"][0] = 2.5; }, "group 0: a view must be an integer"},
+        {[](nlohmann::json& m) { m["stream"][0][1] = 1e300; }, "a stream entry's component must be"},
+        {[](nlohmann::json& m) { m["stream"][0][0] = 99; }, "a stream entry's group must be"},
+    };
+    for (const auto& c : cases) {
+        nlohmann::json m = good;
+        c.edit(m);
+        fs::write_text_atomic(dir + "/btf-pca.json", m.dump());
+        const std::string e = testing::error_of([&] { CompressedBtf::open(dir); });
+        EXPECT_NE(e.find(c.message), std::string::npos) << e;
+    }
+    fs::write_text_atomic(dir + "/btf-pca.json", good.dump());
+    EXPECT_EQ(CompressedBtf::open(dir)->shape().width, small_btf().width);
 }
 
 }  // namespace

@@ -59,8 +59,11 @@ CoefficientSet from_json(const nlohmann::json& doc, const std::string& source) {
         if (doc.value("format", "") != "inlight.sh_coefficients")
             throw Error("not an inlight.sh_coefficients document");
         CoefficientSet set;
-        set.sh_bands = doc.at("sh_bands").get<int>();
-        if (set.sh_bands < 1 || set.sh_bands > kMaxBands) throw Error("sh_bands out of range");
+        // An integer first: get<int>() of 1e300 is undefined behaviour, of 2^32 + 3 it is 3.
+        const nlohmann::json& bands = doc.at("sh_bands");
+        if (!bands.is_number_integer() || bands.get<int64_t>() < 1 || bands.get<int64_t>() > kMaxBands)
+            throw Error(str("sh_bands must be an integer in [1, ", kMaxBands, "]"));
+        set.sh_bands = static_cast<int>(bands.get<int64_t>());
         set.channel_names = doc.at("channels").get<std::vector<std::string>>();
         set.color_space = doc.value("color_space", "linear_srgb");
         const auto& rows = doc.at("coefficients");

@@ -436,6 +436,20 @@ TEST(ShIo, ReadCoefficientsDecodesTheDocumentedBinaryAndJson) {
               std::string::npos);
 }
 
+// Seen by reading, confirmed with fuzz/sh_fuzz.cpp (UBSan): "sh_bands": 1e300 went through
+// nlohmann's get<int>(), a float-to-int conversion out of range; 2^32 + 3 would have read as 3.
+TEST(ShIo, ShBandsMustBeAnIntegerInRange) {
+    const std::string dir = inlight::testing::temp_dir("sh_io_bands");
+    for (const char* bands : {"1e300", "2.5", "4294967299", "-1", "\"3\""}) {
+        std::ofstream(dir + "/c.json") << R"({"format": "inlight.sh_coefficients", "sh_bands": )"
+                                       << bands << R"(, "channels": ["r"], "coefficients": [[1]]})";
+        EXPECT_NE(inlight::testing::error_of([&] { read_coefficients(dir + "/c.json"); })
+                      .find("c.json: sh_bands must be an integer in [1, "),
+                  std::string::npos)
+            << bands;
+    }
+}
+
 TEST(Fit, NothingObservedIsAnError) {
     const CapSamples none(0.0, [](const Eigen::Vector3d&) { return 1.0; });
     EXPECT_THROW(fit_least_squares(3, none), Error);
