@@ -9,11 +9,13 @@
 #include <iostream>
 
 #include "brdf/brdf.h"
+#include "brdf/table.h"
 #include "btf/synthetic.h"
 #include "calib/corner_file.h"
 #include "calib/response.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "envmap/lights.h"
 #include "samples.h"
 #include "sh/sh_io.h"
 
@@ -180,6 +182,52 @@ void btf_seeds(const std::string& tmp) {
     seed("btf", "flat.zip", fs::read_file(tmp + "/flat.zip"));
 }
 
+void btfpca_seeds(const std::string& tmp) {
+    // btf-pca.json, NUL, weights.bin: the folder btfpca_fuzz.cpp reads holds the same images.
+    fuzz::make_compressed_btf(tmp + "/btfpca");
+    seed("btfpca", "btfpca.json",
+         fs::read_file(tmp + "/btfpca/btf-pca.json") + std::string(1, '\0') +
+             fs::read_file(tmp + "/btfpca/weights.bin"));
+}
+
+void lighting_seeds() {
+    // As envmap-project writes them: SH coefficients, with and without dominant lights.
+    sh::CoefficientSet set;
+    set.sh_bands = 3;
+    set.coeffs = Eigen::MatrixXd::Zero(9, 3);
+    for (int k = 0; k < 9; ++k) set.coeffs.row(k) << 0.3 / (k + 1), 0.2, 0.1 * k;
+    nlohmann::json doc = sh::to_json(set);
+    seed("lighting", "sh_only.json", doc.dump(1));
+    envmap::DirectionalLight sun;
+    sun.direction = Eigen::Vector3d(0.3, 0.4, std::sqrt(1 - 0.25));
+    sun.flux = Eigen::Vector3d(2, 1.8, 1.5);
+    sun.angular_radius = 0.0093;
+    envmap::DirectionalLight sky = sun;
+    sky.direction = Eigen::Vector3d(0, 0, 1);
+    sky.angular_radius = 0.3;
+    sky.shading = envmap::LightShading::kSmoothCap;
+    doc["lights"] = {envmap::to_json(sun), envmap::to_json(sky)};
+    seed("lighting", "sh_lights.json", doc.dump(1));
+}
+
+void brdftable_seeds(const std::string& tmp) {
+    // One table per grid kind and channel count, small.
+    const brdf::GridKind kinds[] = {brdf::GridKind::kReport5x5, brdf::GridKind::kThetaPhi,
+                                    brdf::GridKind::kOcta, brdf::GridKind::kDisk};
+    for (int i = 0; i < 4; ++i) {
+        brdf::Table t;
+        t.grid.kind = kinds[i];
+        t.grid.rows = t.grid.cols = i == 0 ? 5 : 2 + i;  // report5x5, thetaphi:3x3, octa:4, disk:5
+        t.grid.theta_max = 1.2;
+        t.sh_bands = 2 + i % 2;
+        t.channels = i % 2 ? 3 : 1;
+        t.resize();
+        for (size_t k = 0; k < t.coeffs.size(); ++k) t.coeffs[k] = 0.01f * static_cast<float>(k);
+        brdf::write_binary(tmp + "/t.bin", t);
+        seed("brdftable", str("grid", i, ".bin"), fs::read_file(tmp + "/t.bin"));
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -199,6 +247,9 @@ int main(int argc, char** argv) {
         sh_seeds(tmp);
         response_seeds(tmp);
         btf_seeds(tmp);
+        btfpca_seeds(tmp);
+        lighting_seeds();
+        brdftable_seeds(tmp);
         fuzz::make_fabric_bundle(tmp + "/bundle_src", tmp + "/bundles/weave");
         seed("bundle", "manifest.json", fs::read_file(tmp + "/bundles/weave/manifest.json"));
         stdfs::remove_all(tmp);

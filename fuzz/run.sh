@@ -3,14 +3,14 @@
 # default) for SECONDS under libFuzzer with ASan+UBSan, at most FUZZ_JOBS (2) at a time, under
 # nice -n 10. The working corpus grows in BUILD_DIR/fuzz/corpus/<h>; crash inputs land in
 # BUILD_DIR/fuzz/findings/<h>/ (copy each into fuzz/regressions/<h>/ once fixed); logs in
-# BUILD_DIR/fuzz/logs/<h>.log. Prints one line per harness (runs, seconds, corpus, findings) and
+# BUILD_DIR/fuzz/logs/<h>.log. Prints one line per harness (runs, seconds, coverage, corpus, findings) and
 # exits 1 if any harness found something.
 set -euo pipefail
 build=${1:?usage: fuzz/run.sh BUILD_DIR SECONDS [HARNESS...]}
 seconds=${2:?usage: fuzz/run.sh BUILD_DIR SECONDS [HARNESS...]}
 shift 2
 harnesses=("$@")
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(image toml mesh corners sh response btf bundle)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(image toml mesh corners sh response btf bundle btfpca lighting brdftable)
 jobs=${FUZZ_JOBS:-2}
 src=$(cd "$(dirname "$0")/.." && pwd)
 bin=$build/fuzz
@@ -41,9 +41,12 @@ status=0
 for h in "${harnesses[@]}"; do
     runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$bin/logs/$h.log" | grep -o '[0-9]*$' || echo "?")
     time=$(grep -o 'stat::total_time.*\|Done [0-9]* runs in [0-9]* second' "$bin/logs/$h.log" | tail -1 | grep -o '[0-9]* second' | grep -o '[0-9]*' || echo "?")
+    # Coverage at the end: libFuzzer's edge counter (cov) and its features (ft) on the last status line.
+    cov=$(grep -o ' cov: [0-9]*' "$bin/logs/$h.log" | tail -1 | grep -o '[0-9]*' || echo "?")
+    ft=$(grep -o ' ft: [0-9]*' "$bin/logs/$h.log" | tail -1 | grep -o '[0-9]*' || echo "?")
     corpus=$(find "$bin/corpus/$h" -type f | wc -l)
     findings=$(find "$bin/findings/$h" -type f | wc -l)
-    echo "$h: ${runs} runs in ${time:-?} s, corpus ${corpus} files, findings ${findings}"
+    echo "$h: ${runs} runs in ${time:-?} s, cov ${cov} ft ${ft}, corpus ${corpus} files, findings ${findings}"
     [ "$findings" -eq 0 ] || status=1
 done
 exit $status

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "btf/pca_run.h"
+#include "btf/synthetic.h"
 #include "bundle/bundle.h"
 #include "core/fs.h"
 
@@ -34,6 +36,22 @@ void make_fabric_bundle(const std::string& src, const std::string& dest) {
                      {src + "/thumbnail.png", "thumbnail.png", "thumbnail", -1},
                      {src + "/material.toml", "material/material.toml", "material", -1}};
     bundle::write_bundle(dest, request);
+}
+
+void make_compressed_btf(const std::string& dir) {
+    btf::AnalyticBtfOptions ao;
+    ao.width = 4;
+    ao.height = 3;
+    ao.rank = 2;
+    ao.lights = {{0, 0}, {30, 90}, {60, 200}};
+    ao.views = {{0, 0}, {30, 0}, {45, 120}, {60, 240}};
+    const btf::AnalyticBtf truth(ao);
+    btf::PcaRunOptions po;
+    po.output = dir;
+    po.pca.view_group_size = 2;
+    po.pca.components = 2;
+    po.color_samples = 16;
+    btf::compress_to_folder(truth, po, 0);
 }
 
 }  // namespace inlight::fuzz

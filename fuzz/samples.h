@@ -16,4 +16,8 @@ image::Image gradient_image(int width, int height);
 /// a folder made again).
 void make_fabric_bundle(const std::string& src, const std::string& dest);
 
+/// Compresses a small analytic BTF (4 x 3 pixels, 3 lights, 4 views in 2 groups of 2, 2
+/// components, 8-bit PNG) with btf::compress_to_folder into `dir` (same bytes every time).
+void make_compressed_btf(const std::string& dir);
+
 }  // namespace inlight::fuzz
