@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/number.h"
 #include "core/parallel.h"
@@ -413,25 +414,16 @@ FacetView facet_view(const Material& m, const Eigen::Vector3d& n, const Eigen::V
     return fv;
 }
 
-std::string to_string(Integrator integrator) {
-    switch (integrator) {
-        case Integrator::kStratifiedMc:
-            return "stratified-mc";
-        case Integrator::kGaussLegendre:
-            return "gauss-legendre";
-        case Integrator::kSobolIs:
-            return "sobol-is";
-    }
-    return "?";
-}
+constexpr EnumName<Integrator> kIntegratorNames[] = {
+    {Integrator::kStratifiedMc, "stratified-mc"},
+    {Integrator::kGaussLegendre, "gauss-legendre"},
+    {Integrator::kSobolIs, "sobol-is"},
+};
+
+std::string to_string(Integrator integrator) { return enum_to_string(kIntegratorNames, integrator); }
 
 Integrator integrator_from_string(const std::string& name) {
-    for (Integrator i :
-         {Integrator::kStratifiedMc, Integrator::kGaussLegendre, Integrator::kSobolIs}) {
-        if (name == to_string(i)) return i;
-    }
-    throw UsageError(str("unknown integrator '", name,
-                         "' (expected stratified-mc, gauss-legendre or sobol-is)"));
+    return enum_from_string(kIntegratorNames, name, "integrator");
 }
 
 Eigen::Vector3d parse_view(const std::string& xyz) {

@@ -5,6 +5,7 @@
 
 #include "core/check.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace inlight::brdf {
@@ -90,26 +91,17 @@ double pdf_specular(const Material& m, const Eigen::Vector3d& wo, const Eigen::V
 
 }  // namespace
 
-std::string to_string(Model model) {
-    switch (model) {
-        case Model::kLambert:
-            return "lambert";
-        case Model::kCookTorranceReport:
-            return "cook-torrance-report";
-        case Model::kGgx:
-            return "ggx";
-        case Model::kCharlie:
-            return "charlie";
-    }
-    return "?";
-}
+constexpr EnumName<Model> kModelNames[] = {
+    {Model::kLambert, "lambert"},
+    {Model::kCookTorranceReport, "cook-torrance-report"},
+    {Model::kGgx, "ggx"},
+    {Model::kCharlie, "charlie"},
+};
+
+std::string to_string(Model model) { return enum_to_string(kModelNames, model); }
 
 Model model_from_string(const std::string& name) {
-    for (Model m : {Model::kLambert, Model::kCookTorranceReport, Model::kGgx, Model::kCharlie}) {
-        if (name == to_string(m)) return m;
-    }
-    throw UsageError(str("unknown BRDF model '", name,
-                         "' (expected lambert, cook-torrance-report, ggx or charlie)"));
+    return enum_from_string(kModelNames, name, "BRDF model");
 }
 
 double schlick(double f0, double cos_theta) {

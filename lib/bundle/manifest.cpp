@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
 
@@ -138,12 +139,15 @@ const RoleSpec* find_role_spec(Kind kind, const std::string& role) {
 
 }  // namespace
 
-std::string to_string(Kind kind) { return kind == Kind::kFabric ? "fabric" : "device"; }
+constexpr EnumName<Kind> kKindNames[] = {
+    {Kind::kFabric, "fabric"},
+    {Kind::kDevice, "device"},
+};
+
+std::string to_string(Kind kind) { return enum_to_string(kKindNames, kind); }
 
 Kind kind_from_string(const std::string& name) {
-    if (name == "fabric") return Kind::kFabric;
-    if (name == "device") return Kind::kDevice;
-    throw Error(str("unknown bundle kind '", name, "' (known: fabric, device)"));
+    return enum_from_string<Error>(kKindNames, name, "bundle kind");
 }
 
 uint64_t Manifest::total_bytes() const {

@@ -6,6 +6,7 @@
 
 #include "core/check.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace inlight::calib {
@@ -104,24 +105,16 @@ Eigen::Vector2d normalised(const CameraModel& m, const Eigen::Vector2d& pixel) {
 
 }  // namespace
 
-std::string to_string(ModelType type) {
-    switch (type) {
-        case ModelType::kFisheye:
-            return "fisheye";
-        case ModelType::kPinhole:
-            return "pinhole";
-        case ModelType::kOmnidir:
-            return "omnidir";
-    }
-    return "?";
-}
+constexpr EnumName<ModelType> kModelTypeNames[] = {
+    {ModelType::kFisheye, "fisheye"},
+    {ModelType::kPinhole, "pinhole"},
+    {ModelType::kOmnidir, "omnidir"},
+};
+
+std::string to_string(ModelType type) { return enum_to_string(kModelTypeNames, type); }
 
 ModelType model_type_from_string(const std::string& name) {
-    if (name == "fisheye") return ModelType::kFisheye;
-    if (name == "pinhole") return ModelType::kPinhole;
-    if (name == "omnidir") return ModelType::kOmnidir;
-    throw UsageError(
-        str("unknown camera model '", name, "' (expected fisheye, pinhole or omnidir)"));
+    return enum_from_string(kModelTypeNames, name, "camera model");
 }
 
 CameraModel CameraModel::make(ModelType type, int width, int height, double fx, double fy,

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/parallel.h"
@@ -100,26 +101,17 @@ bool is_image_file(const std::filesystem::path& p) {
 
 }  // namespace
 
-std::string to_string(Detector detector) {
-    switch (detector) {
-        case Detector::kAuto:
-            return "auto";
-        case Detector::kClassic:
-            return "classic";
-        case Detector::kSectorBased:
-            return "sb";
-        case Detector::kRos:
-            return "ros";
-    }
-    return "?";
-}
+constexpr EnumName<Detector> kDetectorNames[] = {
+    {Detector::kAuto, "auto"},
+    {Detector::kClassic, "classic"},
+    {Detector::kSectorBased, "sb"},
+    {Detector::kRos, "ros"},
+};
+
+std::string to_string(Detector detector) { return enum_to_string(kDetectorNames, detector); }
 
 Detector detector_from_string(const std::string& name) {
-    if (name == "auto") return Detector::kAuto;
-    if (name == "classic") return Detector::kClassic;
-    if (name == "sb") return Detector::kSectorBased;
-    if (name == "ros") return Detector::kRos;
-    throw UsageError(str("unknown detector '", name, "' (expected auto, classic, sb or ros)"));
+    return enum_from_string(kDetectorNames, name, "detector");
 }
 
 GrayImage load_gray(const std::string& path) {

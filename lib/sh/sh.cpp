@@ -4,6 +4,7 @@
 
 #include "core/check.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace inlight::sh {
@@ -99,11 +100,14 @@ double window_factor(Window window, int l, int sh_bands) {
     return 1.0;
 }
 
+constexpr EnumName<Window> kWindowNames[] = {
+    {Window::kNone, "none"},
+    {Window::kHann, "hann"},
+    {Window::kLanczos, "lanczos"},
+};
+
 Window window_from_string(const std::string& name) {
-    if (name == "none") return Window::kNone;
-    if (name == "hann") return Window::kHann;
-    if (name == "lanczos") return Window::kLanczos;
-    throw UsageError(str("window '", name, "': expected none, hann or lanczos"));
+    return enum_from_string(kWindowNames, name, "window");
 }
 
 void apply_window(Window window, int sh_bands, Eigen::MatrixXd& coeffs) {

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/toml.h"
@@ -53,26 +54,17 @@ Eigen::Vector3d colour_of(const WeaveSpec& s, const std::string& sequence,
 
 }  // namespace
 
-Pattern pattern_from_string(const std::string& name) {
-    if (name == "plain") return Pattern::kPlain;
-    if (name == "twill") return Pattern::kTwill;
-    if (name == "satin") return Pattern::kSatin;
-    if (name == "matrix") return Pattern::kMatrix;
-    throw Error(str("pattern '", name, "': expected 'plain', 'twill', 'satin' or 'matrix'"));
-}
+constexpr EnumName<Pattern> kPatternNames[] = {
+    {Pattern::kPlain, "plain"},
+    {Pattern::kTwill, "twill"},
+    {Pattern::kSatin, "satin"},
+    {Pattern::kMatrix, "matrix"},
+};
 
-std::string to_string(Pattern p) {
-    switch (p) {
-        case Pattern::kPlain:
-            return "plain";
-        case Pattern::kTwill:
-            return "twill";
-        case Pattern::kSatin:
-            return "satin";
-        case Pattern::kMatrix:
-            return "matrix";
-    }
-    return "?";
+std::string to_string(Pattern p) { return enum_to_string(kPatternNames, p); }
+
+Pattern pattern_from_string(const std::string& name) {
+    return enum_from_string<Error>(kPatternNames, name, "pattern");
 }
 
 Eigen::Vector4d bspline_basis(double u) {
