@@ -173,9 +173,12 @@ rule device:
         "INLIGHT_BIN={BIN:q} {PIPE}/bake-device.sh {CAT}/devices/{wildcards.did} {OUT:q} {wildcards.did} > {log} 2>&1"
         " && cp work/devices/{wildcards.did}/verify.json {output}.tmp && mv {output}.tmp {output}"
 
+# A captured fabric's pairs also shade its raw BTF against the woven geometry (validate-pair.sh
+# RAW_BTF WEAVE): the BTF's own error and that of each prefix of the bundle's stream.
 rule pair:
     input:
         stamp="stamps/fabric-{fid}.json",
+        capture=lambda w: [f"stamps/capture-{w.fid}.json"] if w.fid in CAPTURED else [],
         env="keys/env-{env}.key",
         validate="keys/validate.key",
     output: "validate/pairs/{fid}/{env}/summary.json"
@@ -183,9 +186,10 @@ rule pair:
     params:
         envpath=lambda w: ENVS[w.env],
         decompose=lambda w: 1 if w.env == DECOMPOSE_ENV else 0,
+        btf=lambda w: (f"{OUT}/captures/{w.fid}/btf {CAT}/fabrics/{w.fid}/weave.toml" if w.fid in CAPTURED else ""),
     shell:
         "INLIGHT_BIN={BIN:q} VALIDATE_RENDER_CONFIG={VALIDATE_CONFIG:q} VALIDATE_DECOMPOSE={params.decompose} {PIPE}/validate-pair.sh"
-        " bundles/fabrics/{wildcards.fid} {params.envpath:q} validate/pairs/{wildcards.fid}/{wildcards.env} > {log} 2>&1"
+        " bundles/fabrics/{wildcards.fid} {params.envpath:q} validate/pairs/{wildcards.fid}/{wildcards.env} {params.btf} > {log} 2>&1"
 
 rule convergence:
     input: "validate/pairs/{fid}/{env}/summary.json"

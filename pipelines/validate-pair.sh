@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # validate-pair: one fabric bundle under one environment: the path-traced truth against the
 # app's real-time model and its exported GLES shaders run through EGL, into OUTDIR/summary.json.
-#   pipelines/validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR      (binaries from ${INLIGHT_BIN})
+#   pipelines/validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR [RAW_BTF [WEAVE]]
+#                                                                    (binaries from ${INLIGHT_BIN})
 # The scene is the app's case: the fabric on the screen (z = 0, facing +z), seen along -z by an
 # orthographic camera, a PATCH_WIDTH_M-wide patch (0.1 m) showing the bundle's textures tiled at
 # its tile_size_m, lit by the environment (lat-long, device frame). Render options come from
@@ -13,9 +14,16 @@
 #     whose irradiance and outgoing-radiance error meet the budget (docs/budget.md);
 #   - the error decomposition (VALIDATE_DECOMPOSE=1): render --compare --rt-decompose, the model's
 #     error split into grid, SH truncation, fixed view and visibility (docs/render.md).
+# A bundle that ships a BTF is also shaded as a BTF (render --btf-shade), when RAW_BTF, the
+# capture it was compressed from, is given: the woven geometry (WEAVE, default the fabric file
+# the capture names) path-traced under the environment through the BTF's rectified camera is the
+# truth; the raw BTF, the bundle's compressed BTF and each prefix of its stream are shaded and
+# measured against it and against the raw shading (docs/pipelines.md says what each measures).
+# Bytes per stream prefix come from the bundle manifest; VALIDATE_BTF_SPP (default 256) and
+# VALIDATE_BTF_VIEWS (a view directions file; default the pair's own view, along the normal).
 set -euo pipefail
-if [ $# -ne 3 ]; then
-    echo "usage: validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR" >&2
+if [ $# -lt 3 ] || [ $# -gt 5 ]; then
+    echo "usage: validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR [RAW_BTF [WEAVE]]" >&2
     exit 2
 fi
 HERE=$(cd "$(dirname "$0")" && pwd)
@@ -81,10 +89,48 @@ if [ "$(jq -n --argjson e "$MAX_ERROR" '$e > 0')" = true ]; then
 fi
 mv "$OUTDIR/budget.json.tmp" "$OUTDIR/budget.json"
 
+# The BTF shaded as a BTF (issue 10): the bundle's btf/ files as the app receives them, with the
+# bytes a client holds after each stream prefix summed from the bundle manifest (render reads
+# them from streaming.tsv), shaded from 0, G, 2G, ... components (G groups: about one more
+# component per group each step) and from the whole stream.
+echo '{}' > "$OUTDIR/btf.json.tmp"
+if [ -n "$(role btf_manifest)" ] && [ $# -ge 4 ]; then
+    RAW_BTF=$(cd "$4" && pwd)
+    WEAVE=${5:-$(jq -r '.fabric // empty' "$RAW_BTF/capture.json")}
+    if [ ! -f "$WEAVE" ]; then
+        echo "validate-pair: $RAW_BTF/capture.json: its fabric '$WEAVE' not found (give the weave file as WEAVE)" >&2
+        exit 2
+    fi
+    S="$OUTDIR/btf-stream"
+    rm -rf "$S"
+    mkdir -p "$S"
+    btf_dir=$(dirname "$(role btf_manifest)")
+    while read -r p; do
+        mkdir -p "$S/$(dirname "${p#"$btf_dir"/}")"
+        cp "$BUNDLE/$p" "$S/${p#"$btf_dir"/}"
+    done < <(jq -r '.files[] | select(.role | startswith("btf_")) | .path' "$M")
+    # shellcheck disable=SC2016  # $base and $c are jq variables
+    jq -r '([.files[] | select(.role == "btf_manifest" or .role == "btf_weights" or .role == "btf_mean")
+             | .bytes] | add) as $base
+           | [.files[] | select(.role == "btf_component")] | sort_by(.stream_index) as $c
+           | "# components_sent\tbytes_sent (sums of the bundle manifest'"'"'s file sizes)", "0\t\($base)",
+             (range(1; ($c | length) + 1) as $n | "\($n)\t\($base + ([$c[:$n][].bytes] | add))")' \
+        "$M" > "$S/streaming.tsv"
+    n=$(jq '[.files[] | select(.role == "btf_component")] | length' "$M")
+    g=$(jq '[.files[] | select(.role == "btf_mean")] | length' "$M")
+    points=$(jq -rn --argjson n "$n" --argjson g "$g" '[range(0; $n; $g), $n] | unique | join(",")')
+    views=${VALIDATE_BTF_VIEWS:-$OUTDIR/btf-views.txt}
+    [ -n "${VALIDATE_BTF_VIEWS:-}" ] || echo "0 0" > "$views"
+    "$BIN/render" "$WEAVE" --btf-shade "$RAW_BTF" --btf-compressed "$S" --shade-stream "$points" \
+        --environment "$ENV_MAP" --shade-views "$views" --spp "${VALIDATE_BTF_SPP:-256}" \
+        -o "$OUTDIR/btf" -q --report "$OUTDIR/btf.json.tmp"
+fi
+mv "$OUTDIR/btf.json.tmp" "$OUTDIR/btf.json"
+
 # GLES output (issue 8): render --compare also draws the scene with the exported shaders through
 # EGL (metrics.realtime.gles): the third column, beside the CPU model and the truth.
 jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_name" \
-    --arg envpath "$ENV_MAP" --slurpfile budget "$OUTDIR/budget.json" '
+    --arg envpath "$ENV_MAP" --slurpfile budget "$OUTDIR/budget.json" --slurpfile btf "$OUTDIR/btf.json" '
     $r[0].metrics as $m | $m.realtime as $rt | $b[0] as $bundle |
     {fabric: $bundle.id, fabric_name: $bundle.name, environment: $env, environment_path: $envpath,
      bundle_bytes: $bundle.total_bytes, sh_bands_shipped: $bundle.properties.sh_bands,
@@ -107,6 +153,24 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
      decomposition: ($rt.decomposition // null | if . then
               {truth_noise, visibility, fixed_view, map_discretisation, pixel_footprint,
                by_sh_bands} else null end),
+     has_btf: ([$bundle.files[] | select(.role == "btf_manifest")] | length > 0),
+     btf: ($btf[0].metrics.btf_shade // null | if . then
+              {spp, raw_btf: $btf[0].argv[($btf[0].argv | index("--btf-shade")) + 1],
+               weave: $btf[0].argv[1], bytes_shipped: .results[0].compressed[0].stored_bytes,
+               components_per_group: .results[0].compressed[0].components_per_group,
+               views: [[$btf[0].outputs[] | select(.kind == "comparison") | .path | split("/") | last] as $png
+                       | .results | to_entries[] | .key as $i | .value | .compressed[0] as $c |
+                       {view_deg, truth_noise: .truth_rel_error, below_horizon_share,
+                        compare_image: $png[$i],
+                        raw: {mean_rel, mean_de2000, mean_luminance_rel_diff},
+                        shipped: {components_sent: ($c.stream | last | .components_sent),
+                                  bytes: $c.stored_bytes, mean_rel: $c.mean_rel,
+                                  mean_de2000: $c.mean_de2000,
+                                  mean_luminance_rel_diff: $c.mean_luminance_rel_diff,
+                                  vs_raw_rel_rmse: $c.vs_raw.rel_rmse},
+                        stream: [$c.stream[] | {components_sent, bytes_sent, mean_rel, mean_de2000,
+                                                mean_luminance_rel_diff, vs_raw_rel_rmse: .vs_raw.rel_rmse}]}]}
+            else null end),
      images: {compare_consistent: "render_compare_consistent.png",
               compare_seed: "render_compare_seed.png",
               compare3_consistent: "render_compare3_es300-consistent-b3-highp.png",

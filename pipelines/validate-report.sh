@@ -18,6 +18,7 @@ if [ $# -ne 1 ]; then
 fi
 V=$(cd "$1" && pwd)
 MAX_DE2000=${MAX_DE2000:-2.0}
+JND_DE2000=${JND_DE2000:-1.0}
 P="$V/plots"
 mkdir -p "$P"
 mapfile -t summaries < <(find "$V/pairs" -name summary.json | sort)
@@ -27,7 +28,7 @@ if [ "${#summaries[@]}" -eq 0 ]; then
 fi
 
 # 1. One table of every pair with its verdict and what would make it better.
-jq -s --argjson t "$MAX_DE2000" '
+jq -s --argjson t "$MAX_DE2000" --argjson jnd "$JND_DE2000" '
   map(. as $p
     | ($p.by_sh_bands | map(select(.sh_bands == $p.sh_bands_shipped))[0]) as $ship
     | ($p.by_sh_bands | map(select(.mean_de2000 <= $t)) | min_by(.sh_bands)) as $enough
@@ -40,7 +41,11 @@ jq -s --argjson t "$MAX_DE2000" '
                      sh_specular: $dec.sh_truncation_specular, fixed_view: $p.decomposition.fixed_view,
                      visibility: $p.decomposition.visibility, truth_noise: $p.decomposition.truth_noise}
        else null end) as $parts
+    | ($p.btf.views[0] // null) as $bv
     | $p + {shipped: $ship, gles_shipped: $gl, error_parts: $parts,
+            btf_view: $bv,
+            btf_enough: (if $bv then $bv.stream | map(select(.mean_de2000 <= $bv.shipped.mean_de2000 + $jnd))
+                                                 | min_by(.components_sent) else null end),
             largest_part: (if $parts then ($parts | del(.truth_noise) | to_entries | max_by(.value) | .key) else null end),
             budget_text: (if $p.budget == null then null
                           else "\($p.budget.sh_bands) bands + \($p.budget.lights) lights: \($p.budget.error * 1000 | round / 10)% \(if $p.budget.met then "(meets \($p.budget.max_error * 100)%)" else "(best; misses \($p.budget.max_error * 100)%)" end)" end),
@@ -158,7 +163,7 @@ set terminal pngcairo size 900,560 font "sans,10"
 set grid
 set key outside right top font "sans,8"
 set output "$P/error_vs_bytes.png"
-set title "Error against bytes downloaded (bundle size; BTF components streamed: issue 10)"
+set title "Error against bytes downloaded (whole bundle; the BTF stream: btf_error_vs_bytes.png)"
 set xlabel "bundle bytes"
 set ylabel "mean CIEDE2000 (shipped SH bands)"
 unset logscale y
@@ -191,6 +196,84 @@ plot "$P/parts.dat" using 2:xtic(1) title "BRDF grid", "" using 3 title "SH trun
 GNUPLOT3
 fi
 
+# The BTF fabrics shaded as BTFs: error against PCA components and bytes streamed, one line per
+# environment; against the truth (dE2000; dashed: the raw BTF, all 81 x 81 images, the best the
+# stream can reach against this truth) and against the raw BTF's shading (relative RMSE: the
+# PCA loss alone, without the truth's noise or the BTF's own sampling error).
+jq -r '[.[] | select(.btf_view)] | group_by(.fabric)[] | .[0].fabric as $f | .[]
+       | "# \($f) \(.environment) raw_de2000 \(.btf_view.raw.mean_de2000)",
+         (.btf_view.stream[] | [.components_sent, .bytes_sent / 1000, .mean_de2000, .vs_raw_rel_rmse, .mean_rel] | @tsv),
+         "", ""' "$V/summary.json" > "$P/btf.dat"
+mapfile -t BTF_KEYS < <(jq -r '.[] | select(.btf_view) | "\(.fabric)/\(.environment)"' "$V/summary.json")
+mapfile -t BTF_FABRICS < <(jq -r '[.[] | select(.btf_view) | .fabric] | unique[]' "$V/summary.json")
+if [ "${#BTF_KEYS[@]}" -gt 0 ]; then
+    # Per fabric: its first block and block count in btf.dat, and the median raw-BTF dE2000.
+    starts="" counts="" raws=""
+    for f in "${BTF_FABRICS[@]}"; do
+        starts="$starts $(jq --arg f "$f" '[.[] | select(.btf_view)] | map(.fabric) | index($f)' "$V/summary.json")"
+        counts="$counts $(jq --arg f "$f" '[.[] | select(.btf_view and .fabric == $f)] | length' "$V/summary.json")"
+        raws="$raws $(jq --arg f "$f" '[.[] | select(.btf_view and .fabric == $f) | .btf_view.raw.mean_de2000] | sort | .[length / 2 | floor]' "$V/summary.json")"
+    done
+    nb=${#BTF_FABRICS[@]}
+    envs_of() { jq -r --arg f "$1" '[.[] | select(.btf_view and .fabric == $f) | .environment] | join(" ")' "$V/summary.json"; }
+    for axis in components bytes; do
+        if [ "$axis" = components ]; then col=1; xl="PCA components streamed (all groups)"; else col=2; xl="BTF bytes streamed, kB (bundle manifest: manifest, V and means first)"; fi
+        {
+            echo "set terminal pngcairo size 1000,$((nb * 380 + 40)) font 'sans,9'"
+            echo "set output '$P/btf_error_vs_$axis.png'"
+            echo "set multiplot layout $nb,2 title 'BTF fabrics: the shipped BTF stream shaded under each environment (render --btf-shade --shade-stream)'"
+            echo "set grid; set key top right font 'sans,7'; set xlabel '$xl'"
+            i=0
+            for f in "${BTF_FABRICS[@]}"; do
+                i=$((i + 1))
+                start=$(echo "$starts" | awk -v i="$i" '{print $i}')
+                count=$(echo "$counts" | awk -v i="$i" '{print $i}')
+                raw=$(echo "$raws" | awk -v i="$i" '{print $i}')
+                echo "envs = '$(envs_of "$f")'"
+                echo "set title '$f: against the path-traced weave'; set ylabel 'mean CIEDE2000'; unset logscale y"
+                echo "plot for [e=0:$count-1] '$P/btf.dat' index $start+e using $col:3 with linespoints title word(envs, e+1), $raw with lines dashtype 2 lw 2 lc rgb 'black' title 'raw BTF (median)'"
+                echo "set title '$f: against the raw BTF shading (PCA loss)'; set ylabel 'relative RMSE'; set logscale y"
+                echo "plot for [e=0:$count-1] '$P/btf.dat' index $start+e using $col:4 with linespoints title word(envs, e+1)"
+            done
+            echo "unset multiplot"
+        } | gnuplot
+    done
+fi
+
+# What each BTF comparison measures (the Markdown summary and the page say it once).
+btf_measures_text() {
+    echo "Each BTF fabric's BTF is shaded under the environment as the app would shade it (render --btf-shade,"
+    echo "view along the normal, as the pair's camera) and measured against a truth of its own: the woven"
+    echo "geometry the BTF was captured from, path-traced under the same environment through the BTF's"
+    echo "rectified camera at the BTF's size. **Raw BTF vs truth**: the BTF representation itself (81 light"
+    echo "directions standing in for the environment, the capture's noise). **Shipped vs truth**: what"
+    echo "the app shows from the bundle's whole stream. **Shipped (and each prefix) vs raw BTF**: the PCA"
+    echo "loss alone, without the truth's noise; it falls with every component (a projection onto"
+    echo "nested subspaces). The BRDF-table column is the pair's verdict model on another scene (the"
+    echo "textured patch, its own truth), so the two dE2000s are not a like-for-like ranking."
+}
+# btf_stream_table md|html: per BTF fabric and stream prefix, the median and worst error over the
+# environments against the truth and against the raw BTF shading, with the bytes sent.
+btf_stream_table() {
+    # shellcheck disable=SC2016  # jq program
+    local prog='def r(n): . * n | round / n;
+        def median: sort | if length % 2 == 1 then .[length / 2 | floor] else (.[length / 2 - 1] + .[length / 2]) / 2 end;
+        [.[] | select(.btf_view)] | group_by(.fabric)[] | .[0].fabric as $f
+        | [.[].btf_view.stream[]] | group_by(.components_sent)[]
+        | [$f, .[0].components_sent, (.[0].bytes_sent / 1000 | r(10)), (map(.mean_de2000) | median | r(100)),
+           (map(.mean_de2000) | max | r(100)), (map(.vs_raw_rel_rmse) | median | r(10000)),
+           (map(.vs_raw_rel_rmse) | max | r(10000))]'
+    if [ "$1" = md ]; then
+        echo "| fabric | components sent | kB sent | dE2000 vs truth, median (worst) | rel. RMSE vs raw BTF, median (worst) |"
+        echo "| --- | --- | --- | --- | --- |"
+        jq -r "$prog"' | "| \(.[0]) | \(.[1]) | \(.[2]) | \(.[3]) (\(.[4])) | \(.[5]) (\(.[6])) |"' "$V/summary.json"
+    else
+        echo "<table><tr><th>fabric</th><th>components sent</th><th>kB sent</th><th>dE2000 vs truth, median (worst)</th><th>rel. RMSE vs raw BTF, median (worst)</th></tr>"
+        jq -r "$prog"' | "<tr><td>\(.[0])</td><td>\(.[1])</td><td>\(.[2])</td><td>\(.[3]) (\(.[4]))</td><td>\(.[5]) (\(.[6]))</td></tr>"' "$V/summary.json"
+        echo "</table>"
+    fi
+}
+
 # 3. Markdown summary.
 {
     echo "# Validation: real-time model against path-traced truth"
@@ -207,8 +290,23 @@ fi
     echo "| fabric | environment | verdict | dE2000 CPU model | GLES dE2000 (agrees) | rel. error | seed shader dE2000 | truth noise | budget | largest part | advice |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     jq -r 'def r(n): . * n | round / n; .[] | "| \(.fabric) | \(.environment) | \(.verdict)\(if .noise_limited then " (noise-limited)" else "" end) | \(.shipped.mean_de2000 | r(100)) | \(if .gles_shipped then "\(.gles_shipped.mean_de2000 | r(100)) (\(.gles_shipped.cpu_model_fraction_within_1e_3 * 100 | round)%)" else "-" end) | \(.shipped.mean_rel | r(1000)) | \(.seed.mean_de2000 | r(100)) | \(.truth.rel_noise | r(1000)) | \(.budget_text // "-") | \(if .largest_part then "\(.largest_part) \(.error_parts[.largest_part] | r(1000))" else "-" end) | \(.advice) |"' "$V/summary.json"
+    if [ "${#BTF_KEYS[@]}" -gt 0 ]; then
+        echo
+        echo "## BTF fabrics: the BTF shaded as a BTF"
+        echo
+        btf_measures_text
+        echo
+        echo "| fabric | environment | truth noise | raw BTF vs truth: dE2000 (rel.) | shipped BTF: components, kB | shipped vs truth: dE2000 (rel.) | shipped vs raw BTF: rel. RMSE | enough: within $JND_DE2000 dE2000 of the whole stream | BRDF-table model dE2000 (textured patch) |"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        jq -r 'def r(n): . * n | round / n; .[] | select(.btf_view) | .btf_view as $b | "| \(.fabric) | \(.environment) | \($b.truth_noise | r(1000)) | \($b.raw.mean_de2000 | r(100)) (\($b.raw.mean_rel | r(1000))) | \($b.shipped.components_sent), \($b.shipped.bytes / 1000 | r(10)) | \($b.shipped.mean_de2000 | r(100)) (\($b.shipped.mean_rel | r(1000))) | \($b.shipped.vs_raw_rel_rmse | r(1000)) | \(.btf_enough.components_sent) components, \(.btf_enough.bytes_sent / 1000 | r(10)) kB (dE2000 \(.btf_enough.mean_de2000 | r(100))) | \(.shipped.mean_de2000 | r(100)) |"' "$V/summary.json"
+        echo
+        echo "Error against the stream, median (and worst) over the environments:"
+        echo
+        btf_stream_table md
+    fi
+    jq -r '.[] | select(.has_btf and .btf_view == null) | "\nBTF of \(.fabric) under \(.environment) not shaded: no raw capture was given (a BTF without woven geometry has no truth to path-trace)."' "$V/summary.json"
     echo
-    echo "Plots: plots/error_vs_sh_bands.png, plots/error_vs_frame_time.png, plots/error_vs_spp.png (with a convergence study), plots/truth_noise.png, plots/error_vs_bytes.png, plots/error_parts.png (with a decomposition)."
+    echo "Plots: plots/error_vs_sh_bands.png, plots/error_vs_frame_time.png, plots/error_vs_spp.png (with a convergence study), plots/truth_noise.png, plots/error_vs_bytes.png, plots/error_parts.png (with a decomposition), plots/btf_error_vs_components.png and plots/btf_error_vs_bytes.png (with BTF fabrics)."
     echo "Page: index.html."
 } > "$V/summary.md"
 
@@ -240,8 +338,16 @@ HTML
     echo "<h2>Verdicts</h2><table><tr><th>fabric</th><th>environment</th><th>verdict</th><th>dE2000 CPU model</th><th>GLES dE2000 (agrees)</th><th>seed shader dE2000</th><th>truth noise</th><th>budget</th><th>largest part</th><th>advice</th><th>truth | model | error</th><th>truth | CPU | GLES | error</th></tr>"
     jq -r 'def r(n): . * n | round / n; .[] | "<tr class=\"\(.verdict)\"><td>\(.fabric)</td><td>\(.environment)</td><td>\(.verdict)\(if .noise_limited then " (noise-limited)" else "" end)</td><td>\(.shipped.mean_de2000 | r(100))</td><td>\(if .gles_shipped then "\(.gles_shipped.mean_de2000 | r(100)) (\(.gles_shipped.cpu_model_fraction_within_1e_3 * 100 | round)%)" else "-" end)</td><td>\(.seed.mean_de2000 | r(100))</td><td>\(.truth.rel_noise | r(1000))</td><td>\(.budget_text // "-")</td><td>\(if .largest_part then "\(.largest_part) \(.error_parts[.largest_part] | r(1000))" else "-" end)</td><td>\(.advice)</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\(.images.compare_consistent)\" alt=\"\(.fabric) \(.environment)\"></td><td>\(if .gles_shipped then "<img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/render_compare3_\(.gles_shipped.variant).png\" alt=\"GLES\">" else "-" end)</td></tr>"' "$V/summary.json"
     echo "</table>"
+    if [ "${#BTF_KEYS[@]}" -gt 0 ]; then
+        echo "<h2>BTF fabrics: the BTF shaded as a BTF</h2><p>"
+        btf_measures_text | sed 's/\*\*\([^*]*\)\*\*/<b>\1<\/b>/g'
+        echo "</p><table><tr><th>fabric</th><th>environment</th><th>truth noise</th><th>raw BTF vs truth: dE2000 (rel.)</th><th>shipped BTF: components, kB</th><th>shipped vs truth: dE2000 (rel.)</th><th>shipped vs raw BTF: rel. RMSE</th><th>enough: within $JND_DE2000 dE2000 of the whole stream</th><th>BRDF-table model dE2000 (textured patch)</th><th>truth | raw BTF | error</th></tr>"
+        jq -r 'def r(n): . * n | round / n; .[] | select(.btf_view) | .btf_view as $b | "<tr><td>\(.fabric)</td><td>\(.environment)</td><td>\($b.truth_noise | r(1000))</td><td>\($b.raw.mean_de2000 | r(100)) (\($b.raw.mean_rel | r(1000)))</td><td>\($b.shipped.components_sent), \($b.shipped.bytes / 1000 | r(10))</td><td>\($b.shipped.mean_de2000 | r(100)) (\($b.shipped.mean_rel | r(1000)))</td><td>\($b.shipped.vs_raw_rel_rmse | r(1000))</td><td>\(.btf_enough.components_sent) components, \(.btf_enough.bytes_sent / 1000 | r(10)) kB (dE2000 \(.btf_enough.mean_de2000 | r(100)))</td><td>\(.shipped.mean_de2000 | r(100))</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\($b.compare_image)\" alt=\"BTF \(.fabric) \(.environment)\"></td></tr>"' "$V/summary.json"
+        echo "</table><p>Error against the stream, median (and worst) over the environments:</p>"
+        btf_stream_table html
+    fi
     echo "<h2>Error against cost</h2>"
-    for p in error_vs_sh_bands error_vs_frame_time error_vs_spp truth_noise error_vs_bytes error_parts; do
+    for p in error_vs_sh_bands error_vs_frame_time error_vs_spp truth_noise error_vs_bytes error_parts btf_error_vs_components btf_error_vs_bytes; do
         [ -f "$P/$p.png" ] && echo "<p><img src=\"plots/$p.png\" alt=\"$p\"></p>"
     done
     echo "<p>Data: <a href=\"summary.json\">summary.json</a>, <a href=\"summary.md\">summary.md</a>.</p>"

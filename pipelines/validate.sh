@@ -3,6 +3,8 @@
 # against the real-time model (validate-pair.sh), then one HTML page, a Markdown summary and
 # plots of error against cost (validate-report.sh) in OUT/.
 #   pipelines/validate.sh OUT BUNDLE_ROOT ENVIRONMENT...     (binaries from ${INLIGHT_BIN})
+# A fabric whose BTF bake-fabric.sh captured (BUNDLE_ROOT/../work/fabrics/<id>/capture/btf) is
+# also shaded as a BTF against its woven geometry (validate-pair.sh's RAW_BTF).
 # bake-catalog runs the same two scripts as Snakemake rules, in parallel.
 set -euo pipefail
 if [ $# -lt 3 ]; then
@@ -21,7 +23,10 @@ for fabric in "${fabrics[@]}"; do
         i=$((i + 1))
         name=$(basename "$env")
         echo "[validate $i/$n] $(basename "$fabric") under ${name%.*}" >&2
-        "$HERE/validate-pair.sh" "$fabric" "$env" "$OUT/pairs/$(basename "$fabric")/${name%.*}"
+        raw=()
+        capture="$BUNDLES/../work/fabrics/$(basename "$fabric")/capture/btf"
+        [ -f "$capture/capture.json" ] && raw=("$capture")
+        "$HERE/validate-pair.sh" "$fabric" "$env" "$OUT/pairs/$(basename "$fabric")/${name%.*}" "${raw[@]}"
     done
 done
 first=$(find "$OUT/pairs" -mindepth 2 -maxdepth 2 -type d | sort | head -n 1)
