@@ -1,6 +1,7 @@
 #include "gles/cli.h"
 
 #include "brdf/bake.h"
+#include "core/error.h"
 #include "core/fs.h"
 #include "core/validators.h"
 #include "render/realtime_lights.h"
@@ -13,6 +14,14 @@ ExportSet ExportArgs::set() const {
     s.modes = shader_modes_from_string(modes);
     s.precisions = precisions_from_string(precisions);
     s.max_sh_bands = max_sh_bands;
+    s.max_texture_size = max_texture_size;
+    for (GlslVersion v : s.versions) {  // below a version's minimum: a usage error
+        try {
+            export_limits(s, v);
+        } catch (const UsageError& e) {
+            throw UsageError(str("--gles-max-texture-size: ", e.what()));
+        }
+    }
     if (!lighting.empty()) s.lights = render::read_lighting_file(lighting).lights;
     return s;
 }
@@ -41,6 +50,12 @@ void add_export_options(CLI::App& app, ExportArgs& a) {
     app.add_option("--gles-max-bands", a.max_sh_bands,
                    "Consistent variants for lighting bands 3 .. this (seed: 3 only)")
         ->check(CLI::Range(3, brdf::kMaxBakeBands))
+        ->capture_default_str();
+    app.add_option("--gles-max-texture-size", a.max_texture_size,
+                   "The target device's GL_MAX_TEXTURE_SIZE (texels per side): BRDF tables larger "
+                   "than the specification minimum (64 for ES 2.0, 2048 for ES 3.0) are laid out "
+                   "within it; 0 = that minimum")
+        ->check(CLI::Range(0, 1 << 16))
         ->capture_default_str();
     app.add_option("--gles-lighting", a.lighting,
                    "Lighting file with dominant lights (envmap-project --max-error JSON, "

@@ -15,6 +15,7 @@ struct ExportArgs {
     std::string versions = "100,300", modes = "consistent,seed", precisions = "highp,mediump";
     int max_sh_bands = 3;
     std::string lighting;  ///< --gles-lighting: a lighting file whose lights the shaders shade
+    int max_texture_size = 0;  ///< --gles-max-texture-size: the device's; 0 = each version's minimum
     /// The parsed set (the options' validators have already checked every list), with the
     /// lighting file's lights read (render::read_lighting_file; errors name the file).
     ExportSet set() const;
@@ -24,7 +25,7 @@ struct ExportArgs {
 };
 
 /// Adds --export-gles DIR, --gles-versions, --gles-modes, --gles-precisions, --gles-max-bands,
-/// --gles-lighting FILE.
+/// --gles-lighting FILE, --gles-max-texture-size N.
 void add_export_options(CLI::App& app, ExportArgs& args);
 
 }  // namespace inlight::gles

@@ -1,6 +1,7 @@
 #include "gles/export.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <regex>
@@ -104,6 +105,9 @@ struct Plan {
     LightingLayout lighting = LightingLayout::kUniformArray;
     int texels_per_node = 0;
     int data_width = 0, data_height = 0;  ///< of the table texture
+    bool wrapped = false;                 ///< the texels in rows of data_width (linear order)
+    bool scale_in_texture = false;        ///< RGBA8: scale/offset texels after the table's
+    int scale_texel = 0;                  ///< the first of them (linear index)
     bool es3() const { return v->version == GlslVersion::kEs300; }
     int channels() const { return table ? table->channels : 0; }
 };
@@ -538,22 +542,35 @@ std::string fragment_source(const Plan& p, const std::string& name) {
                 break;
             case TableLayout::kFloatTexture:
                 o << "uniform " << sampler << " u_brdf_texture;  // RGBA32F, NEAREST\n"
-                  << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
-                  << "    return texelFetch(u_brdf_texture, ivec2(i2 * " << t_count
-                  << " + t, ch * BRDF_ROWS + i1), 0);\n}\n";
+                  << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n";
+                if (p.wrapped) {
+                    o << "    // Texel i = ((ch * ROWS + i1) * COLS + i2) * " << t_count
+                      << " + t in rows of " << p.data_width << " (GL_MAX_TEXTURE_SIZE).\n"
+                      << "    int i = ((ch * BRDF_ROWS + i1) * BRDF_COLS + i2) * " << t_count
+                      << " + t;\n"
+                      << "    int y = i / " << p.data_width << ";\n"
+                      << "    return texelFetch(u_brdf_texture, ivec2(i - y * " << p.data_width
+                      << ", y), 0);\n}\n";
+                } else {
+                    o << "    return texelFetch(u_brdf_texture, ivec2(i2 * " << t_count
+                      << " + t, ch * BRDF_ROWS + i1), 0);\n}\n";
+                }
                 break;
             case TableLayout::kRgba8Texture:
-                o << "uniform " << sampler << " u_brdf_texture;  // RGBA8, NEAREST\n"
-                  << "uniform vec4 u_brdf_scale[" << t_count << "];\n"
-                  << "uniform vec4 u_brdf_offset[" << t_count << "];\n"
-                  << "// Texel i = ((ch * ROWS + i1) * COLS + i2) * " << t_count
-                  << " + t, rows of " << p.data_width << " (wrapped within the texture size).\n"
-                  << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
-                  << "    float i = float(((ch * BRDF_ROWS + i1) * BRDF_COLS + i2) * " << t_count
-                  << " + t);\n"
+                o << "uniform " << sampler << " u_brdf_texture;  // RGBA8, NEAREST\n";
+                if (!p.scale_in_texture) {
+                    o << "uniform vec4 u_brdf_scale[" << t_count << "];\n"
+                      << "uniform vec4 u_brdf_offset[" << t_count << "];\n";
+                }
+                o << "// Texel i (linear order) in rows of " << p.data_width << ", its bytes exact.\n"
+                  << "vec4 brdf_texel_at(float i) {\n"
                   << "    float y = floor((i + 0.5) / " << lit(p.data_width) << ");\n"
                   << "    return snap8(texture2D(u_brdf_texture, (vec2(i - y * " << lit(p.data_width)
-                  << ", y) + 0.5) / " << size_literal({p.data_width, p.data_height}) << "));\n}\n";
+                  << ", y) + 0.5) / " << size_literal({p.data_width, p.data_height}) << "));\n}\n"
+                  << "// Texel i = ((ch * ROWS + i1) * COLS + i2) * " << t_count << " + t.\n"
+                  << "vec4 brdf_texel(int ch, int i1, int i2, int t) {\n"
+                  << "    return brdf_texel_at(float(((ch * BRDF_ROWS + i1) * BRDF_COLS + i2) * "
+                  << t_count << " + t));\n}\n";
                 break;
             case TableLayout::kNone:
                 break;
@@ -567,11 +584,9 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100);
     }
     const bool charlie_lights = p.v->lights > 0 && p.table && mat.brdf.specular == brdf::Model::kCharlie;
-    if (charlie_lights || p.lighting == LightingLayout::kRgba8Texture) o << pow2i_function();
-    if (p.lighting == LightingLayout::kFloatTexture) {
-        o << "vec3 sh_coeff(int k) { return texelFetch(u_sh_texture, ivec2(k, 0), 0).rgb; }\n";
-    } else if (p.lighting == LightingLayout::kRgba8Texture) {
-        const std::string w = lit(k_count);
+    const bool unpack = p.lighting == LightingLayout::kRgba8Texture || p.scale_in_texture;
+    if (charlie_lights || unpack) o << pow2i_function();
+    if (unpack) {
         o << "// A float32 from 4 bytes (gles::bind_lighting): exponent + 127, then the mantissa\n"
           << "// with its leading 1 replaced by the sign. Exact.\n"
           << "float unpack_f32(vec4 t) {\n"
@@ -580,8 +595,13 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    float neg = step(128.0, b.y);\n"
           << "    float m = ((b.y - 128.0 * neg + 128.0) * 65536.0 + b.z * 256.0 + b.w) * "
              "5.96046448e-8;\n"
-          << "    return (1.0 - 2.0 * neg) * m * pow2i(b.x - 127.0);\n}\n"
-          << "// Coefficient k: offset_k + scale_k q / 65535, q the 16 bits of rows 0 and 1.\n"
+          << "    return (1.0 - 2.0 * neg) * m * pow2i(b.x - 127.0);\n}\n";
+    }
+    if (p.lighting == LightingLayout::kFloatTexture) {
+        o << "vec3 sh_coeff(int k) { return texelFetch(u_sh_texture, ivec2(k, 0), 0).rgb; }\n";
+    } else if (p.lighting == LightingLayout::kRgba8Texture) {
+        const std::string w = lit(k_count);
+        o << "// Coefficient k: offset_k + scale_k q / 65535, q the 16 bits of rows 0 and 1.\n"
           << "vec3 sh_coeff(float k) {\n"
           << "    float x = (k + 0.5) / " << w << ";\n"
           << "    vec3 hi = floor(texture2D(u_sh_texture, vec2(x, 0.125)).rgb * 255.0 + 0.5);\n"
@@ -639,6 +659,21 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    if (dot(mapped, mapped) > 1e-12) n = normalize(mapped);\n"
           << "    if (dot(n, VIEW) <= 0.0) n = ng;\n";
     }
+    if (p.scale_in_texture) {
+        o << "    // The table's scale and offset per coefficient: float32 texels after the table's.\n";
+        for (int t = 0; t < t_count; ++t) {
+            for (const char* what : {"scale", "offset"}) {
+                const int base = p.scale_texel + (what[0] == 'o' ? k_count : 0);
+                std::string comps;
+                for (int c = 0; c < 4; ++c) {
+                    const int k = 4 * t + c;
+                    comps += c ? ", " : "";
+                    comps += k < k_count ? str("unpack_f32(brdf_texel_at(", lit(base + k), "))") : "0.0";
+                }
+                o << "    vec4 brdf_" << what << t << " = vec4(" << comps << ");\n";
+            }
+        }
+    }
     if (p.table) {
         if (p.v->mode == ShaderMode::kSeed) {
             o << "    // The report's getBRDF takes phi = atan(y / x), losing the quadrant: a normal "
@@ -653,7 +688,10 @@ std::string fragment_source(const Plan& p, const std::string& name) {
             for (int ch = 0; ch < p.channels(); ++ch) {
                 const std::string var = p.channels() == 1 ? str("b", t) : str("b", t, "_", ch);
                 const std::string lerp = str("brdf_lerp(cell, f, ", ch, ", ", t, ")");
-                if (p.layout == TableLayout::kRgba8Texture) {
+                if (p.layout == TableLayout::kRgba8Texture && p.scale_in_texture) {
+                    o << "    vec4 " << var << " = brdf_offset" << t << " + brdf_scale" << t << " * "
+                      << lerp << ";\n";
+                } else if (p.layout == TableLayout::kRgba8Texture) {
                     o << "    vec4 " << var << " = u_brdf_offset[" << t << "] + u_brdf_scale[" << t
                       << "] * " << lerp << ";\n";
                 } else {
@@ -777,9 +815,10 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                       {"sh_bands", t.sh_bands}, {"coeff_count", t.coeff_count()}, {"channels", t.channels},
                       {"texels_per_node", p.texels_per_node},
                       {"view", {t.view.x(), t.view.y(), t.view.z()}},
-                      {"texel_of", p.layout == TableLayout::kRgba8Texture
-                                       ? "i = ((channel * rows + i1) * cols + i2) * texels_per_node + k / 4, x = i % width, y = i / width, component k % 4 (rows wrapped within the texture size; width = cols * texels_per_node when that fits)"
-                                       : "x = i2 * texels_per_node + k / 4, y = channel * rows + i1, component k % 4"},
+                      {"texel_of", p.layout == TableLayout::kUniformArray || !p.wrapped
+                                       ? "x = i2 * texels_per_node + k / 4, y = channel * rows + i1, component k % 4 (= linear texel i = ((channel * rows + i1) * cols + i2) * texels_per_node + k / 4 in rows of width)"
+                                       : "i = ((channel * rows + i1) * cols + i2) * texels_per_node + k / 4, x = i % width, y = i / width, component k % 4 (rows of GL_MAX_TEXTURE_SIZE: the natural rows do not fit)"},
+                      {"wrapped", p.wrapped},
                       {"units", "dimensionless (reflected radiance per unit lighting coefficient)"},
                       {"value_range", {lo, hi}}};
         if (p.layout == TableLayout::kUniformArray) {
@@ -795,13 +834,25 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                                 {"file", e.name + ".brdf.bin"}, {"meaning", "BRDF SH table"},
                                 {"range", rgba8 ? json({0.0, 1.0}) : json({lo, hi})}});
         }
-        if (p.layout == TableLayout::kRgba8Texture) {
-            const int slots = 4 * p.texels_per_node;
+        if (p.layout == TableLayout::kRgba8Texture && p.scale_in_texture) {
+            const int k_count = sh::count(p.v->sh_bands);
+            table["scale_offset"] = {
+                {"where", "in the table texture: linear texel scale_texel + k holds scale_k, scale_texel + coeff_count + k "
+                          "offset_k, each a float32 in 4 bytes (byte 0 = exponent + 127, 0 = zero; bytes 1-3 = mantissa, its "
+                          "leading 1 replaced by the sign), as u_sh_texture's rows 2 and 3"},
+                {"scale_texel", p.scale_texel},
+                {"why", "as uniforms they would take 2 ceil(coeff_count / 4) fragment uniform vectors, more than the limits given leave"},
+                {"scale", std::vector<float>(e.table_scale.begin(), e.table_scale.begin() + k_count)},
+                {"offset", std::vector<float>(e.table_offset.begin(), e.table_offset.begin() + k_count)}};
+        } else if (p.layout == TableLayout::kRgba8Texture) {
             uniforms.push_back({{"name", "u_brdf_scale"}, {"type", "vec4"}, {"count", p.texels_per_node}, {"stage", "fragment"},
                                 {"meaning", "per coefficient k (component k of the array): value = offset + scale * texel"},
                                 {"values", e.table_scale}});
             uniforms.push_back({{"name", "u_brdf_offset"}, {"type", "vec4"}, {"count", p.texels_per_node}, {"stage", "fragment"},
                                 {"values", e.table_offset}});
+        }
+        if (p.layout == TableLayout::kRgba8Texture) {
+            const int slots = 4 * p.texels_per_node;
             double err = 0;
             for (int s = 0; s < slots; ++s) err = std::max(err, e.table_scale[s] / 510.0);
             table["quantization_max_abs_error"] = err;
@@ -852,6 +903,10 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
 
 }  // namespace
 
+namespace {
+void pack_f32(float v, uint8_t* out);
+}  // namespace
+
 Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& v,
                       const Limits& limits) {
     if (!std::regex_match(mat.name, std::regex("[A-Za-z0-9_.-]+"))) {
@@ -881,8 +936,12 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     p.v = &v;
     p.mat = &mat;
     const int k_count = sh::count(v.sh_bands);
-    int vectors = k_count + 1 + 2 * v.lights;  // u_sh, u_albedo, u_light_*
+    const int lim_vectors = limits.max_fragment_uniform_vectors;
+    const int lim_size = limits.max_texture_size;
+    const int fixed_vectors = 1 + 2 * v.lights;  // u_albedo, u_light_*
     int units = (mat.has_albedo_texture() ? 1 : 0) + (mat.has_normal_texture() ? 1 : 0);
+    bool lighting_in_texture = fixed_vectors + k_count > lim_vectors;
+    int table_vectors = 0;  // uniform vectors the table takes (array or scale/offset)
     if (table) {
         brdf::Table bound;
         bound.grid = table->grid;
@@ -901,39 +960,56 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
         }
         p.texels_per_node = (k_count + 3) / 4;
         const Eigen::Vector2i size = brdf::texture_size(bound);
-        e.data_width = size.x();
-        e.data_height = size.y();
-        const int table_vectors = size.x() * size.y();
+        const int texel_count = size.x() * size.y();
         if (v.version == GlslVersion::kEs100) {
             p.layout = TableLayout::kRgba8Texture;
-            vectors += 2 * p.texels_per_node;
-        } else if (vectors + table_vectors <= limits.max_fragment_uniform_vectors) {
+            // The cheapest arrangement that fits: all in uniforms; the table's scale and offset
+            // (2 ceil(k / 4) vectors) in its texture (2 fetches per coefficient); the lighting
+            // (k vectors) in its own (4 fetches per coefficient); both. None fits: refused below.
+            const int scale_vectors = 2 * p.texels_per_node;
+            const bool options[4][2] = {{false, false}, {false, true}, {true, false}, {true, true}};
+            lighting_in_texture = e.table_scale_in_texture = true;
+            for (const auto& o : options) {
+                if (fixed_vectors + (o[0] ? 0 : k_count) + (o[1] ? 0 : scale_vectors) <= lim_vectors) {
+                    lighting_in_texture = o[0];
+                    e.table_scale_in_texture = o[1];
+                    break;
+                }
+            }
+            table_vectors = e.table_scale_in_texture ? 0 : scale_vectors;
+        } else if (fixed_vectors + k_count + texel_count <= lim_vectors) {
             p.layout = TableLayout::kUniformArray;
-            vectors += table_vectors;
+            table_vectors = texel_count;
         } else {
             p.layout = TableLayout::kFloatTexture;
         }
-        const int texel_count = size.x() * size.y();
-        if (p.layout == TableLayout::kRgba8Texture && size.x() > limits.max_texture_size) {
-            // Wrapped: the same texels in their linear order, rows of the largest width the
-            // limits allow (ES 2.0: 64), the last row padded.
-            e.data_width = limits.max_texture_size;
-            e.data_height = (texel_count + e.data_width - 1) / e.data_width;
-        }
-        if (p.layout != TableLayout::kUniformArray) {
-            ++units;
-            if (std::max(e.data_width, e.data_height) > limits.max_texture_size) {
-                throw Error(str("GLES export ", e.name, ": the BRDF table texture is ",
-                                e.data_width, "x", e.data_height, " texels",
-                                p.layout == TableLayout::kRgba8Texture ? " (wrapped)" : "",
-                                ", GL_MAX_TEXTURE_SIZE is ", limits.max_texture_size));
-            }
-        }
         e.table_texels = brdf::texture_texels(bound);
-        e.table_texels.resize(static_cast<size_t>(e.data_width) * e.data_height * 4, 0.0f);
         if (p.layout == TableLayout::kUniformArray) {
-            e.data_width = table_vectors;
+            e.data_width = texel_count;
             e.data_height = 1;
+        } else {
+            // The natural rows (cols x texels per node wide, one per channel and grid row) when
+            // they fit GL_MAX_TEXTURE_SIZE, else the same linear order in rows of that size; the
+            // scale/offset texels, if any, follow the table's. The last row padded.
+            ++units;
+            e.table_scale_texel = texel_count;
+            const int total = texel_count + (e.table_scale_in_texture ? 2 * k_count : 0);
+            e.data_width = size.x();
+            e.data_height = (total + e.data_width - 1) / e.data_width;
+            if (e.data_width > lim_size || e.data_height > lim_size) {
+                e.table_wrapped = true;
+                e.data_width = lim_size;
+                e.data_height = (total + lim_size - 1) / lim_size;
+            }
+            if (e.data_height > lim_size) {
+                throw Error(str("GLES export ", e.name, ": the BRDF table texture needs ", total,
+                                " texels (", texel_count, " of the table, ", size.x(), "x", size.y(),
+                                e.table_scale_in_texture ? str(", and ", 2 * k_count, " for its scale and offset") : "",
+                                "), more than GL_MAX_TEXTURE_SIZE^2 = ", lim_size, "x", lim_size,
+                                " holds; give the device's limit (--gles-max-texture-size) or use a "
+                                "coarser grid or fewer bands"));
+            }
+            e.table_texels.resize(static_cast<size_t>(e.data_width) * e.data_height * 4, 0.0f);
         }
         if (p.layout == TableLayout::kRgba8Texture) {
             // Per coefficient k (texel component): value = offset_k + scale_k * byte / 255.
@@ -951,13 +1027,25 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
             e.table_scale.resize(slots);
             e.table_offset = lo;
             for (int s = 0; s < slots; ++s) e.table_scale[s] = hi[s] - lo[s];
+            if (e.table_scale_in_texture) {  // as the shader unpacks them (subnormals: 0)
+                for (float* f : {e.table_scale.data(), e.table_offset.data()}) {
+                    for (int s = 0; s < slots; ++s) f[s] = std::abs(f[s]) < FLT_MIN ? 0.0f : f[s];
+                }
+            }
             e.table_bytes.resize(e.table_texels.size());
-            for (size_t i = 0; i < e.table_texels.size(); ++i) {
+            for (size_t i = 0; i < real; ++i) {
                 const int s = static_cast<int>(i % static_cast<size_t>(slots));
                 const float q = e.table_scale[s] > 0
-                                    ? (e.table_texels[i] - lo[s]) / e.table_scale[s] * 255.0f
+                                    ? (e.table_texels[i] - e.table_offset[s]) / e.table_scale[s] * 255.0f
                                     : 0.0f;
                 e.table_bytes[i] = static_cast<uint8_t>(std::clamp(std::lround(q), 0L, 255L));
+            }
+            if (e.table_scale_in_texture) {
+                for (int k = 0; k < k_count; ++k) {
+                    pack_f32(e.table_scale[k], &e.table_bytes[(static_cast<size_t>(e.table_scale_texel) + k) * 4]);
+                    pack_f32(e.table_offset[k],
+                             &e.table_bytes[(static_cast<size_t>(e.table_scale_texel) + k_count + k) * 4]);
+                }
             }
             // The table as the shader sees it.
             const int tn = p.texels_per_node;
@@ -982,33 +1070,36 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     e.table_layout = p.layout;
     p.data_width = e.data_width;
     p.data_height = e.data_height;
-    if (vectors > limits.max_fragment_uniform_vectors) {
+    p.wrapped = e.table_wrapped;
+    p.scale_in_texture = e.table_scale_in_texture;
+    p.scale_texel = e.table_scale_texel;
+    if (lighting_in_texture) {
         // The lighting moves into a texture (never truncated): ES 3.00 RGBA32F, ES 1.00 RGBA8
         // with 16 bits per value (float textures are an ES 2.0 extension).
         p.lighting = p.es3() ? LightingLayout::kFloatTexture : LightingLayout::kRgba8Texture;
-        vectors -= k_count;
         ++units;
-        if (k_count > limits.max_texture_size) {
+        if (k_count > lim_size) {
             throw Error(str("GLES export ", e.name, ": the lighting texture is ", k_count,
-                            " texels wide, GL_MAX_TEXTURE_SIZE is ", limits.max_texture_size));
+                            " texels wide, GL_MAX_TEXTURE_SIZE is ", lim_size));
         }
     }
     e.lighting_layout = p.lighting;
+    const int vectors = fixed_vectors + (lighting_in_texture ? 0 : k_count) + table_vectors;
     e.fragment_uniform_vectors = vectors;
     // The material's own textures are the app's to size for its device: their size is stated
     // in gl_limits_needed, not checked against the specification minimum (64 texels in ES 2.0,
     // which no fabric texture meets and no device has).
-    if (vectors > limits.max_fragment_uniform_vectors) {
+    if (vectors > lim_vectors) {
         throw Error(str("GLES export ", e.name, ": needs ", vectors,
                         " fragment uniform vectors (",
                         p.lighting == LightingLayout::kUniformArray
                             ? str(k_count, " lighting coefficients")
                             : std::string("lighting in a texture, u_albedo"),
                         v.lights > 0 ? str(", ", 2 * v.lights, " for ", v.lights, " lights") : "",
-                        p.layout == TableLayout::kRgba8Texture ? ", the table's scale and offset"
-                                                               : "",
-                        "), GL_MAX_FRAGMENT_UNIFORM_VECTORS is ",
-                        limits.max_fragment_uniform_vectors,
+                        table_vectors > 0 && p.layout == TableLayout::kRgba8Texture
+                            ? ", the table's scale and offset"
+                            : "",
+                        "), GL_MAX_FRAGMENT_UNIFORM_VECTORS is ", lim_vectors,
                         "; use fewer bands or lights, or a device with more"));
     }
     if (units > limits.max_texture_image_units) {
@@ -1116,6 +1207,19 @@ envmap::LightShading common_light_shading(const std::vector<envmap::DirectionalL
     return lights.front().shading;
 }
 
+Limits export_limits(const ExportSet& set, GlslVersion version) {
+    Limits l = Limits::minimum(version);
+    if (set.max_texture_size == 0) return l;
+    if (set.max_texture_size < l.max_texture_size) {
+        throw UsageError(str("GL_MAX_TEXTURE_SIZE ", set.max_texture_size, " is below the ",
+                             version == GlslVersion::kEs100 ? "OpenGL ES 2.0" : "OpenGL ES 3.0",
+                             " minimum ", l.max_texture_size, " (GLSL ES ", to_string(version),
+                             " variants)"));
+    }
+    l.max_texture_size = set.max_texture_size;
+    return l;
+}
+
 std::vector<Export> export_material(const brdf::Table* table, const MaterialInputs& material,
                                     const ExportSet& set) {
     std::vector<Export> out;
@@ -1129,7 +1233,7 @@ std::vector<Export> export_material(const brdf::Table* table, const MaterialInpu
                     Export e = export_variant(table, material,
                                               {version, mode, bands, precision, lights,
                                                common_light_shading(set.lights)},
-                                              Limits::minimum(version));
+                                              export_limits(set, version));
                     if (lights > 0) {  // the values the app binds for these lights
                         const LightUniformArrays a = light_uniform_arrays(set.lights);
                         for (auto& u : e.manifest["uniforms"]) {

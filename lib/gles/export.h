@@ -30,9 +30,14 @@
 //               RGBA32F texture (brdf/table.h texture_texels(), read with texelFetch).
 //               ES 1.00: always an RGBA8 texture (fragment uniform arrays may only be indexed
 //               by constants in ES 1.00, and float textures are an extension), value =
-//               offset_k + scale_k x texel, scale/offset per coefficient in uniforms.
+//               offset_k + scale_k x texel, scale/offset per coefficient in uniforms when they
+//               fit, else as float32 bytes in texels after the table's (Export::
+//               table_scale_in_texture). A texture wider or taller than GL_MAX_TEXTURE_SIZE
+//               keeps its texels' linear order in rows of that size (both versions).
 //   Lighting    uniform vec3 u_sh[count(bands)] when it fits beside everything else, else a
-//               texture u_sh_texture (LightingLayout, BoundLighting).
+//               texture u_sh_texture (LightingLayout, BoundLighting). ES 1.00 takes the
+//               cheapest arrangement that fits: all in uniforms; the table's scale/offset in
+//               its texture (2 fetches per coefficient); the lighting in its texture (4); both.
 //   Lights      (consistent mode, Variant::lights > 0) per light j two uniform vectors:
 //               u_light_direction[j] = (d, sin alpha) and u_light_irradiance[j] = E_perp =
 //               flux (1 + cos alpha) / 2 (light_uniforms()); each light adds
@@ -135,6 +140,12 @@ struct Export {
     std::vector<float> table_texels;      ///< RGBA float texels (uniform and float layouts)
     std::vector<uint8_t> table_bytes;     ///< RGBA8 texels (RGBA8 layout)
     std::vector<float> table_scale, table_offset;  ///< per coefficient (RGBA8 layout, 4 per texel)
+    /// RGBA8 layout: scale_k and offset_k are not uniforms but texels table_scale_texel + k and
+    /// table_scale_texel + count + k of the table texture (linear index, count = the variant's
+    /// coefficients), each a float32 in 4 bytes as BoundLighting's rows 2 and 3.
+    bool table_scale_in_texture = false;
+    int table_scale_texel = 0;
+    bool table_wrapped = false;  ///< texels in rows of GL_MAX_TEXTURE_SIZE, not the natural rows
     /// The table the shader sees: truncated to the variant's bands and, for RGBA8, dequantized
     /// (offset + scale x byte / 255 in float). Give this to the CPU model to compare.
     std::optional<brdf::Table> table_as_bound;
@@ -176,14 +187,21 @@ struct ExportSet {
     /// Dominant lights (a lighting file's, render/realtime_lights.h): the consistent variants
     /// shade this many analytically and their manifests carry these lights' uniform values.
     std::vector<envmap::DirectionalLight> lights;
+    /// The target device's GL_MAX_TEXTURE_SIZE; 0 = the specification minimum of each version
+    /// (64 for ES 2.0, 2048 for ES 3.0). Below a version's minimum: UsageError.
+    int max_texture_size = 0;
 };
+/// The limits `set` exports `version` against: Limits::minimum(version) with the set's
+/// max_texture_size. Throws UsageError when that is below the version's minimum.
+Limits export_limits(const ExportSet& set, GlslVersion version);
 /// Parses comma lists: "100,300", "consistent,seed", "highp,mediump". Throws UsageError.
 std::vector<GlslVersion> glsl_versions_from_string(const std::string& list);
 std::vector<ShaderMode> shader_modes_from_string(const std::string& list);
 std::vector<Precision> precisions_from_string(const std::string& list);
 
-/// Every variant of `set` for one material, each against Limits::minimum() of its version (an
-/// export runs on every conforming device). Throws as export_variant, naming the variant.
+/// Every variant of `set` for one material, each against export_limits() of its version (by
+/// default the minimum: an export runs on every conforming device). Throws as export_variant,
+/// naming the variant.
 std::vector<Export> export_material(const brdf::Table* table, const MaterialInputs& material,
                                     const ExportSet& set);
 

@@ -199,17 +199,20 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
     MaterialInputs mat;
     Variant v;
     v.version = GlslVersion::kEs100;
-    v.sh_bands = 6;  // lighting in a texture, but the table's scale and offset: 2 x 9 vectors
-    const brdf::Table table6 = random_table("octa:5", 6, 1, 4);
-    const std::string msg = inlight::testing::error_of(
-        [&] { export_variant(&table6, mat, v, Limits::minimum(GlslVersion::kEs100)); });
-    EXPECT_NE(msg.find("material-es100-consistent-b6-highp"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("needs 19 fragment uniform vectors (lighting in a texture"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("GL_MAX_FRAGMENT_UNIFORM_VECTORS is 16"), std::string::npos) << msg;
-    // ES 1.00 wraps a table wider than GL_MAX_TEXTURE_SIZE into rows of that width; one with
-    // more texels than 64 x 64 is refused.
-    const brdf::Table wide = random_table("thetaphi:5x40", 3, 1, 5);  // 120 x 5 = 600 texels
     v.sh_bands = 3;
+    // 8 lights at the ES 2.0 minimum: 1 + 2 x 8 = 17 vectors even with the lighting and the
+    // table's scale and offset in textures.
+    v.lights = 8;
+    const std::string msg = inlight::testing::error_of(
+        [&] { export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs100)); });
+    EXPECT_NE(msg.find("material-es100-consistent-b3-l8-highp"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("needs 17 fragment uniform vectors (lighting in a texture, u_albedo, 16 for 8 lights)"),
+              std::string::npos) << msg;
+    EXPECT_NE(msg.find("GL_MAX_FRAGMENT_UNIFORM_VECTORS is 16"), std::string::npos) << msg;
+    v.lights = 0;
+    // ES 1.00 wraps a table wider than GL_MAX_TEXTURE_SIZE into rows of that width; one with
+    // more texels than 64 x 64 is refused at the ES 2.0 minimum, naming its size and the limit.
+    const brdf::Table wide = random_table("thetaphi:5x40", 3, 1, 5);  // 120 x 5 = 600 texels
     const Export wrapped = export_variant(&wide, mat, v, Limits::minimum(GlslVersion::kEs100));
     EXPECT_EQ(wrapped.data_width, 64);
     EXPECT_EQ(wrapped.data_height, 10);
@@ -217,7 +220,9 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
     const brdf::Table huge = random_table("thetaphi:33x64", 3, 1, 5);  // 6336 texels
     const std::string msg2 = inlight::testing::error_of(
         [&] { export_variant(&huge, mat, v, Limits::minimum(GlslVersion::kEs100)); });
-    EXPECT_NE(msg2.find("64x99 texels (wrapped), GL_MAX_TEXTURE_SIZE is 64"), std::string::npos) << msg2;
+    EXPECT_NE(msg2.find("needs 6336 texels (6336 of the table, 192x33), more than "
+                        "GL_MAX_TEXTURE_SIZE^2 = 64x64 holds; give the device's limit"),
+              std::string::npos) << msg2;
     // Impossible variants are usage errors.
     v.sh_bands = 4;
     v.mode = ShaderMode::kSeed;
@@ -248,6 +253,83 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
     EXPECT_EQ(export_variant(&table, mat, v, Limits::minimum(GlslVersion::kEs300))
                   .fragment_uniform_vectors,
               9 + 1 + 6);
+}
+
+// Issue 8: ES 1.00 up to the table's bands at the ES 2.0 minimum. The cheapest arrangement that
+// fits the 16 vectors is taken: 3 bands all in uniforms (9 + 1 + 6); 3 bands + 3 lights (22)
+// the table's scale/offset in its texture (16); 4 and 5 bands the lighting in its texture
+// (1 + 8, 1 + 14); 6 and 8 bands both (1). The scale/offset texels follow the table's texels,
+// each the float32 of the manifest's value; and a GL_MAX_TEXTURE_SIZE given above the minimum
+// lays out what the minimum refuses (both versions), in rows of that size.
+TEST(ExportVariant, Es100UpToTheTablesBandsAndLargeTablesWithinTheGivenLimit) {
+    const brdf::Table table = random_table("octa:5", 8, 3, 7);
+    MaterialInputs mat;
+    const Limits es2 = Limits::minimum(GlslVersion::kEs100);
+    struct Expect {
+        int bands, lights;
+        bool lighting_texture, scale_texture;
+        int vectors;
+    };
+    for (const Expect& x : {Expect{3, 0, false, false, 16}, Expect{3, 3, false, true, 16},
+                            Expect{4, 0, true, false, 9}, Expect{5, 0, true, false, 15},
+                            Expect{6, 0, true, true, 1}, Expect{8, 0, true, true, 1},
+                            Expect{8, 7, true, true, 15}}) {
+        Variant v;
+        v.version = GlslVersion::kEs100;
+        v.sh_bands = x.bands;
+        v.lights = x.lights;
+        mat.brdf.specular = brdf::Model::kGgx;
+        const Export e = export_variant(&table, mat, v, es2);
+        EXPECT_EQ(e.lighting_layout != LightingLayout::kUniformArray, x.lighting_texture) << e.name;
+        EXPECT_EQ(e.table_scale_in_texture, x.scale_texture) << e.name;
+        EXPECT_EQ(e.fragment_uniform_vectors, x.vectors) << e.name;
+        EXPECT_EQ(e.manifest["gl_limits_needed"]["max_fragment_uniform_vectors"], x.vectors) << e.name;
+        EXPECT_LE(std::max(e.data_width, e.data_height), 64) << e.name;
+        const int k = x.bands * x.bands, tn = (k + 3) / 4;
+        const bool has_uniforms = e.fragment_source.find("u_brdf_scale") != std::string::npos;
+        EXPECT_NE(has_uniforms, x.scale_texture) << e.name;
+        if (!x.scale_texture) continue;
+        EXPECT_EQ(e.table_scale_texel, 3 * 25 * tn) << e.name;
+        EXPECT_EQ(e.manifest["brdf_table"]["scale_offset"]["scale_texel"], 3 * 25 * tn) << e.name;
+        const int texels = 3 * 25 * tn + 2 * k;  // the table's and 2 k more; the last row padded
+        EXPECT_GE(e.data_width * e.data_height, texels) << e.name;
+        EXPECT_LT(e.data_width * e.data_height - texels, e.data_width) << e.name;
+        for (int c = 0; c < k; ++c) {
+            for (int which = 0; which < 2; ++which) {
+                const uint8_t* b = &e.table_bytes[(e.table_scale_texel + which * k + c) * 4];
+                const float want = which == 0 ? e.table_scale[c] : e.table_offset[c];
+                // The shader's unpack_f32, in double: exact for every float32 it packs.
+                const double m = (((b[1] & 0x7f) | 0x80) * 65536.0 + b[2] * 256.0 + b[3]) / 16777216.0;
+                const double got = b[0] == 0 ? 0.0 : (b[1] & 0x80 ? -1 : 1) * std::ldexp(m, b[0] - 127);
+                EXPECT_EQ(got, static_cast<double>(want)) << e.name << " k " << c;
+            }
+        }
+    }
+    // Larger than 64 x 64 texels: refused at the minimum (RefusesWhatDoesNotFitNamingTheNeed),
+    // laid out within a larger GL_MAX_TEXTURE_SIZE: ES 1.00 RGBA8 and ES 3.00 RGBA32F alike.
+    const brdf::Table huge = random_table("thetaphi:33x64", 3, 1, 5);  // 6336 texels, 192 x 33
+    for (GlslVersion ver : {GlslVersion::kEs100, GlslVersion::kEs300}) {
+        Limits l = Limits::minimum(ver);
+        l.max_texture_size = 128;
+        Variant v;
+        v.version = ver;
+        const Export e = export_variant(&huge, mat, v, l);
+        EXPECT_EQ(e.data_width, 128) << e.name;
+        EXPECT_EQ(e.data_height, 50) << e.name;  // ceil(6336 / 128)
+        EXPECT_TRUE(e.table_wrapped) << e.name;
+        EXPECT_EQ(e.manifest["gl_limits_needed"]["max_texture_size"], 128) << e.name;
+        l.max_texture_size = 79;  // 79 x 79 = 6241 < 6336: refused with the reason
+        EXPECT_NE(inlight::testing::error_of([&] { export_variant(&huge, mat, v, l); })
+                      .find("more than GL_MAX_TEXTURE_SIZE^2 = 79x79 holds"),
+                  std::string::npos) << e.name;
+    }
+    // The export set takes the device's limit; below a version's minimum it is a usage error.
+    ExportSet set;
+    set.max_texture_size = 128;
+    EXPECT_EQ(export_limits(set, GlslVersion::kEs100).max_texture_size, 128);
+    EXPECT_THROW(export_limits(set, GlslVersion::kEs300), UsageError);
+    set.max_texture_size = 0;
+    EXPECT_EQ(export_limits(set, GlslVersion::kEs300).max_texture_size, 2048);
 }
 
 // RGBA8: every coefficient is offset + scale x byte / 255 within half a step of the float

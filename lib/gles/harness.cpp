@@ -263,7 +263,7 @@ Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) 
     }
     if (e.table_layout == TableLayout::kUniformArray) {
         glUniform4fv(loc("u_brdf"), e.data_width, e.table_texels.data());
-    } else if (e.table_layout == TableLayout::kRgba8Texture) {
+    } else if (e.table_layout == TableLayout::kRgba8Texture && !e.table_scale_in_texture) {
         const auto n = static_cast<GLsizei>(e.table_scale.size() / 4);
         glUniform4fv(loc("u_brdf_scale"), n, e.table_scale.data());
         glUniform4fv(loc("u_brdf_offset"), n, e.table_offset.data());

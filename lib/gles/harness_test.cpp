@@ -384,6 +384,54 @@ TEST(GlesHarness, MatchesTheCpuModel) {
     }
 }
 
+// Issue 8: ES 1.00 above 5 bands at the ES 2.0 minimum (16 vectors, 64 texels: the table's
+// scale/offset and the lighting both in textures; octa:5 at 7 bands, 65 texels wide, wrapped
+// into rows of 64, 49 coefficients: the last texel padded), and a table of more than 64 x 64
+// texels (thetaphi:33x64, 6336) laid out within a GL_MAX_TEXTURE_SIZE of 128 given to the
+// exporter (ES 1.00 RGBA8 and ES 3.00 RGBA32F, both wrapped into 128 x 50): the issue's
+// criterion against the CPU model (HDR light is MatchesTheCpuModel's; one level here keeps the
+// compiles of these large shaders to two per item).
+TEST(GlesHarness, ManyBandsAndLargeTablesMatchTheCpuModel) {
+    struct Item {
+        Case c;
+        GlslVersion version;
+        int bands;
+        int max_texture_size;
+    };
+    for (const Item& it : {Item{{"octa:5", 7, 1, false}, GlslVersion::kEs100, 7, 64},
+                           Item{{"thetaphi:33x64", 3, 1, false}, GlslVersion::kEs100, 3, 128},
+                           Item{{"thetaphi:33x64", 3, 1, false}, GlslVersion::kEs300, 3, 128}}) {
+        const bool es3 = it.version == GlslVersion::kEs300;
+        Context& ctx = es3 ? context3() : context2();
+        const brdf::Table t = smooth_table(it.c.grid, it.c.table_bands, it.c.channels, 31);
+        Limits lim = Limits::minimum(it.version);
+        lim.max_texture_size = it.max_texture_size;
+        ASSERT_LE(lim.max_texture_size, ctx.info().limits.max_texture_size);
+        const Variant v{it.version, ShaderMode::kConsistent, it.bands, Precision::kHighp};
+        MaterialInputs mat;
+        mat.name = "probes";
+        const Export e = export_variant(&t, mat, v, lim);
+        EXPECT_LE(std::max(e.data_width, e.data_height), it.max_texture_size) << e.name;
+        if (!es3 && it.bands > 5) {
+            EXPECT_TRUE(e.table_scale_in_texture) << e.name;
+            EXPECT_TRUE(e.table_wrapped) << e.name;
+        }
+        const Eigen::MatrixXd sh = lighting(it.bands, 32);
+        const std::string what = str(e.name, " (", it.c.grid, ", ", to_string(e.table_layout), " ",
+                                     e.data_width, "x", e.data_height,
+                                     e.table_scale_in_texture ? ", scale/offset in the texture" : "",
+                                     ", lighting ", to_string(e.lighting_layout), ") on ",
+                                     ctx.info().renderer);
+        const Outcome byte = compare(ctx, e, v, it.c, sh, TargetFormat::kRgba8);
+        EXPECT_GE(byte.pass_fraction, kMinPassFraction) << what << ", 8-bit: worst " << byte.worst << " codes";
+        if (!ctx.info().float_color_buffer) continue;
+        const Outcome f = compare(ctx, e, v, it.c, sh, TargetFormat::kRgba32f);
+        EXPECT_GE(f.pass_fraction, kMinPassFraction) << what << ", float: worst relative " << f.worst;
+        std::cout << "[gles] " << what << " float: " << f.pass_fraction * 100 << "% within 1e-3, worst "
+                  << f.worst << "; 8-bit worst " << byte.worst << " codes\n";
+    }
+}
+
 envmap::DirectionalLight make_light(const Eigen::Vector3d& d, double radius_deg,
                                     const Eigen::Vector3d& normal_irradiance) {
     envmap::DirectionalLight l;

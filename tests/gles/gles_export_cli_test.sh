@@ -46,9 +46,12 @@ expect_exit 0 "brdf-sh-bake --gles-lighting" -- "$B" "${BAKE[@]}" -o "$WORK/lit"
 expect_true "consistent variants shade the light, seed variants none" -- jq -e \
     '[.variants[].name] == ["lit-es100-consistent-b3-l1-highp", "lit-es100-seed-b3-highp",
                            "lit-es300-consistent-b3-l1-highp", "lit-es300-seed-b3-highp"]' "$WORK/gl/index.json"
-# 9 + 1 + 2 + 6 = 18 vectors with the lighting in uniforms: it moves into an RGBA8 texture.
-expect_true "ES 1.00 with a light fits the ES 2.0 minimum through the lighting texture" -- jq -e \
-    '.lighting_layout == "rgba8_texture_16bit" and .gl_limits_needed.max_fragment_uniform_vectors == 9' \
+# 9 + 1 + 2 + 6 = 18 vectors all in uniforms: the table's scale and offset (6) move into its
+# texture, the cheapest arrangement that fits (the lighting's texture would cost 4 fetches per
+# coefficient, the scale/offset texels 2).
+expect_true "ES 1.00 with a light fits the ES 2.0 minimum through the table texture's scale/offset" -- jq -e \
+    '.lighting_layout == "uniform_array" and .gl_limits_needed.max_fragment_uniform_vectors == 12
+     and .brdf_table.scale_offset.scale_texel == 75' \
     "$WORK/gl/lit-es100-consistent-b3-l1-highp.json"
 expect_true "the manifest binds the file's light (direction, sin alpha, E_perp)" -- jq -e --slurpfile f "$WORK/sun_sh.json" \
     '(.uniforms[] | select(.name == "u_light_direction") | .values | length == 4) and
@@ -61,12 +64,37 @@ expect_exit 0 "ES 1.00 above 3 bands is exported (lighting texture)" -- "$B" --m
     --gles-modes consistent --gles-precisions highp
 expect_true "ES 1.00 at 4 and 5 bands" -- jq -e '[.variants[].name] == ["b5-es100-consistent-b3-highp",
     "b5-es100-consistent-b4-highp", "b5-es100-consistent-b5-highp"]' "$WORK/gl5/index.json"
+# Above 5 bands the table's scale and offset (2 x 9 vectors at 6 bands) move into its texture too.
+expect_exit 0 "ES 1.00 at 6 bands fits the ES 2.0 minimum" -- "$B" --material "$SATIN" --grid octa:5 \
+    --sh-bands 6 --samples 256 -o "$WORK/b6" --export-gles "$WORK/gl6" --gles-versions 100 --gles-max-bands 6 \
+    --gles-modes consistent --gles-precisions highp
+expect_true "its lighting and the table's scale/offset are in textures: 1 uniform vector" -- jq -e \
+    '.lighting_layout == "rgba8_texture_16bit" and .gl_limits_needed.max_fragment_uniform_vectors == 1
+     and .brdf_table.scale_offset.scale_texel == 225 and (.brdf_table.scale_offset.scale | length) == 36
+     and ([.uniforms[].name] | index("u_brdf_scale") == null)' "$WORK/gl6/b6-es100-consistent-b6-highp.json"
+# More than 64 x 64 texels (thetaphi:17x64 at 4 bands: 256 x 17 = 4352): refused at the ES 2.0
+# minimum with the reason, laid out within the device's GL_MAX_TEXTURE_SIZE when it is given.
+BIG=(--material "$SATIN" --grid thetaphi:17x64 --sh-bands 4 --samples 16 --gles-max-bands 4
+     --gles-modes consistent --gles-precisions highp)
+expect_exit 1 "a table above 64 x 64 texels is refused at the ES 2.0 minimum" -- \
+    "$B" "${BIG[@]}" -o "$WORK/big" --export-gles "$WORK/glb" --gles-versions 100
+expect_stderr "needs 4352 texels" "the refusal names the texels needed"
+expect_stderr "= 64x64 holds" "the refusal names the limit"
+expect_true "nothing exported by the refusal" -- test ! -e "$WORK/glb/index.json"
+expect_exit 2 "a GL_MAX_TEXTURE_SIZE below the ES 3.0 minimum for ES 3.00 variants is a usage error" -- \
+    "$B" "${BIG[@]}" -o "$WORK/big" --export-gles "$WORK/glb" --gles-max-texture-size 1024
+expect_exit 0 "the device's GL_MAX_TEXTURE_SIZE 2048 lays it out" -- \
+    "$B" "${BIG[@]}" -o "$WORK/big" --export-gles "$WORK/glb" --gles-max-texture-size 2048
+expect_true "ES 1.00 and 3.00 keep the natural 256 x 17 rows, recorded with the limit given" -- jq -e -s \
+    'map((.textures[] | select(.uniform == "u_brdf_texture") | .width == 256 and .height == 17)
+         and .gl_limits_needed.limits_given.max_texture_size == 2048) | length == 2 and all' \
+    "$WORK/glb/big-es100-consistent-b4-highp.json" "$WORK/glb/big-es300-consistent-b4-highp.json"
 expect_exit 0 "satin on thetaphi:9x32 (96 texels wide) exports ES 1.00" -- "$B" --material "$SATIN" \
     --grid thetaphi:9x32 --sh-bands 3 --samples 256 -o "$WORK/wide" --export-gles "$WORK/glw" --gles-versions 100
 expect_true "its table wraps into 64 x 14 texels" -- jq -e \
     '.textures[] | select(.uniform == "u_brdf_texture") | .width == 64 and .height == 14' \
     "$WORK/glw/wide-es100-consistent-b3-highp.json"
-for f in "$WORK"/gl/*.frag "$WORK"/gl5/*.frag "$WORK"/glw/*.frag; do
+for f in "$WORK"/gl/*.frag "$WORK"/gl5/*.frag "$WORK"/gl6/*.frag "$WORK"/glw/*.frag "$WORK"/glb/*.frag; do
     glslangValidator "$f" > "$WORK/glslang.log" 2>&1 || fail "$f: $(cat "$WORK/glslang.log")"
 done
 pass "every source with lights passes glslangValidator"
