@@ -19,7 +19,7 @@ namespace {
 using namespace inlight;
 
 constexpr int kWidth = 1080, kHeight = 1920;
-constexpr int kTableBands = 6;  // ES 1.00 above 5 bands needs the table's scale/offset in its texture
+constexpr int kTableBands = 6;  // ES 1.00 above 5 bands: the table's scale/offset in its texture
 
 const render::Scene& scene() {
     static const render::Scene s = [] {
@@ -113,6 +113,8 @@ BENCHMARK(BM_GlesFrame)
     ->Args({100, 0, 3, 0, 3, 0})
     ->Args({100, 0, 3, 0, 3, 16})  // the ES 2.0 minimum: lighting in an RGBA8 texture
     ->Args({100, 0, 5, 0, 0, 16})
+    ->Args({100, 0, 6, 0, 0, 0})
+    ->Args({100, 0, 6, 0, 0, 16})  // the table's scale/offset in its texture too
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
@@ -138,6 +140,7 @@ BENCHMARK(BM_CpuModelFrame)
     ->Args({0, 3, 1, 0})
     ->Args({0, 3, 2, 0})
     ->Args({0, 5, 2, 0})
+    ->Args({0, 6, 2, 0})
     ->Args({1, 3, 2, 0})
     ->Args({0, 3, 2, 1})
     ->Args({0, 3, 2, 3})
