@@ -89,6 +89,15 @@ int main(int argc, char** argv) {
         o.seed = common.seed;
         if (!view_xyz.empty()) o.view = brdf::parse_view(view_xyz);
         if (!view_deg.empty()) o.view = brdf::parse_view_deg(view_deg);
+        gles::MaterialInputs gles_in;
+        gles_in.name = std::filesystem::path(output).filename().string();
+        gles_in.brdf = material;
+        const bool lambert = material.specular == brdf::Model::kLambert;  // no specular term
+        if (!gles_args.dir.empty() && max_error <= 0) {
+            // The table's shape is known: a variant that does not fit is refused before the bake.
+            const brdf::Table shape = gles::table_shape(material, grid, o.sh_bands);
+            gles::export_material(lambert ? nullptr : &shape, gles_in, gles_set);
+        }
         brdf::ValidateOptions vopt;
         vopt.reference_rel_tol = brdf::reference_rel_tol_for(o);
         if (full_validate) {
@@ -143,11 +152,7 @@ int main(int argc, char** argv) {
         report.add_output(output + "_texture.exr", "brdf_sh_texture", "data");
         if (!gles_args.dir.empty()) {
             ScopedStage stage(report, "export gles");
-            gles::MaterialInputs in;
-            in.name = std::filesystem::path(output).filename().string();
-            in.brdf = material;
-            const bool lambert = material.specular == brdf::Model::kLambert;  // no specular term
-            const auto exports = gles::export_material(lambert ? nullptr : &table, in, gles_set);
+            const auto exports = gles::export_material(lambert ? nullptr : &table, gles_in, gles_set);
             for (const auto& path : gles::write_exports(gles_args.dir, exports)) {
                 report.add_output(path, "gles_export");
             }

@@ -1207,6 +1207,15 @@ envmap::LightShading common_light_shading(const std::vector<envmap::DirectionalL
     return lights.front().shading;
 }
 
+brdf::Table table_shape(const brdf::Material& material, const brdf::Grid& grid, int sh_bands) {
+    brdf::Table t;
+    t.grid = grid;
+    t.sh_bands = sh_bands;
+    t.channels = brdf::baked_lobe_is_achromatic(material) ? 1 : 3;
+    t.resize();
+    return t;
+}
+
 Limits export_limits(const ExportSet& set, GlslVersion version) {
     Limits l = Limits::minimum(version);
     if (set.max_texture_size == 0) return l;

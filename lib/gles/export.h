@@ -199,6 +199,10 @@ std::vector<GlslVersion> glsl_versions_from_string(const std::string& list);
 std::vector<ShaderMode> shader_modes_from_string(const std::string& list);
 std::vector<Precision> precisions_from_string(const std::string& list);
 
+/// A zero table of the shape brdf::bake() gives `material` on `grid` at `sh_bands` (its
+/// channels): export_material() on it checks that every variant fits before the bake.
+brdf::Table table_shape(const brdf::Material& material, const brdf::Grid& grid, int sh_bands);
+
 /// Every variant of `set` for one material, each against export_limits() of its version (by
 /// default the minimum: an export runs on every conforming device). Throws as export_variant,
 /// naming the variant.

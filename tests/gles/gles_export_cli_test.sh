@@ -80,6 +80,7 @@ expect_exit 1 "a table above 64 x 64 texels is refused at the ES 2.0 minimum" --
     "$B" "${BIG[@]}" -o "$WORK/big" --export-gles "$WORK/glb" --gles-versions 100
 expect_stderr "needs 4352 texels" "the refusal names the texels needed"
 expect_stderr "= 64x64 holds" "the refusal names the limit"
+expect_true "the refusal comes before the bake" -- bash -c "! grep -q 'bake done' '$WORK/stderr'"
 expect_true "nothing exported by the refusal" -- test ! -e "$WORK/glb/index.json"
 expect_exit 2 "a GL_MAX_TEXTURE_SIZE below the ES 3.0 minimum for ES 3.00 variants is a usage error" -- \
     "$B" "${BIG[@]}" -o "$WORK/big" --export-gles "$WORK/glb" --gles-max-texture-size 1024
