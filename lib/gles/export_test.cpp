@@ -45,7 +45,21 @@ std::vector<Case> cases() {
     return {{"thetaphi:5x8", 4, 1, plain},
             {"octa:5", 4, 3, textured},
             {"report5x5", 3, 1, albedo_only},
-            {"disk:4", 5, 1, textured}};
+            {"disk:4", 5, 1, textured},
+            {"octa:4", 6, 1, plain}};  // ES 1.00 above 5 bands
+}
+
+/// The limits each test exports against: the driver-sized ones (everything in uniforms where
+/// it may be) and two at 16 vectors, which move the lighting and the ES 1.00 table's
+/// scale/offset into textures, with 64 and 24 texels per side (24 wraps the wider tables on both
+/// versions). A variant these cannot hold is refused (Error) and skipped.
+std::vector<Limits> test_limits() {
+    Limits tight = roomy_limits();
+    tight.max_fragment_uniform_vectors = 16;
+    tight.max_texture_size = 64;
+    Limits tighter = tight;
+    tighter.max_texture_size = 24;
+    return {roomy_limits(), tight, tighter};
 }
 
 /// all_variants plus consistent variants with 1 and 3 dominant lights (both versions and
@@ -72,7 +86,7 @@ TEST(ExportVariant, EveryVariantPassesGlslangValidator) {
     ASSERT_EQ(std::system("glslangValidator --version > /dev/null 2>&1"), 0)
         << "glslangValidator (Debian glslang-tools, in make deps) is required";
     const std::string dir = inlight::testing::temp_dir("gles_glslang");
-    int checked = 0;
+    int checked = 0, wrapped = 0, scale_in_texture = 0;
     const std::vector<Case> all = cases();
     for (const Case& c : all) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 1);
@@ -81,22 +95,34 @@ TEST(ExportVariant, EveryVariantPassesGlslangValidator) {
             std::vector<const brdf::Table*> tables = {&table};
             if (&c == &all.front()) tables.push_back(nullptr);
             for (const brdf::Table* t : tables) {
-                const Export e = export_variant(t, c.mat, v, roomy_limits());
+              for (size_t li = 0; li < test_limits().size(); ++li) {
+                Export e;
+                try {
+                    e = export_variant(t, c.mat, v, test_limits()[li]);
+                } catch (const Error&) {
+                    continue;  // refused at these limits (RefusesWhatDoesNotFitNamingTheNeed)
+                }
                 for (const auto& [name, bytes] : export_files(e)) {
                     if (name.find(".vert") == std::string::npos &&
                         name.find(".frag") == std::string::npos) {
                         continue;
                     }
-                    const std::string path = dir + "/" + (t ? "" : "lambert-") + name;
+                    const std::string path = dir + "/" + (t ? "" : "lambert-") + str("l", li, "-") + name;
                     std::ofstream(path) << bytes;
                     std::string log;
                     EXPECT_EQ(run_glslang(path, &log), 0) << path << "\n" << log << "\n" << bytes;
                     ++checked;
+                    if (name.find(".frag") == std::string::npos) continue;
+                    wrapped += e.table_wrapped ? 1 : 0;
+                    scale_in_texture += e.table_scale_in_texture ? 1 : 0;
                 }
+              }
             }
         }
     }
-    EXPECT_GE(checked, 100);
+    EXPECT_GE(checked, 300);
+    EXPECT_GT(wrapped, 0);  // the new layouts were among them
+    EXPECT_GT(scale_in_texture, 0);
 }
 
 // Every uniform, varying, constant and function the fragment shader declares is used.
@@ -106,7 +132,13 @@ TEST(ExportVariant, NoDeadDeclarations) {
     for (const Case& c : cases()) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 2);
         for (const Variant& v : variants_with_lights(c.bands)) {
-            const Export e = export_variant(&table, c.mat, v, roomy_limits());
+          for (const Limits& lim : test_limits()) {
+            Export e;
+            try {
+                e = export_variant(&table, c.mat, v, lim);
+            } catch (const Error&) {
+                continue;  // refused at these limits
+            }
             for (const std::string* src : {&e.vertex_source, &e.fragment_source}) {
                 for (auto it = std::sregex_iterator(src->begin(), src->end(), decl);
                      it != std::sregex_iterator(); ++it) {
@@ -119,6 +151,7 @@ TEST(ExportVariant, NoDeadDeclarations) {
                                        << *src;
                 }
             }
+          }
         }
     }
 }
