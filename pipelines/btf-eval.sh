@@ -85,22 +85,23 @@ table() {
 }
 
 # thesis NAME...: $OUT/thesis.md, the thesis' three wool rows of Table 7.1 beside the same (k, C)
-# of each named fabric (measured against its input, and against the seed-2 capture when there is
-# one), with the noise floor between the two captures.
+# of each named fabric: against its input, and, with a seed-2 capture, against that capture, the
+# RMSE from the noise-free BTF (estimated as in table) and the noise floor (one capture against
+# the other: MAE Lab; RMSE / sqrt 2, one capture's noise).
 thesis() {
     local t="$OUT/thesis.md" name
     {
-        echo "| fabric | k | C | MAE Lab | MAE Lab vs seed 2 | noise floor: MAE Lab seed 1 vs seed 2 | raw : stored | raw : params float32 | thesis (wool, Bonn): MAE Lab at ratio |"
-        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        echo "| fabric | k | C | MAE Lab | MAE RGB | RMSE RGB | MAE Lab vs seed 2 | RMSE RGB vs noise-free (est.) | noise: MAE Lab seed 1 vs 2 | noise: RMSE RGB of one capture | raw : stored | raw : params float32 | thesis (wool, Bonn): MAE Lab, MAE RGB, RMSE RGB at ratio |"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
         for name in "$@"; do
-            # shellcheck disable=SC2016  # $f, $k, $c, $th, $k1 are jq variables
+            # shellcheck disable=SC2016  # $f, $k, $c, $th, $k1, $k3, $in, $n are jq variables
             jq -r -n --arg f "$name" --slurpfile k1 "$OUT/$name/k1.json" --slurpfile k3 "$OUT/$name/k3.json" '
-                def r2: . * 100 | round / 100;
-                ($k1[0].metrics.reference.input.mae_lab // null) as $floor
-                | [[1, 8, "2.14 at 1:23"], [3, 8, "2.19 at 1:70"], [3, 32, "2.22 at 1:17"]][]
+                def r2: if type == "number" then . * 100 | round / 100 else "-" end;
+                $k1[0].metrics.reference.input as $in | ($in.rmse_rgb8 // null) as $n
+                | [[1, 8, "2.14, 5.86, 7.5 at 1:23"], [3, 8, "2.19, 6.83, 8.68 at 1:70"], [3, 32, "2.22, 5.92, 7.5 at 1:17"]][]
                 | . as [$k, $c, $th]
                 | (if $k == 1 then $k1[0] else $k3[0] end).metrics.table[] | select(.components == $c)
-                | "| \($f) | \($k) | \($c) | \(.mae_lab|r2) | \(.vs_reference.mae_lab // "-" | if type == "number" then r2 else . end) | \($floor // "-" | if type == "number" then r2 else . end) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | \($th) |"'
+                | "| \($f) | \($k) | \($c) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.vs_reference.mae_lab|r2) | \(if $n then [.vs_reference.rmse_rgb8 * .vs_reference.rmse_rgb8 - $n * $n / 2, 0] | max | sqrt else null end|r2) | \($in.mae_lab|r2) | \(if $n then $n / (2|sqrt) else null end|r2) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | \($th) |"'
         done
     } >"$t"
     say "thesis comparison: $t"
