@@ -1,41 +1,77 @@
 #!/usr/bin/env bash
 # render-decompose: the real-time model's error taken apart on the provided scenes (render
-# --compare --rt-decompose; docs/render.md "Where the error comes from"). The truth samples pixel
+# --compare --rt-decompose; docs/render.md "Where the error comes from"), for pure SH at 1 ..
+# MAX_BANDS bands and for the SH + dominant lights model envmap-project --max-error chooses for
+# the scene's environment (--rt-lighting; LIGHTS=0 leaves it out). The truth samples pixel
 # centres (--no-jitter), so the model and every exact counterpart see the same points, and runs
 # until its noise is at most TARGET (--target-rel-error, capped by BUDGET_S seconds).
 # Writes OUT/decomposition.md (table, machine, date, the noise ratio), OUT/decomposition.tsv and
 # one stacked plot per scene, OUT/<scene>.png.
 #   pipelines/render-decompose.sh [BUILD] [OUT]     (defaults: build, docs/decomposition)
 #   env: SCENES ("patch_city patch_report sphere_city drape_velvet"), PX (48), TARGET (0.005),
-#        BUDGET_S (600), MAX_BANDS (5); PLOT_ONLY=1 redraws the plots from OUT/decomposition.tsv
+#        BUDGET_S (600), MAX_BANDS (5), LIGHTS (1), LIGHT_ERROR (0.01: the budget of the lights
+#        model); PLOT_ONLY=1 redraws the plots from OUT/decomposition.tsv
 set -euo pipefail
 BUILD=${1:-build}
 OUT=${2:-docs/decomposition}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 R="$BUILD/bin/render"
+EP="$BUILD/bin/envmap-project"
 SCENES=${SCENES:-patch_city patch_report sphere_city drape_velvet}
 PX=${PX:-48}
 TARGET=${TARGET:-0.005}
 BUDGET_S=${BUDGET_S:-600}
 MAX_BANDS=${MAX_BANDS:-5}
+LIGHTS=${LIGHTS:-1}
+LIGHT_ERROR=${LIGHT_ERROR:-0.01}
 [ -x "$R" ] || { echo "render-decompose: $R not built" >&2; exit 1; }
 mkdir -p "$OUT"
 RUNS=$(mktemp -d)
 trap 'rm -rf "$RUNS"' EXIT
 MACHINE="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), Debian $(cut -d. -f1 /etc/debian_version), $(date -u +%F)"
 
+# A key of the scene file's [environment] table (the first `key = "value"` or number there).
+env_key() {
+    sed -n '/^\[environment\]/,/^\[/p' "$1" | sed -n "s/^$2 *= *\"\{0,1\}\([^\"#]*\)\"\{0,1\}.*/\1/p" | head -1 | xargs
+}
+
+# shellcheck disable=SC2016  # $s, $model, $d, $m are jq's own variables
+# Rows: scene, model ("sh" or "sh+<k> lights"), bands, lights, then the parts (docs/render.md).
+ROW='[$s, $model, .sh_bands, $d.lights, .total, .model_error_noise_removed, .grid_interpolation,
+      .sh_truncation_diffuse, .sh_truncation_specular, $d.light_shading_diffuse, $d.light_shading_specular,
+      $d.roughness_texture, $d.fixed_view, $d.visibility, $d.truth_noise, .noise_to_model_error,
+      $m.spp, $m.render_time_s, $d.time_s] | @tsv'
 if [ "${PLOT_ONLY:-0}" != 1 ]; then
-    printf 'scene\tsh_bands\ttotal\tmodel\tgrid\tsh_diffuse\tsh_specular\troughness_texture\tfixed_view\tvisibility\ttruth_noise\tnoise_to_model\tspp\ttruth_time_s\tdecompose_time_s\n' \
+    printf 'scene\tmodel\tsh_bands\tlights\ttotal\tmodel\tgrid\tsh_diffuse\tsh_specular\tlight_diffuse\tlight_specular\troughness_texture\tfixed_view\tvisibility\ttruth_noise\tnoise_to_model\tspp\ttruth_time_s\tdecompose_time_s\n' \
         > "$OUT/decomposition.tsv"
     for s in $SCENES; do
         echo "render-decompose: $s" >&2
-        "$R" "$ROOT/configs/scenes/$s.toml" -o "$RUNS/$s.exr" --width-px "$PX" --height-px "$PX" --no-jitter \
+        scene="$ROOT/configs/scenes/$s.toml"
+        lit=()
+        if [ "$LIGHTS" = 1 ]; then
+            # The lights model of the scene's own environment, in its world frame.
+            env=$(env_key "$scene" path)
+            rot=$(env_key "$scene" rotation)
+            gain=$(env_key "$scene" intensity)
+            rc=0
+            "$EP" "$env" --rotate "${rot:-none}" --intensity "${gain:-1}" -o "$RUNS/${s}_lights.json" \
+                --max-error "$LIGHT_ERROR" -q || rc=$?
+            # Exit 3: the budget is not met; the least-error configuration is still written.
+            [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || { echo "render-decompose: envmap-project failed on $env" >&2; exit 1; }
+            lit=(--rt-lighting "$RUNS/${s}_lights.json")
+        fi
+        "$R" "$scene" -o "$RUNS/$s.exr" --width-px "$PX" --height-px "$PX" --no-jitter \
             --spp 1048576 --target-rel-error "$TARGET" --time-budget-s "$BUDGET_S" --seed 1 \
-            --compare --rt-decompose --rt-max-bands "$MAX_BANDS" --rt-supersample 1 --report "$RUNS/$s.json" -q
-        jq -r --arg s "$s" '.metrics as $m | $m.realtime.decomposition as $d | $d.by_sh_bands[]
-            | [$s, .sh_bands, .total, .model_error_noise_removed, .grid_interpolation, .sh_truncation_diffuse,
-               .sh_truncation_specular, $d.roughness_texture, $d.fixed_view, $d.visibility, $d.truth_noise,
-               .noise_to_model_error, $m.spp, $m.render_time_s, $d.time_s] | @tsv' "$RUNS/$s.json" >> "$OUT/decomposition.tsv"
+            --compare --rt-decompose --rt-max-bands "$MAX_BANDS" --rt-supersample 1 "${lit[@]}" \
+            --report "$RUNS/$s.json" -q
+        jq -r --arg s "$s" '.metrics as $m | $m.realtime.decomposition as $d | "sh" as $model
+            | $d.by_sh_bands[] | '"$ROW" "$RUNS/$s.json" >> "$OUT/decomposition.tsv"
+        if [ "$LIGHTS" = 1 ]; then
+            # The chosen configuration: the file's band count, its lights.
+            jq -r --arg s "$s" '.metrics as $m | $m.realtime.decomposition_lighting_file as $d
+                | "sh+\($d.lights) lights" as $model | $d.by_sh_bands | last | '"$ROW" \
+                "$RUNS/$s.json" >> "$OUT/decomposition.tsv"
+        fi
     done
 fi
 
@@ -48,22 +84,29 @@ fi
     echo "(or ${BUDGET_S} s). Every figure is a relative RMS of luminance, sqrt(mean (Y_a - Y_b)^2) /"
     echo "mean Y_truth; each part replaces one approximation by its exact counterpart (docs/render.md)."
     echo "*model* is the total with the truth's noise removed in quadrature; *noise / model* is the"
-    echo "truth's noise over it (below 1/3: the truth resolves the model's error)."
+    echo "truth's noise over it (below 1/3: the truth resolves the model's error). Rows *sh+k lights*:"
+    echo "the SH + dominant lights model envmap-project --max-error $LIGHT_ERROR chooses for the scene's"
+    echo "environment (irradiance budget), at its band count; there *SH* is the truncation of the residual"
+    echo "(the map minus the lights' caps) and *light shading* the model's shading of the lights against"
+    echo "their exact integrals as uniform caps."
     echo
-    echo "| scene | bands | total | model | grid | SH diffuse | SH specular | roughness tex. | fixed view | visibility | truth noise | noise / model | truth spp |"
-    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    awk -F'\t' 'NR > 1 { printf "| %s | %d | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.2f | %d |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13 }' \
+    echo "| scene | model | bands | total | model | grid | SH diffuse | SH specular | light shading diffuse | light shading specular | roughness tex. | fixed view | visibility | truth noise | noise / model | truth spp |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    awk -F'\t' 'NR > 1 { ratio = ($6 > 0) ? sprintf("%.2f", $16) : "noise > total";
+        printf "| %s | %s | %d | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %.4f | %s | %d |\n", $1, $2, $3, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, ratio, $17 }' \
         "$OUT/decomposition.tsv"
     echo
     for s in $SCENES; do echo "![$s]($s.png)"; done
 } > "$OUT/decomposition.md"
 MACHINE_LINE=$(sed -n 3p "$OUT/decomposition.md" | sed -e 's/.* on //' -e 's/; .*//')
 
-# One stacked plot per scene: the parts per band count, the total as a point.
+# One stacked plot per scene: the parts per band count (pure SH) and for the lights model, the
+# total as a point.
 for s in $SCENES; do
-    awk -F'\t' -v s="$s" '$1 == s { print $2, $5, $6, $7, $8, $9, $10, $11, $3 }' "$OUT/decomposition.tsv" > "$RUNS/$s.dat"
+    awk -F'\t' -v s="$s" '$1 == s { lab = ($2 == "sh") ? $3 : $3 "+" $4 "L"; print lab, $7, $8, $9, $10, $11, $12, $13, $14, $15, $5 }' \
+        "$OUT/decomposition.tsv" > "$RUNS/$s.dat"
     gnuplot <<GNUPLOT
-set terminal pngcairo size 760,480 font "sans,9" noenhanced
+set terminal pngcairo size 820,480 font "sans,9" noenhanced
 set output "$OUT/$s.png"
 set title "$s: the real-time model's error by cause (relative RMS of luminance), ${PX}x${PX}\n$MACHINE_LINE"
 set style data histograms
@@ -72,17 +115,19 @@ set style fill solid 0.85 border -1
 set boxwidth 0.7
 set key outside right top
 set grid y
-set xlabel "SH bands (lighting and BRDF table)"
+set xlabel "SH bands (lighting and BRDF table); b+kL: SH + k dominant lights"
 set ylabel "relative RMS error"
 set yrange [0:*]
-plot "$RUNS/$s.dat" using 2:xtic(1) title "BRDF grid interpolation", \
-     "" using 3 title "SH truncation, diffuse", \
-     "" using 4 title "SH truncation, specular", \
-     "" using 5 title "roughness texture", \
-     "" using 6 title "fixed view direction", \
-     "" using 7 title "missing visibility", \
-     "" using 8 title "truth noise", \
-     "" using 0:9 with points pt 7 ps 1.2 lc rgb "black" title "total (model vs truth)"
+plot "$RUNS/$s.dat" using 2:xtic(1) title "BRDF grid interpolation" lc rgb "#9467bd", \
+     "" using 3 title "SH truncation, diffuse" lc rgb "#2ca02c", \
+     "" using 4 title "SH truncation, specular" lc rgb "#17becf", \
+     "" using 5 title "light shading, diffuse" lc rgb "#ff7f0e", \
+     "" using 6 title "light shading, specular" lc rgb "#ffdd44", \
+     "" using 7 title "roughness texture" lc rgb "#1f77b4", \
+     "" using 8 title "fixed view direction" lc rgb "#d62728", \
+     "" using 9 title "missing visibility" lc rgb "#333333", \
+     "" using 10 title "truth noise" lc rgb "#bbbbbb", \
+     "" using 0:11 with points pt 7 ps 1.2 lc rgb "black" title "total (model vs truth)"
 GNUPLOT
 done
 echo "render-decompose: $OUT/decomposition.md, $OUT/decomposition.tsv, $OUT/<scene>.png"

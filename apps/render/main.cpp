@@ -141,7 +141,9 @@ int main(int argc, char** argv) {
     app.add_flag("--rt-decompose", a.decompose,
                  "With --compare: take the model's error apart by replacing one approximation at "
                  "a time with its exact counterpart (grid, SH truncation, roughness texture, "
-                 "fixed view, visibility, truth noise): metrics.realtime.decomposition")
+                 "fixed view, visibility, truth noise): metrics.realtime.decomposition; with "
+                 "--rt-lighting also for the SH + lights model (with the lights' shading as a "
+                 "part): metrics.realtime.decomposition_lighting_file")
         ->needs("--compare");
     app.add_option("--rt-decompose-map-height", a.decompose_map_height,
                    "Rows of the box-filtered map the exact integrals of --rt-decompose sum over")
@@ -286,9 +288,16 @@ int main(int argc, char** argv) {
             dopt.supersample = a.no_jitter ? 1 : cmp.supersample;
             dopt.map_height = a.decompose_map_height;
             dopt.bake = render::compare_bake_options(*scene, cmp, cmp.max_bands);
-            const render::Decomposition d = render::decompose_error(
-                *scene, r, render::compare_lighting(*scene, cmp, cmp.max_bands), dopt);
+            const render::RealtimeLighting pure =
+                render::compare_lighting(*scene, cmp, cmp.max_bands);
+            const render::Decomposition d = render::decompose_error(*scene, r, pure, dopt);
             m["realtime"]["decomposition"] = render::to_json(d);
+            if (lighting) {  // the SH + lights model of --rt-lighting, at the file's bands
+                render::RealtimeLighting lit{lighting->sh.coeffs, pure.tables, lighting->lights};
+                dopt.max_bands = lighting->sh.sh_bands;
+                m["realtime"]["decomposition_lighting_file"] =
+                    render::to_json(render::decompose_error(*scene, r, lit, dopt));
+            }
             log::info(str("render: truth noise ", d.truth_noise,
                           ", exact unshadowed model vs truth ", d.exact_vs_truth,
                           " (decomposition in ", d.time_s, " s)"));

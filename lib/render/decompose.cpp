@@ -7,6 +7,7 @@
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "render/realtime_lights.h"
 #include "sh/sh.h"
 
 namespace inlight::render {
@@ -84,9 +85,18 @@ Eigen::Vector3d exact_specular(const std::vector<MapSample>& map, const Eigen::V
 
 /// Per-pixel luminance of every term (averaged over the pixel's fragments).
 struct Terms {
-    std::vector<double> d0, s0, s1;  ///< [pixel * bands + b - 1]: M0 diffuse, M0 and M1 specular
+    /// [pixel * bands + b - 1]: M0 diffuse, M0 and M1 specular, of the SH part only.
+    std::vector<double> d0, s0, s1;
     std::vector<double> d2, s2, s2r, s3, coarse;  ///< [pixel]
+    /// [pixel]: the lights as the model shades them and their exact integrals as caps.
+    std::vector<double> ld_model, ls_model, ld_exact, ls_exact;
 };
+
+std::vector<double> plus(const std::vector<double>& a, const std::vector<double>& b) {
+    std::vector<double> out(a.size());
+    for (size_t i = 0; i < a.size(); ++i) out[i] = a[i] + b[i];
+    return out;
+}
 
 double rel_rms(const std::vector<double>& a, const std::vector<double>& b, double mean_y) {
     double sum = 0;
@@ -99,6 +109,34 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 }  // namespace
+
+Eigen::Vector3d cap_specular_exact(const envmap::DirectionalLight& light, const Eigen::Vector3d& n,
+                                   const Eigen::Vector3d& view, const brdf::Material& material) {
+    if (material.specular == brdf::Model::kLambert) return Eigen::Vector3d::Zero();
+    const Eigen::Matrix3d local_from_world = brdf::world_from_local(n).transpose();
+    const Eigen::Vector3d wo = local_from_world * view;
+    if (wo.z() <= 0) return Eigen::Vector3d::Zero();
+    const Eigen::Vector3d d = light.direction.normalized();
+    auto term = [&](const Eigen::Vector3d& w) -> Eigen::Vector3d {
+        const double c = n.dot(w);
+        if (c <= 0) return Eigen::Vector3d::Zero();
+        return brdf::eval_specular(material, wo, local_from_world * w) * c;
+    };
+    const double one_minus_cos = 1 - std::cos(light.angular_radius);
+    if (!(one_minus_cos > 0)) return light.flux.cwiseProduct(term(d));
+    // Cells of equal solid angle Omega / N: the radiance Phi / Omega times it is Phi / N.
+    const Eigen::Vector3d t1 = d.unitOrthogonal(), t2 = d.cross(t1);
+    Eigen::Vector3d s = Eigen::Vector3d::Zero();
+    for (int i = 0; i < kCapQuadratureRings; ++i) {
+        const double u = 1 - one_minus_cos * (i + 0.5) / kCapQuadratureRings;
+        const double r = std::sqrt(std::max(0.0, 1 - u * u));
+        for (int j = 0; j < kCapQuadratureSectors; ++j) {
+            const double phi = 2 * kPi * (j + 0.5) / kCapQuadratureSectors;
+            s += term(u * d + r * (std::cos(phi) * t1 + std::sin(phi) * t2));
+        }
+    }
+    return light.flux.cwiseProduct(s) / (kCapQuadratureRings * kCapQuadratureSectors);
+}
 
 Decomposition decompose_error(const Scene& scene, const RenderResult& truth,
                               const RealtimeLighting& lighting, const DecomposeOptions& options) {
@@ -123,7 +161,10 @@ Decomposition decompose_error(const Scene& scene, const RenderResult& truth,
     const auto npx = static_cast<size_t>(w) * static_cast<size_t>(h);
     Terms t;
     for (auto* v : {&t.d0, &t.s0, &t.s1}) v->assign(npx * static_cast<size_t>(nb), 0.0);
-    for (auto* v : {&t.d2, &t.s2, &t.s2r, &t.s3, &t.coarse}) v->assign(npx, 0.0);
+    for (auto* v : {&t.d2, &t.s2, &t.s2r, &t.s3, &t.coarse, &t.ld_model, &t.ls_model,
+                    &t.ld_exact, &t.ls_exact})
+        v->assign(npx, 0.0);
+    d.lights = static_cast<int>(lighting.lights.size());
     const double inv = 1.0 / (ss * ss);
 
     parallel::for_chunks(h, 1, [&](int64_t y0, int64_t y1) {
@@ -177,6 +218,23 @@ Decomposition decompose_error(const Scene& scene, const RenderResult& truth,
                             t.s0[i] += inv * luma(all - diff);
                             t.s1[i] += inv * luma(s1);
                         }
+                        // The lights: as the model shades them (M0, M1) and as exact caps
+                        // (M1x), with the fragment's material as the model uses.
+                        for (const auto& l : lighting.lights) {
+                            const Eigen::Vector3d albedo_pi = sp.brdf.albedo * kInvPi;
+                            envmap::DirectionalLight cap = l;
+                            cap.shading = envmap::LightShading::kCap;
+                            t.ld_model[p] +=
+                                inv * luma(albedo_pi.cwiseProduct(envmap::light_irradiance(l, n)));
+                            t.ld_exact[p] += inv * luma(albedo_pi.cwiseProduct(
+                                                       envmap::light_irradiance(cap, n)));
+                            if (spec) {
+                                t.ls_model[p] +=
+                                    inv * luma(envmap::light_specular(l, n, table.view, sp.brdf));
+                                t.ls_exact[p] +=
+                                    inv * luma(cap_specular_exact(l, n, table.view, sp.brdf));
+                            }
+                        }
                         // M2, M2r, M3: exact integrals over the map.
                         const Eigen::Vector3d albedo_pi = sp.brdf.albedo * kInvPi;
                         const double d2 = luma(albedo_pi.cwiseProduct(exact_irradiance(map, n)));
@@ -225,12 +283,15 @@ Decomposition decompose_error(const Scene& scene, const RenderResult& truth,
         }
         DecompositionBands db;
         db.sh_bands = b;
-        db.total = rel_rms(m0, yt, mean_y);
+        // M0 adds the lights as the model shades them; M1x (= M1 without lights) their caps.
+        db.total = rel_rms(plus(plus(m0, t.ld_model), t.ls_model), yt, mean_y);
         db.grid_interpolation = rel_rms(s0, s1, mean_y);
-        db.sh_truncation_diffuse = rel_rms(d0, t.d2, mean_y);
-        db.sh_truncation_specular = rel_rms(s1, t.s2, mean_y);
+        db.sh_truncation_diffuse = rel_rms(plus(d0, t.ld_exact), t.d2, mean_y);
+        db.sh_truncation_specular = rel_rms(plus(s1, t.ls_exact), t.s2, mean_y);
         d.by_bands.push_back(db);
     }
+    d.light_shading_diffuse = rel_rms(t.ld_model, t.ld_exact, mean_y);
+    d.light_shading_specular = rel_rms(t.ls_model, t.ls_exact, mean_y);
     d.roughness_texture = rel_rms(t.s2, t.s2r, mean_y);
     d.fixed_view = rel_rms(t.s2r, t.s3, mean_y);
     d.truth_noise = std::isfinite(truth.rel_error) ? truth.rel_error : 0.0;
@@ -260,7 +321,8 @@ nlohmann::json to_json(const Decomposition& d) {
     nlohmann::json bands = nlohmann::json::array();
     for (const auto& b : d.by_bands) {
         const double sum = b.grid_interpolation + b.sh_truncation_diffuse +
-                           b.sh_truncation_specular + d.roughness_texture + d.fixed_view +
+                           b.sh_truncation_specular + d.light_shading_diffuse +
+                           d.light_shading_specular + d.roughness_texture + d.fixed_view +
                            d.visibility + d.truth_noise;
         const double model =
             std::sqrt(std::max(0.0, b.total * b.total - d.truth_noise * d.truth_noise));
@@ -275,6 +337,9 @@ nlohmann::json to_json(const Decomposition& d) {
     }
     return {{"metric", "relative RMS of luminance: sqrt(mean (Y_a - Y_b)^2) / mean Y_truth"},
             {"by_sh_bands", bands},
+            {"lights", d.lights},
+            {"light_shading_diffuse", d.light_shading_diffuse},
+            {"light_shading_specular", d.light_shading_specular},
             {"roughness_texture", d.roughness_texture},
             {"fixed_view", d.fixed_view},
             {"visibility", d.visibility},

@@ -15,6 +15,15 @@
 //   M2r the fragment's textured BRDF (roughness texture) in the specular;  M2 - M2r
 //   M3  the true view direction at each fragment instead of v0;            M2r - M3
 //   T   the path tracer: visibility (self-shadowing, inter-reflection) and its own noise.
+// With dominant lights (lighting.lights, envmap-project --max-error: `coeffs` are then the SH of
+// the map minus the lights' caps), the models add the lights as the real-time model shades
+// them (render/realtime_lights.h: the cap's or the smooth cap's irradiance, the specular lobe
+// at the cap's centre times it), and one step splits M1 - M2:
+//   M1x the lights' exact integrals as uniform caps of radiance Phi / Omega_cap: Snyder's exact
+//       irradiance, and the specular integral over the cap (quadrature below) instead of the
+//       model's shading of them;                                       M1 - M1x: light shading
+//   M1x - M2 is then the SH truncation of the residual (map minus caps), diffuse and specular;
+//       it includes how far the map's bright regions are from uniform caps.
 // Each part is the relative RMS of the luminance difference over the image,
 //   sqrt(mean over pixels of (Y_a - Y_b)^2) / mean over pixels of Y_T,
 // the same form as the truth's noise (RenderResult::rel_error), so independent noise adds in
@@ -53,11 +62,14 @@ struct DecompositionBands {
     double total = 0;                   ///< M0 against T
     double grid_interpolation = 0;      ///< M0 - M1
     double sh_truncation_diffuse = 0;   ///< M1 - M2, diffuse term
-    double sh_truncation_specular = 0;  ///< M1 - M2, specular term
+    double sh_truncation_specular = 0;  ///< M1 - M2, specular term (with lights: M1x - M2)
 };
 
 struct Decomposition {
     std::vector<DecompositionBands> by_bands;
+    int lights = 0;                      ///< dominant lights in the model
+    double light_shading_diffuse = 0;    ///< M1 - M1x, diffuse (0 without lights)
+    double light_shading_specular = 0;   ///< M1 - M1x, specular (0 without lights)
     double roughness_texture = 0;   ///< M2 - M2r
     double fixed_view = 0;          ///< M2r - M3
     double visibility = 0;          ///< M3 - T, truth noise removed in quadrature
@@ -72,13 +84,24 @@ struct Decomposition {
     double time_s = 0;
 };
 
-/// Takes the error apart. `lighting` holds the coefficients (>= max_bands) and one table per
-/// material, baked with options.bake (the exact table step re-projects with those options).
+/// Takes the error apart. `lighting` holds the coefficients (>= max_bands), one table per
+/// material, baked with options.bake (the exact table step re-projects with those options),
+/// and optionally dominant lights (see the file comment).
 /// Deterministic for any thread count. Throws UsageError on bad options.
 Decomposition decompose_error(const Scene& scene, const RenderResult& truth,
                               const RealtimeLighting& lighting, const DecomposeOptions& options);
 
 /// Report form: per band count the parts, the shared parts, and the noise ratio.
 nlohmann::json to_json(const Decomposition& d);
+
+/// Integral over a uniform cap of radiance Phi / Omega (light's direction d, radius alpha) of
+/// f_s(n; view, w) max(0, n.w) dw per channel: the light's exact specular, by the midpoint rule
+/// on kCapQuadratureRings x kCapQuadratureSectors cells equal in solid angle (rings in
+/// cos, sectors in azimuth). 0 for a
+/// Lambert material or a view below n's horizon; the lobe at d times Phi max(0, n.d) at alpha 0.
+Eigen::Vector3d cap_specular_exact(const envmap::DirectionalLight& light, const Eigen::Vector3d& n,
+                                   const Eigen::Vector3d& view, const brdf::Material& material);
+/// Rings x sectors of cap_specular_exact.
+inline constexpr int kCapQuadratureRings = 24, kCapQuadratureSectors = 48;
 
 }  // namespace inlight::render

@@ -44,6 +44,22 @@ DecomposeOptions small_options() {
     return o;
 }
 
+/// The real-time model at pixel centres against the truth: relative RMS of luminance.
+double realtime_vs_truth(const Scene& scene, const RealtimeLighting& lighting,
+                         const RenderResult& truth) {
+    RealtimeOptions ro;
+    ro.supersample = 1;
+    const image::Image rt = render_realtime(scene, lighting, ro);
+    double sum = 0, mean = 0;
+    const size_t n = rt.pixel_count();
+    for (size_t p = 0; p < n; ++p) {
+        const double diff = luma(&rt.pixels[3 * p]) - luma(&truth.radiance.pixels[3 * p]);
+        sum += diff * diff;
+        mean += luma(&truth.radiance.pixels[3 * p]) / static_cast<double>(n);
+    }
+    return std::sqrt(sum / static_cast<double>(n)) / mean;
+}
+
 // rms(M3 - T) of pure noise over N pixels is noise x sqrt(chi2_N / N): at N = 64 its 1e-3
 // upper quantile is 1.27 noise; 1.5 covers it. The exact integral over the 64x32 pixels of a
 // smooth map errs ~(pi/32)^2 / 24 = 4e-4 of the mean: 2e-3 covers it.
@@ -99,19 +115,9 @@ TEST(Decompose, SphereInPerspectiveShowsGridAndFixedViewAndTheFirstModelIsTheRea
     // The sphere's normals fall between the 5x5 grid's nodes; the view differs off-centre.
     EXPECT_GT(dec.by_bands[2].grid_interpolation, 1e-3);
     EXPECT_GT(dec.fixed_view, 1e-3);
-    // M0 is render_realtime at pixel centres: its error against the truth, computed here.
-    RealtimeOptions ro;
-    ro.supersample = 1;
-    const image::Image rt = render_realtime(scene, lighting, ro);
-    double sum = 0, mean = 0;
-    const size_t n = rt.pixel_count();
-    for (size_t p = 0; p < n; ++p) {
-        const double diff = luma(&rt.pixels[3 * p]) - luma(&truth.radiance.pixels[3 * p]);
-        sum += diff * diff;
-        mean += luma(&truth.radiance.pixels[3 * p]) / static_cast<double>(n);
-    }
-    // Float image against double sums: a few roundings of 6e-8 relative.
-    EXPECT_NEAR(dec.by_bands[2].total, std::sqrt(sum / static_cast<double>(n)) / mean, 1e-6);
+    // M0 is render_realtime at pixel centres (float image against double sums: a few
+    // roundings of 6e-8 relative).
+    EXPECT_NEAR(dec.by_bands[2].total, realtime_vs_truth(scene, lighting, truth), 1e-6);
 }
 
 TEST(Decompose, SphereShadowingAPatchUnderAConstantSkyIsVisibilityOnly) {
@@ -153,6 +159,125 @@ TEST(Decompose, RejectsWhatItCannotDo) {
     o.max_bands = 2;
     EXPECT_THROW(decompose_error(scene, truth, RealtimeLighting{lighting.coeffs, {}, {}}, o),
                  UsageError);
+}
+
+// A sky of 1 with a disc of radiance 200 (radius 8 deg, theta 40 deg) rasterised at pixel
+// centres, and the disc's light as the extraction fits it (envmap/lights.h): flux Phi = sum
+// (L - 1) Omega, first moment V = sum (L - 1) Omega w, direction V / |V|, radius from
+// |V| / Phi = (1 + cos alpha) / 2. The residual (disc set to the sky) is uniform.
+struct SunOnASky {
+    image::Image map, residual;
+    envmap::DirectionalLight light;
+    SunOnASky(int w, int h) : map(w, h, 3), residual(w, h, 3) {
+        const Eigen::Vector3d sun(std::sin(0.7) * std::cos(0.5), std::sin(0.7) * std::sin(0.5),
+                                  std::cos(0.7));
+        Eigen::Vector3d v = Eigen::Vector3d::Zero();
+        double phi = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const Eigen::Vector3d d = latlong_direction((x + 0.5) / w, (y + 0.5) / h);
+                const bool in = d.dot(sun) >= std::cos(8 * kPi / 180);
+                for (int c = 0; c < 3; ++c) {
+                    map.at(x, y, c) = in ? 200.f : 1.f;
+                    residual.at(x, y, c) = 1.f;
+                }
+                if (in) {
+                    const double omega = latlong_pixel_solid_angle(y, w, h);
+                    phi += 199 * omega;
+                    v += 199 * omega * d;
+                }
+            }
+        light.direction = v.normalized();
+        light.flux = Eigen::Vector3d::Constant(phi);
+        light.angular_radius = std::acos(2 * v.norm() / phi - 1);
+        light.shading = envmap::LightShading::kCap;
+    }
+};
+
+TEST(Decompose, SunAsAnExactCapLeavesTheResidualsTruncationAndTheFirstModelIsTheRealtimeOne) {
+    const SunOnASky sky(256, 128);
+    for (const bool specular : {false, true}) {
+        SurfaceMaterial m = ggx("m");
+        if (!specular) m.brdf.specular = brdf::Model::kLambert;
+        SceneDesc d = testscenes::patch_scene(m, 6);
+        d.environment.image = sky.map;
+        const Scene scene(d);
+        SceneDesc dr = d;
+        dr.environment.image = sky.residual;
+        const Scene residual_scene(dr);
+        const RenderResult truth = pixel_centre_truth(scene, 64);
+        RealtimeLighting lit = testscenes::one_material_lighting(residual_scene, 3, "octa:9", 256);
+        lit.lights = {sky.light};
+        DecomposeOptions o = small_options();
+        o.map_height = 128;  // the map itself: M2 sums the disc's pixels as they are
+        const Decomposition dec = decompose_error(scene, truth, lit, o);
+        EXPECT_EQ(dec.lights, 1);
+        // The model shades the light as the exact cap does: nothing between M1 and M1x.
+        EXPECT_EQ(dec.light_shading_diffuse, 0.0);
+        // The patch's normal (+z) sees the whole disc, so the cap's irradiance n.V (|V| /
+        // Phi = (1 + cos alpha) / 2 makes Snyder's closed form n.V there) equals the disc's
+        // pixel sum: the diffuse truncation is the uniform residual's, one band exact up to
+        // the midpoint rule over 128 rows, (pi / 128)^2 / 24 = 2.5e-5 of pi; 1e-4 bounds it.
+        for (const auto& b : dec.by_bands)
+            EXPECT_LT(b.sh_truncation_diffuse, 1e-4) << b.sh_bands << " bands";
+        // Without the light (pure SH of the map) 3 bands leave the sun's ringing.
+        const Decomposition pure = decompose_error(
+            scene, truth, testscenes::one_material_lighting(scene, 3, "octa:9", 256), o);
+        EXPECT_GT(pure.by_bands[2].sh_truncation_diffuse, 30 * 1e-4);  // measured 7e-3
+        if (specular) {  // the lobe at the cap's centre is not its integral over the cap
+            EXPECT_GT(dec.light_shading_specular, 1e-4);
+        } else {
+            EXPECT_EQ(dec.light_shading_specular, 0.0);
+        }
+        // M0 is render_realtime with the light, at pixel centres (as above: 1e-6).
+        EXPECT_NEAR(dec.by_bands[2].total, realtime_vs_truth(scene, lit, truth), 1e-6);
+    }
+}
+
+TEST(CapSpecularExact, MatchesAFineQuadratureAndTendsToTheLobeAtTheCentre) {
+    brdf::Material m = ggx("m").brdf;
+    const Eigen::Vector3d n(0, 0, 1), view = Eigen::Vector3d(0.3, 0, 1).normalized();
+    envmap::DirectionalLight l;
+    l.flux = {2, 1.5, 1};
+    // A cap astride the lobe and one crossing n's horizon (the max(0, n.w) kink inside it).
+    for (const double theta : {0.3, 1.5}) {
+        l.direction = Eigen::Vector3d(-std::sin(theta), 0.1, std::cos(theta)).normalized();
+        l.angular_radius = 10 * kPi / 180;
+        // Independent reference: a theta-phi grid about the cap's axis with sin-theta weights,
+        // 2000 x 2000 cells (midpoint error ~ (alpha / 2000)^2, far below the tolerance).
+        const Eigen::Vector3d d = l.direction, t1 = d.unitOrthogonal(), t2 = d.cross(t1);
+        const Eigen::Matrix3d lw = brdf::world_from_local(n).transpose();
+        Eigen::Vector3d ref = Eigen::Vector3d::Zero();
+        const int nt = 2000, np = 2000;
+        const double a = l.angular_radius;
+        for (int i = 0; i < nt; ++i) {
+            const double th = a * (i + 0.5) / nt;
+            for (int j = 0; j < np; ++j) {
+                const double ph = 2 * kPi * (j + 0.5) / np;
+                const Eigen::Vector3d w =
+                    std::cos(th) * d + std::sin(th) * (std::cos(ph) * t1 + std::sin(ph) * t2);
+                const double c = n.dot(w);
+                if (c <= 0) continue;
+                ref += brdf::eval_specular(m, lw * view, lw * w) * c * std::sin(th) *
+                       (a / nt) * (2 * kPi / np);
+            }
+        }
+        ref = l.flux.cwiseProduct(ref) / (2 * kPi * (1 - std::cos(a)));
+        const Eigen::Vector3d got = cap_specular_exact(l, n, view, m);
+        // 24 x 48 cells: the midpoint rule on a lobe ~17 deg wide over 0.4-degree rings errs
+        // ~(0.4 / 17)^2 / 24 = 2e-5; the horizon kink over a 7.5-degree sector, at most the
+        // kinked cells' share, 2 / 48 of the rings' width squared: 1e-3 relative bounds both.
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(got[c] / ref[c], 1.0, 1e-3) << "theta " << theta << " channel " << c;
+    }
+    // Radius 0: the lobe at the centre times Phi max(0, n.d), what the model shades.
+    l.angular_radius = 0;
+    l.direction = Eigen::Vector3d(-0.3, 0.1, 1).normalized();
+    const Eigen::Vector3d lobe = envmap::light_specular(l, n, view, m);
+    EXPECT_LT((cap_specular_exact(l, n, view, m) - lobe).norm(), 1e-12 * lobe.norm());
+    // Lambert: no lobe.
+    m.specular = brdf::Model::kLambert;
+    EXPECT_EQ(cap_specular_exact(l, n, view, m), Eigen::Vector3d::Zero());
 }
 
 }  // namespace

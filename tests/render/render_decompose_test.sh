@@ -25,4 +25,29 @@ expect_true "Lambert: no specular truncation, truncation falls from 1 to 3 bands
     jq -e '.metrics.realtime.decomposition.by_sh_bands | .[0].sh_truncation_specular == 0
            and .[2].sh_truncation_diffuse < .[0].sh_truncation_diffuse' "$WORK/s.json"
 expect_true "the decomposition is a timed stage of the run" -- jq -e '.stage_time_s | has("decompose")' "$WORK/s.json"
+
+# The SH + lights model (--rt-lighting): the same parts, the lights' shading as one more, and the
+# residual's truncation in place of the map's. A sky of 1 with a one-pixel sun of 30,000 (as in
+# render_lights_test.sh) over a GGX patch facing an orthographic camera.
+"$TBIN/inlight_make_test_image" "$WORK/sun.exr" 256 128 1 40 40 30000
+cp "$(dirname "$0")/data/sun_patch.toml" "$WORK/sun.toml"
+"$BIN/envmap-project" "$WORK/sun.exr" -o "$WORK/sun_sh.json" --max-error 0.01 -q
+expect_true "the budget took the sun as a light" -- jq -e '(.lights | length) == 1' "$WORK/sun_sh.json"
+expect_exit 0 "decompose the SH + lights model" -- "$R" "$WORK/sun.toml" -o "$WORK/l.exr" --width-px 8 --height-px 8 \
+    --spp 64 --no-jitter \
+    --compare --rt-decompose --rt-max-bands 3 --rt-bake-samples 64 --rt-decompose-map-height 128 \
+    --rt-lighting "$WORK/sun_sh.json" --report "$WORK/l.json"
+# shellcheck disable=SC2016  # $vars in the single-quoted jq programs are jq's own
+expect_true "every part at the file's bands, the lights' shading and the noise ratio" -- \
+    jq -e --slurpfile f "$WORK/sun_sh.json" '.metrics as $m | $m.realtime.decomposition_lighting_file
+    | .lights == 1 and (.by_sh_bands | length == $f[0].sh_bands
+        and all(.[]; has("sh_truncation_diffuse") and has("noise_to_model_error")))
+      and .light_shading_diffuse >= 0 and .light_shading_specular > 0 and has("visibility")
+      and .truth_noise == $m.rel_error' "$WORK/l.json"
+# With the sun taken out the residual is the uniform sky: its diffuse truncation at the file's
+# bands is far below that of pure SH of the map at the same bands (the sun's ringing).
+# shellcheck disable=SC2016
+expect_true "the residual's truncation is 10x below pure SH's at the same bands" -- \
+    jq -e '.metrics.realtime | (.decomposition_lighting_file.by_sh_bands | last) as $l
+    | .decomposition.by_sh_bands[$l.sh_bands - 1].sh_truncation_diffuse > 10 * $l.sh_truncation_diffuse' "$WORK/l.json"
 finish

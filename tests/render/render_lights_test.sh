@@ -9,21 +9,7 @@ EP="$BIN/envmap-project"
 
 # A sky of 1 with a one-pixel sun of 30,000 at 50 deg from the zenith (row 40 of 128).
 "$TBIN/inlight_make_test_image" "$WORK/sun.exr" 256 128 1 40 40 30000
-cat > "$WORK/scene.toml" <<'TOML'
-[environment]
-path = "sun.exr"
-[camera]
-width_px = 12
-height_px = 12
-ortho_height = 0.8
-[material.m]
-specular = "ggx"
-alpha = 0.3
-albedo = [0.5, 0.5, 0.5]
-[[object]]
-shape = "patch"
-material = "m"
-TOML
+cp "$(dirname "$0")/data/sun_patch.toml" "$WORK/scene.toml"
 
 expect_exit 0 "envmap-project chooses the sun as a light" -- "$EP" "$WORK/sun.exr" -o "$WORK/sun_sh.json" \
     --max-error 0.01 -q
