@@ -80,9 +80,9 @@ pct() { echo "(. * 1000 | round / 10 | tostring) + \"%\""; }
     echo "Meet the goal (abs/mean): $(jq '[.[] | select(.best_aom.aom <= '"$GOAL"')] | length' "$RUNS/goal.json") of $(jq length "$RUNS/goal.json");"
     echo "(mean rel): $(jq '[.[] | select(.best_mr.mr <= '"$GOAL"')] | length' "$RUNS/goal.json") of $(jq length "$RUNS/goal.json")."
     echo
-    echo "## Lights found"
+    echo "## Regions found (the starts of the lights' fit, strongest first)"
     echo
-    echo "| map | lights found (theta, phi deg; luminance flux; radius deg) | budget's choice at 1% (lights, bands, ops, error) |"
+    echo "| map | regions found, up to --max-lights + 3 (theta, phi deg; luminance flux; radius deg, as extracted) | budget's choice at 1% (lights, bands, ops, error) |"
     echo "| --- | --- | --- |"
     jq -r '"| \(.map) | \(if (.lights_found | length) == 0 then "none" else [.lights_found[] | "(\(.theta_deg | round), \(.phi_deg | round); \(.luminance_flux * 100 | round / 100); \(.angular_radius_deg * 100 | round / 100)\(if .flux_is_lower_bound then "; lower bound" else "" end))"] | join(" ") end) | \(.chosen.lights), \(.chosen.sh_bands), \(.chosen.cost.operations), \(.chosen.error * 10000 | round / 100)%\(if .met then "" else " (unmet)" end) |"' "$RUNS/chosen.jsonl"
     echo
