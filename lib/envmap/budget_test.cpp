@@ -118,7 +118,7 @@ TEST(PlanBudget, LightAtAPoleOrOnTheSeamIsOneFittedLightOverOneBand) {
     // phi), the fit keeps it on its axis, and the uniform residual needs one band.
     const int w = 256, h = 128;
     const double pitch = kPi / h;  // a pixel's angular size in theta
-    for (const Eigen::Vector3d axis :
+    for (const Eigen::Vector3d& axis :
          {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(-1, 0, 0)}) {
         const Environment env = latlong(w, h, [&](const Eigen::Vector3d& d) {
             return Eigen::Vector3d::Constant(d.dot(axis) > std::cos(3 * kPi / 180) ? 2e4 : 1.0);
