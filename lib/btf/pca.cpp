@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <ctime>
 #include <functional>
 #include <numeric>
 #include <random>
@@ -54,12 +56,85 @@ Eigen::MatrixXd sum_over(int64_t n, int64_t block, Eigen::Index r, Eigen::Index 
     return total;
 }
 
-/// A X: P x N float times N x l double, row block by row block.
+/// The Gram kernel of gram_of_columns: columns in tiles of kGramTile, rows in chunks of
+/// kGramChunkRows converted to double once, each tile pair's dot products in kGramLanes lanes
+/// (lane l sums rows r = l mod kGramLanes in order), the lanes then added in order. A product
+/// of two floats is exact in double, so a fused multiply-add rounds as a multiply then an add
+/// does: the same bits with and without FMA, on any vector width the compiler picks.
+constexpr int64_t kGramTile = 4;
+constexpr int64_t kGramLanes = 4;
+constexpr int64_t kGramChunkRows = 256;  // 256 x 243 doubles = 486 KiB: the chunk stays in L2
+typedef double Lanes __attribute__((vector_size(kGramLanes * sizeof(double))));
+
+/// The kernel of times(): y(r, c) = sum over j in order of double(a(r, j)) x(j, c), each row on
+/// its own (a lane per row), rows [r0, r1) of a strip of kTimesRows; no fused multiply-add
+/// (neither target has it), so every target gives the same bits.
+constexpr int64_t kTimesRows = 16;
+typedef float Floats __attribute__((vector_size(kGramLanes * sizeof(float))));
+
+inline __attribute__((always_inline)) void times_body(const float* a, int64_t lda, int64_t r0, int64_t r1, int64_t n,
+                                                      const double* x, int64_t l, double* y, int64_t ldy) {
+    constexpr int kStrips = kTimesRows / kGramLanes;
+    int64_t r = r0;
+    for (; r + kTimesRows <= r1; r += kTimesRows) {
+        for (int64_t c0 = 0; c0 < l; c0 += 2) {
+            const bool two = c0 + 1 < l;
+            Lanes acc[kStrips][2];
+            for (auto& s : acc) s[0] = s[1] = Lanes{0, 0, 0, 0};
+            const double* x0 = x + c0 * n;
+            const double* x1 = two ? x0 + n : x0;
+            for (int64_t j = 0; j < n; ++j) {
+                const float* col = a + j * lda + r;
+                const double s0 = x0[j], s1 = x1[j];
+                const Lanes b0 = {s0, s0, s0, s0}, b1 = {s1, s1, s1, s1};
+                for (int k = 0; k < kStrips; ++k) {
+                    Floats f;
+                    std::memcpy(&f, col + k * kGramLanes, sizeof f);
+                    const Lanes v = __builtin_convertvector(f, Lanes);
+                    const Lanes p0 = v * b0, p1 = v * b1;
+                    acc[k][0] = acc[k][0] + p0;
+                    acc[k][1] = acc[k][1] + p1;
+                }
+            }
+            for (int k = 0; k < kStrips; ++k)
+                for (int i = 0; i < kGramLanes; ++i) {
+                    y[c0 * ldy + r + k * kGramLanes + i] = acc[k][0][i];
+                    if (two) y[(c0 + 1) * ldy + r + k * kGramLanes + i] = acc[k][1][i];
+                }
+        }
+    }
+    for (; r < r1; ++r)  // the last rows, one at a time in the same order
+        for (int64_t c = 0; c < l; ++c) {
+            double acc = 0;
+            for (int64_t j = 0; j < n; ++j) {
+                const double p = double(a[j * lda + r]) * x[c * n + j];
+                acc = acc + p;
+            }
+            y[c * ldy + r] = acc;
+        }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) void times_avx2(const float* a, int64_t lda, int64_t r0, int64_t r1, int64_t n,
+                                                const double* x, int64_t l, double* y, int64_t ldy) {
+    times_body(a, lda, r0, r1, n, x, l, y, ldy);
+}
+#endif
+
+/// A X: P x N float times N x l double, each row's sum over the columns in order.
 Eigen::MatrixXd times(const Eigen::MatrixXf& a, const Eigen::MatrixXd& x) {
+    INLIGHT_CHECK_EQ(a.cols(), x.rows());
     Eigen::MatrixXd y(a.rows(), x.cols());
-    parallel::for_chunks(a.rows(), block_rows(a.cols()), [&](int64_t b, int64_t e) {
-        const Eigen::MatrixXd blk = a.middleRows(b, e - b).cast<double>();
-        y.middleRows(b, e - b).noalias() = blk * x;
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+#else
+    constexpr bool avx2 = false;
+#endif
+    parallel::for_chunks(a.rows(), 4096, [&](int64_t b, int64_t e) {
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (avx2) return times_avx2(a.data(), a.rows(), b, e, a.cols(), x.data(), x.cols(), y.data(), y.rows());
+#endif
+        times_body(a.data(), a.rows(), b, e, a.cols(), x.data(), x.cols(), y.data(), y.rows());
     });
     return y;
 }
@@ -71,6 +146,54 @@ Eigen::MatrixXd times_transposed(const Eigen::MatrixXf& a, const Eigen::MatrixXd
                         const Eigen::MatrixXd blk = a.middleRows(i, n).cast<double>();
                         acc.noalias() += blk.transpose() * y.middleRows(i, n);
                     });
+}
+
+/// g (n_pad x n_pad, column-major, lower tiles) += X^T X for X: rows x n_pad column-major
+/// (rows a multiple of kGramLanes).
+inline __attribute__((always_inline)) void gram_chunk_body(const double* x, int64_t rows, int64_t n_pad, double* g) {
+    for (int64_t j0 = 0; j0 < n_pad; j0 += kGramTile) {
+        for (int64_t i0 = j0; i0 < n_pad; i0 += kGramTile) {
+            Lanes acc[kGramTile][kGramTile];
+            for (auto& row : acc)
+                for (auto& v : row) v = Lanes{0, 0, 0, 0};
+            const double* xi = x + i0 * rows;
+            const double* xj = x + j0 * rows;
+            for (int64_t r = 0; r < rows; r += kGramLanes) {
+                Lanes vi[kGramTile], vj[kGramTile];
+                for (int t = 0; t < kGramTile; ++t) {
+                    std::memcpy(&vi[t], xi + t * rows + r, sizeof(Lanes));
+                    std::memcpy(&vj[t], xj + t * rows + r, sizeof(Lanes));
+                }
+                for (int a = 0; a < kGramTile; ++a)
+                    for (int b = 0; b < kGramTile; ++b) acc[a][b] += vi[a] * vj[b];
+            }
+            for (int a = 0; a < kGramTile; ++a)
+                for (int b = 0; b < kGramTile; ++b) {
+                    double sum = acc[a][b][0];
+                    for (int l = 1; l < kGramLanes; ++l) sum += acc[a][b][l];
+                    g[(j0 + b) * n_pad + (i0 + a)] += sum;
+                }
+        }
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx512f,avx512vl,fma"))) void gram_chunk_avx512(const double* x, int64_t rows, int64_t n_pad, double* g) {
+    gram_chunk_body(x, rows, n_pad, g);  // 32 vector registers: the 16 accumulators stay in them
+}
+__attribute__((target("avx2,fma"))) void gram_chunk_avx2(const double* x, int64_t rows, int64_t n_pad, double* g) {
+    gram_chunk_body(x, rows, n_pad, g);
+}
+#endif
+
+void gram_chunk(const double* x, int64_t rows, int64_t n_pad, double* g) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    static const int level = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") ? 2
+                             : __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") ? 1 : 0;
+    if (level == 2) return gram_chunk_avx512(x, rows, n_pad, g);
+    if (level == 1) return gram_chunk_avx2(x, rows, n_pad, g);
+#endif
+    gram_chunk_body(x, rows, n_pad, g);
 }
 
 /// A A^T (P x P, double), summed over column blocks.
@@ -326,13 +449,40 @@ PcaMethod pca_method_from_string(const std::string& name) {
 }
 
 Eigen::MatrixXd gram_of_columns(const Eigen::MatrixXf& a) {
-    Eigen::MatrixXd g = sum_over(a.rows(), block_rows(a.cols()), a.cols(), a.cols(),
-                                 [&](Eigen::MatrixXd& acc, int64_t i, int64_t n) {
-                                     const Eigen::MatrixXd blk = a.middleRows(i, n).cast<double>();
-                                     acc.selfadjointView<Eigen::Lower>().rankUpdate(blk.transpose());
-                                 });
-    g.triangularView<Eigen::StrictlyUpper>() = g.transpose();
-    return g;
+    const int64_t n = a.cols(), n_pad = (n + kGramTile - 1) / kGramTile * kGramTile;
+    std::vector<double> partial;  // kPartials lower-triangular tile sums, n_pad x n_pad each
+    const int64_t parts = std::max<int64_t>(1, std::min(kPartials, a.rows()));
+    const int64_t per = (a.rows() + parts - 1) / parts;
+    partial.assign(static_cast<size_t>(parts * n_pad * n_pad), 0.0);
+    parallel::for_chunks(parts, 1, [&](int64_t b, int64_t e) {
+        std::vector<double> chunk(static_cast<size_t>(kGramChunkRows * n_pad));
+        for (int64_t part = b; part < e; ++part) {
+            double* g = partial.data() + part * n_pad * n_pad;
+            const int64_t end = std::min(a.rows(), (part + 1) * per);
+            for (int64_t r0 = part * per; r0 < end; r0 += kGramChunkRows) {
+                // The chunk's rows converted once, column-major, zero-padded to whole tiles and
+                // to a multiple of the vector width (zeros add nothing, exactly).
+                const int64_t rows = std::min(kGramChunkRows, end - r0);
+                const int64_t rows_pad = (rows + kGramLanes - 1) / kGramLanes * kGramLanes;
+                for (int64_t j = 0; j < n_pad; ++j) {
+                    double* col = chunk.data() + j * rows_pad;
+                    int64_t i = 0;
+                    if (j < n)
+                        for (const float* src = a.col(j).data() + r0; i < rows; ++i) col[i] = src[i];
+                    for (; i < rows_pad; ++i) col[i] = 0.0;
+                }
+                gram_chunk(chunk.data(), rows_pad, n_pad, g);
+            }
+        }
+    });
+    Eigen::MatrixXd total(n, n);
+    for (int64_t j = 0; j < n; ++j)
+        for (int64_t i = j; i < n; ++i) {
+            double x = 0;
+            for (int64_t part = 0; part < parts; ++part) x += partial[static_cast<size_t>(part * n_pad * n_pad + j * n_pad + i)];
+            total(i, j) = total(j, i) = x;
+        }
+    return total;
 }
 
 uint64_t fit_memory_bytes(int64_t p, int64_t n, int64_t block_columns, const PcaOptions& o, int threads) {
@@ -449,20 +599,26 @@ CompressStats compress_btf(const BtfSource& source, const PcaOptions& options,
         fit.index = static_cast<int>(gi);
         fit.count = stats.groups;
         auto t0 = Clock::now();
+        const std::clock_t c0 = std::clock();
+        auto cpu_since = [](std::clock_t c) { return double(std::clock() - c) / CLOCKS_PER_SEC; };
         if (options.stream_views > 0 && groups[gi].size() > static_cast<size_t>(options.stream_views)) {
             StreamStats st;
             fit.pca = fit_group_streamed(source, groups[gi], options, gi, &st);
             stats.read_time_s += st.read_time_s;
             stats.fit_time_s += std::chrono::duration<double>(Clock::now() - t0).count() - st.read_time_s;
+            stats.fit_cpu_s += cpu_since(c0);  // reading and fitting interleave: counted as fitting
             stats.stream_passes += st.passes;
             ++stats.streamed_groups;
         } else {
             source.read_group(groups[gi], fit.centred);
             auto t1 = Clock::now();
+            const std::clock_t c1 = std::clock();
             fit.pca = fit_group(fit.centred, groups[gi], options, gi);
             auto t2 = Clock::now();
             stats.read_time_s += std::chrono::duration<double>(t1 - t0).count();
             stats.fit_time_s += std::chrono::duration<double>(t2 - t1).count();
+            stats.read_cpu_s += double(c1 - c0) / CLOCKS_PER_SEC;
+            stats.fit_cpu_s += cpu_since(c1);
         }
         stats.components += fit.pca.components();
         stats.total_energy += fit.pca.total_energy;

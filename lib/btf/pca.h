@@ -137,6 +137,8 @@ struct CompressStats {
     double residual_energy = 0;   ///< sum over groups of the unquantised residual
     double read_time_s = 0;       ///< reading and decoding images
     double fit_time_s = 0;        ///< PCA
+    double read_cpu_s = 0;        ///< CPU time of all the process's threads while reading (std::clock)
+    double fit_cpu_s = 0;         ///< CPU time of all the process's threads while fitting
     int stream_passes = 0;        ///< passes over the images of groups fitted out of core
     int streamed_groups = 0;      ///< groups fitted out of core
     uint64_t peak_rss_bytes = 0;  ///< the process's peak resident memory after the run

@@ -426,7 +426,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                 {"components_max", o.pca.components}, {"max_rmse", o.pca.max_rmse},
                 {"components_total", stats.components}, {"components_per_group", per_group},
                 {"methods", methods}, {"component_format", to_string(o.encoding)}};
-    m["time"] = {{"read_s", stats.read_time_s}, {"fit_s", stats.fit_time_s}, {"store_s", store_s},
+    m["time"] = {{"read_s", stats.read_time_s}, {"fit_s", stats.fit_time_s}, {"read_cpu_s", stats.read_cpu_s},
+                 {"fit_cpu_s", stats.fit_cpu_s}, {"store_s", store_s},
                  {"measure_s", measure_s}, {"total_s", seconds_since(t_start)}};
     m["peak_rss_bytes"] = stats.peak_rss_bytes;
     m["peak_rss_mib"] = stats.peak_rss_bytes / 1048576.0;

@@ -341,5 +341,59 @@ TEST(CompressBtf, EightBitSaturationStaysOptimalAndNeedsMoreComponents) {
         EXPECT_NEAR(g.residual_energy[c], oracle.residual_energy[c], kEnergyTol * g.total_energy);
 }
 
+// The Gram kernel against sums in long double (64-bit mantissa, 2^11 times finer than double):
+// every product of two floats is exact in double, so each entry carries only the rounding of
+// its additions: at most P additions per path (lane sums of P/4 terms, 3 lane adds, one add per
+// chunk and per partial), each within u = 2^-53 of the running sum, so |error| <= (P + 8) u
+// sum_k |a_ki a_kj| (Higham, recursive summation). Sizes not multiples of the 4-column tile, the
+// 4-row lane or the 256-row chunk exercise the padding.
+TEST(GramOfColumns, WithinTheSummationBoundOfLongDoubleSums) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
+    for (auto [p, n] : {std::pair{1031, 37}, std::pair{5, 3}, std::pair{2600, 244}}) {
+        Eigen::MatrixXf a(p, n);
+        for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = uni(rng);
+        const Eigen::MatrixXd g = gram_of_columns(a);
+        const double u = std::ldexp(1.0, -53);
+        double worst = 0;  // error over its bound
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                long double exact = 0, mag = 0;
+                for (int k = 0; k < p; ++k) {
+                    exact += (long double)a(k, i) * a(k, j);
+                    mag += std::fabs((long double)a(k, i) * a(k, j));
+                }
+                const double bound = double(p + 8) * u * double(mag);
+                worst = std::max(worst, double(std::fabs((long double)g(i, j) - exact)) / bound);
+                ASSERT_EQ(g(i, j), g(j, i));
+            }
+        EXPECT_LE(worst, 1.0) << p << "x" << n;
+    }
+}
+
+// The benchmark's case at a small size: one view group (k = 1: 81 lights x 3 = 243 columns) of
+// the analytic BTF with highlights clipped at 1 (not of low rank), C = 8. The Gram path reaches
+// the full SVD's (optimal) residual at every c, so the RMSE is equal, to kEnergyTol of the total.
+TEST(FitGroup, GramEqualsTheFullSvdOnAClippedBonnGroup) {
+    AnalyticBtfOptions bo;
+    bo.width = bo.height = 40;  // 1600 pixels > 243 columns: the Gram path over columns
+    bo.rank = 6;
+    bo.scale = 4.0;
+    const AnalyticBtf btf(bo);
+    Eigen::MatrixXf a0;
+    btf.read_group({0}, a0);
+    a0 = a0.cwiseMin(1.0f);
+    ASSERT_EQ(a0.cols(), 243);
+    Eigen::MatrixXf a = a0;
+    const GroupPca gram = fit_group(a, {0}, options(PcaMethod::kGram, 8), 1);
+    a = a0;
+    const GroupPca svd = fit_group(a, {0}, options(PcaMethod::kFullSvd, 8), 1);
+    ASSERT_EQ(gram.components(), 8);
+    ASSERT_GT(svd.residual_energy[8], 1e-4 * svd.total_energy);  // clipping leaves a real residual at C = 8
+    for (int c = 0; c <= 8; ++c)
+        EXPECT_NEAR(gram.residual_energy[c], svd.residual_energy[c], kEnergyTol * svd.total_energy) << c;
+    EXPECT_NEAR(gram.rmse(8), svd.rmse(8), std::sqrt(kEnergyTol * svd.total_energy / (1600.0 * 243)));
+}
+
 }  // namespace
 }  // namespace inlight::btf

@@ -109,14 +109,19 @@ image::Image AnalyticBtf::render(const Eigen::Vector3d& l, const Eigen::Vector3d
     for (int r = 0; r < m_options.rank; ++r) {
         for (int c = 0; c < 3; ++c) b[r][c] = lobe(r, l, v, c);
     }
+    // Row by row, the terms added in order r = 0, 1, ... to each value as value() adds them
+    // (the same bits), each map row walked contiguously.
+    const int w = m_shape.width;
+    std::vector<double> acc(static_cast<size_t>(3 * w));
     for (int y = 0; y < m_shape.height; ++y) {
-        for (int x = 0; x < m_shape.width; ++x) {
-            for (int c = 0; c < 3; ++c) {
-                double s = 0;
-                for (int r = 0; r < m_options.rank; ++r) s += spatial(r, x, y) * b[r][c];
-                img.at(x, y, c) = static_cast<float>(s);
-            }
+        std::fill(acc.begin(), acc.end(), 0.0);
+        for (int r = 0; r < m_options.rank; ++r) {
+            const float* map = &m_maps[(static_cast<size_t>(r) * m_shape.height + y) * w];
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) acc[static_cast<size_t>(3 * x + c)] += double(map[x]) * b[r][c];
         }
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) img.at(x, y, c) = static_cast<float>(acc[static_cast<size_t>(3 * x + c)]);
     }
     return img;
 }
