@@ -146,6 +146,11 @@ std::vector<CatalogRow> write_catalog(const std::string& root, const std::string
             const std::string rel = str(kind_dir, "/", name);
             const std::string dir = (stdfs::path(root) / rel).string();
             Manifest m = read_bundle(dir);
+            // Inputs of the run (fs::declare_input): no output may land on a bundle's file.
+            fs::declare_input((stdfs::path(dir) / kManifestName).string(), "bundle manifest");
+            for (const FileEntry& f : m.files) {
+                fs::declare_input((stdfs::path(dir) / f.path).string(), "bundle file");
+            }
             const Kind want = std::string(kind_dir) == "fabrics" ? Kind::kFabric : Kind::kDevice;
             if (m.kind != want) {
                 throw Error(str(dir, ": a ", to_string(m.kind), " bundle in ", kind_dir, "/"));

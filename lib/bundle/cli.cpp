@@ -1,11 +1,13 @@
 #include "bundle/cli.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "bundle/bundle.h"
 #include "bundle/catalog.h"
 #include "core/error.h"
+#include "core/fs.h"
 #include "core/validators.h"
 #include "core/log.h"
 
@@ -119,6 +121,13 @@ void run_pack(const PackToolOptions& o, Report& report) {
         }
         const std::string key = p.substr(0, eq), value = p.substr(eq + 1);
         nlohmann::json v = nlohmann::json::parse(value, nullptr, false);
+        // Not JSON: kept as a string, unless it is a number JSON cannot hold ("nan", "inf",
+        // "1e999"), which would otherwise become the string "nan".
+        char* end = nullptr;
+        const double d = std::strtod(value.c_str(), &end);
+        if (v.is_discarded() && !value.empty() && *end == '\0' && !std::isfinite(d)) {
+            throw UsageError(str("--property '", p, "': not a finite number"));
+        }
         if (v.is_discarded()) v = value;
         if (v.is_number_float() && !std::isfinite(v.get<double>())) {
             throw UsageError(str("--property '", p, "': not a finite number"));
@@ -131,6 +140,17 @@ void run_pack(const PackToolOptions& o, Report& report) {
     }
     const std::string dest =
         (stdfs::path(o.root) / (o.kind + "s") / o.id).string();
+    // The sources are inputs, declared before any work; one inside the bundle folder would be
+    // removed or replaced with the folder (a repack from the bundle's own files).
+    std::error_code ec;
+    const std::string inside = stdfs::weakly_canonical(dest, ec).string() + "/";
+    for (const PackFile& f : req.files) {
+        fs::declare_input(f.source, "--file");
+        if (stdfs::weakly_canonical(f.source, ec).string().compare(0, inside.size(), inside) == 0) {
+            throw UsageError(str("--file ", f.source, ": lies inside the bundle folder ", dest,
+                                 ", which pack replaces; copy it out first"));
+        }
+    }
     Manifest m;
     {
         ScopedStage stage(report, "pack");
@@ -205,6 +225,9 @@ void run_verify(const VerifyToolOptions& o, Report& report) {
 void run_index(const IndexToolOptions& o, Report& report) {
     const std::string out =
         o.output.empty() ? (stdfs::path(o.root) / "catalog.sqlite").string() : o.output;
+    // Declared before the bundles are read: write_catalog declares every bundle file an input,
+    // so -o naming one is a usage error, not a bundle overwritten by the catalogue.
+    fs::declare_output(out, "-o");
     std::vector<CatalogRow> rows;
     {
         ScopedStage stage(report, "index");

@@ -41,6 +41,12 @@ bad 2 "outlier-factor.*nan" "calibrate --outlier-factor nan" -- "$CAL" geometry 
 bad 2 "device-from-camera" "calibrate --device-from-camera z=nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --device-from-camera z=nan
 bad 2 "exposure-s.*inf" "calibrate response --exposure-s inf" -- "$CAL" response --images "$WORK/env.exr" "$WORK/env.exr" --exposure-s 0.01 inf -o "$OUT/resp.json"
 
+# bundle pack --property: a number JSON cannot hold was stored as the string "nan" (exit 0).
+"$TBIN/inlight_make_test_image" "$WORK/alb.png" 16 16 0.5
+PACK=("$BIN/bundle" pack --kind fabric --id f --file albedo="$WORK/alb.png" --file thumbnail="$WORK/alb.png" --file material="$MAT" -o "$OUT")
+bad 2 "property.*nan.*not a finite number" "bundle pack --property tile_size_m=nan" -- "${PACK[@]}" --property tile_size_m=nan
+bad 2 "property.*1e999.*not a finite number" "bundle pack --property tile_size_m=1e999" -- "${PACK[@]}" --property tile_size_m=1e999
+
 # NaN in a --config file: the same check as on the command line, naming the option.
 printf 'intensity = nan\n' > "$WORK/nan.toml"
 bad 2 "intensity.*nan" "intensity = nan in --config" -- "$EP" "${ENV[@]}" --config "$WORK/nan.toml"

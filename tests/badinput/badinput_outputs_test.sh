@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Outputs, the classes of issue #12: an output naming an input (calibrate response's image, the
-# scene's environment map) or another output (--stderr-output = -o; two inputs of one stem into
+# scene's environment map, a bundle's file) or another output (--stderr-output = -o; two inputs of one stem into
 # one folder) is a usage error naming both, found before any work; a run that fails after some
 # of its outputs could be written (the second of two envmap-project inputs is bad; the .json of
 # brdf-sh-bake cannot be placed) leaves nothing, the output folder as it was.
@@ -53,4 +53,19 @@ mkdir -p "$OUT/satin.json"
 bad 2 "satin.json.*existing folder" "brdf-sh-bake whose .json cannot be placed" -- \
     "$BIN/brdf-sh-bake" --material "$SRC/configs/materials/satin-ggx.toml" -o "$OUT/satin" --grid report5x5 --samples 64
 rmdir "$OUT/satin.json"
+
+# bundle: the catalogue's -o naming a file of a bundle it indexes (it was overwritten with the
+# SQLite file, exit 0), and pack taking a --file from inside the bundle folder it replaces.
+"$MK" "$WORK/alb.png" 16 16 0.5
+"$MK" "$WORK/thumb.png" 4 4 0.5
+printf 'specular = "lambert"\n' > "$WORK/m.toml"
+"$BIN/bundle" pack --kind fabric --id f --file albedo="$WORK/alb.png" --file thumbnail="$WORK/thumb.png" \
+    --file material="$WORK/m.toml" -o "$WORK/bundles" >/dev/null 2>&1 || fail "bundle pack (set-up)"
+cp "$WORK/bundles/fabrics/f/alb.png" "$WORK/alb_packed.png"
+bad 2 "alb.png" "bundle index -o naming a bundle's file" -- "$BIN/bundle" index "$WORK/bundles" -o "$WORK/bundles/fabrics/f/alb.png"
+same_file "$WORK/bundles/fabrics/f/alb.png" "$WORK/alb_packed.png" "the bundle's file is untouched"
+bad 2 "lies inside the bundle folder" "bundle pack of a file inside the bundle it replaces" -- \
+    "$BIN/bundle" pack --kind fabric --id f --file albedo="$WORK/bundles/fabrics/f/alb.png" \
+    --file thumbnail="$WORK/thumb.png" --file material="$WORK/m.toml" -o "$WORK/bundles"
+same_file "$WORK/bundles/fabrics/f/alb.png" "$WORK/alb_packed.png" "the packed file is untouched"
 finish
