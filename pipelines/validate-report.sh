@@ -67,6 +67,7 @@ mapfile -t FABRICS < <(jq -r '[.[].fabric] | unique[]' "$V/summary.json")
 mapfile -t ENVS < <(jq -r '[.[].environment] | unique[]' "$V/summary.json")
 : > "$P/bands.dat"
 : > "$P/cost.dat"
+: > "$P/gles_cost.dat"
 for fabric in "${FABRICS[@]}"; do
     for env in "${ENVS[@]}"; do
         {
@@ -84,6 +85,15 @@ for fabric in "${FABRICS[@]}"; do
             | [.[0].sh_bands, (map(.frame_time_ms) | median), (map(.mean_de2000) | median)] | @tsv' "$V/summary.json"
         printf '\n\n'
     } >> "$P/cost.dat"
+    {
+        echo "# $fabric: GLES (consistent, highp, the newest GLSL ES): sh_bands, median frame_time_ms, median mean_de2000"
+        jq -r --arg f "$fabric" 'def median: sort | if length % 2 == 1 then .[length / 2 | floor]
+                                                   else (.[length / 2 - 1] + .[length / 2]) / 2 end;
+            [.[] | select(.fabric == $f) | .gles.variants // [] | map(select(.mode == "consistent" and (.variant | test("highp"))))
+             | (map(.glsl_version) | max) as $v | .[] | select(.glsl_version == $v)]
+            | group_by(.sh_bands)[] | [.[0].sh_bands, (map(.frame_time_ms) | median), (map(.mean_de2000) | median)] | @tsv' "$V/summary.json"
+        printf '\n\n'
+    } >> "$P/gles_cost.dat"
 done
 jq -r '.[] | [.fabric, .environment, .bundle_bytes, .shipped.mean_de2000, .truth.rel_noise, .shipped.mean_rel, .seed.mean_de2000] | @tsv' \
     "$V/summary.json" > "$P/pairs.dat"
@@ -114,12 +124,13 @@ set terminal pngcairo size 900,560 font "sans,10"
 set key outside right top font "sans,8"
 set output "$P/error_vs_frame_time.png"
 set title "Error against cost: median over environments, per band count (labels: SH bands)"
-set xlabel "frame time, ms (CPU real-time model, 1 fragment per pixel; GLES frame time: issue 8)"
+set xlabel "frame time, ms (solid: CPU real-time model; dashed: GLES shader on $(jq -r '[.[].gles.driver // empty][0] // "no GL" | sub(".*[|] "; "") | sub(" [(].*"; "")' "$V/summary.json"))"
 set ylabel "median mean CIEDE2000"
 unset logscale x
 set logscale y
 plot for [f=0:$nf-1] "$P/cost.dat" index f using 2:3 with linespoints title word(fabrics, f+1), \
      for [f=0:$nf-1] "$P/cost.dat" index f using 2:3:1 with labels offset 0.8,0.6 notitle, \
+     for [f=0:$nf-1] "$P/gles_cost.dat" index f using 2:3 with linespoints dashtype 2 lc f+1 title word(fabrics, f+1)." GLES", \
      $MAX_DE2000 with lines dashtype 2 lw 2 lc rgb "black" title "good"
 set output "$P/truth_noise.png"
 set title "Is the truth good enough? Its noise against the model error it judges"
