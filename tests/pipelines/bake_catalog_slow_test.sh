@@ -88,6 +88,8 @@ expect_true "the capture and the fabric ran, no other fabric" -- bash -c \
 expect_true "the catalogue lists its BTF: components and bytes as in its manifest" -- test \
     "$(sqlite3 "$OUT/bundles/catalog.sqlite" "SELECT btf_components || ' ' || btf_bytes FROM fabrics WHERE id = 'c1'")" = \
     "$(jq -r '[.files[] | select(.role | startswith("btf_"))] | "\([.[] | select(.role == "btf_component")] | length) \(map(.bytes) | add)"' "$OUT/bundles/fabrics/c1/manifest.json")"
+expect_true "its pair shades the BTF from the workflow's capture, every stream prefix" -- jq -e \
+    '(.btf.raw_btf | endswith("/captures/c1/btf")) and ([.btf.views[0].stream[].components_sent] == [0, 3, 6, 9, 12])' "$OUT/validate/pairs/c1/night/summary.json"
 expect_true "and no BTF for a BRDF-only fabric" -- test "$(sqlite3 "$OUT/bundles/catalog.sqlite" "SELECT btf_bytes FROM fabrics WHERE id = 'f1'")" = 0
 capture_stamp="$(stat -c %y "$OUT/stamps/capture-c1.json")"
 sed -i 's/alpha = 0.3/alpha = 0.4/' "$CAT/fabrics/c1/material.toml"
