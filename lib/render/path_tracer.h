@@ -60,9 +60,11 @@ struct RenderOptions {
     Strategy strategy = Strategy::kMis;
     SamplerKind sampler = SamplerKind::kSobol;
     /// Sobol only: independently scrambled sample groups per pixel, whose spread is the noise
-    /// estimate (render/sampler.h); >= 2. More groups give a steadier per-pixel estimate but
-    /// each group is a shorter sequence (the error of their mean grows ~groups^0.2 at spp^-0.7).
-    int scramble_groups = 4;
+    /// estimate (render/sampler.h); >= 2. More groups give a steadier per-pixel estimate (G - 1
+    /// dof) but each group is a shorter sequence, so the image's error grows with G: 2 (the
+    /// default) has 7-24% less error than 4 at equal samples (docs/benchmarks.md, issue 13),
+    /// and its 1-dof map still predicts the image's error (its sum over pixels has many dof).
+    int scramble_groups = 2;
     std::vector<int> snapshot_spp;  ///< also keep the image after these sample counts
     /// Adaptive sampling: after adaptive_min_spp uniform samples (at least 2 per scramble
     /// group), each pass goes to the pixels whose neighbourhood variance of the mean per sample

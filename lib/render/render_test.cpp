@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "core/conventions.h"
@@ -18,7 +19,7 @@ namespace inlight::render {
 namespace {
 
 /// Per-pixel acceptance |mean - exact| <= kSigmas * se (independent sampler: with the Sobol
-/// sampler's 4 scramble groups se has 3 dof and per-pixel tails are too heavy; see
+/// sampler's few scramble groups se has G - 1 dof and per-pixel tails are too heavy; see
 /// expect_noise_predicts_error). With the sample standard error of n >= 64 samples the statistic
 /// is ~Student-t; over ~2000 pixel-channels per image a Bonferroni
 /// family-wise false-alarm rate of 1e-3 needs a two-sided per-test level of 5e-7, i.e. about 5.0
@@ -95,22 +96,58 @@ void expect_within_noise(const RenderResult& r, const std::vector<Eigen::Vector3
     }
 }
 
+/// Standard deviations of the derived spread (noise_map_log_band) that the noise map's
+/// actual / predicted ratio may stray. Over 20 seeds each (white furnace and Lambert sphere
+/// below, 2 and 4 scramble groups) the measured sd of log(ratio) was 0.70-1.21x the derived one
+/// (20 seeds: +-16%): pixels of one Morton block share a Sobol sequence, which the derivation
+/// ignores. 5 derived sd are >= 4.1 measured ones: <= 4e-5 two-sided per check.
+constexpr double kNoiseMapSigmas = 5.0;
+
+/// How far the noise map's prediction may stray from the actual error: the half-width of the
+/// accepted band for log(RMS error / RMS predicted), kNoiseMapSigmas standard deviations of it.
+/// Derivation (Gaussian pixel means; each pixel's three channels come from the same paths, so a
+/// pixel is one unit): pixel i's squared error summed over channels has mean S_i (the sum of its
+/// channel variances) and variance <= 2 S_i^2, so the image's MSE has relative variance
+/// <= 2 / N_eff with N_eff = (sum S_i)^2 / sum S_i^2 (Kish's effective count: a few bright pixels
+/// dominate a sum of unequal variances). The map's variance is the spread of G independent
+/// group means (dof = G - 1; the Welford variance of n samples, dof = n - 1, with one group),
+/// s_i = S_i chi2_dof / dof, so its sum has relative variance <= 2 / (dof N_eff), independent of
+/// the error (the mean and the spread of Gaussian group means are independent). Hence
+/// sd(log ratio) <= 0.5 sqrt(2 / N_eff (1 + 1 / dof)). N_eff is taken from the map itself:
+/// E[s_i^2] <= (1 + 2 / dof) S_i^2, so sum s_i^2 / (1 + 2 / dof) estimates sum S_i^2 without
+/// under-stating it when the channels are fully correlated and by less than the channel-wise
+/// count would need when they are not.
+double noise_map_log_band(const std::vector<double>& pixel_var, int dof) {
+    double sum = 0, sum2 = 0;
+    for (double s : pixel_var) {
+        sum += s;
+        sum2 += s * s;
+    }
+    const double n_eff = sum * sum / (sum2 / (1.0 + 2.0 / dof));
+    return kNoiseMapSigmas * 0.5 * std::sqrt(2.0 / n_eff * (1.0 + 1.0 / dof));
+}
+
 /// Sobol sampler: the image average is unbiased within its noise (the sum of per-pixel
 /// variances; pixels of one Morton block are negatively correlated, so this is conservative),
-/// and the noise map predicts the error: RMS(mean - exact) / sqrt(mean se^2) is 1.
+/// and the noise map predicts the error: RMS(mean - exact) / sqrt(mean se^2) is 1 within
+/// noise_map_log_band. `groups` is the render's scramble groups.
 void expect_noise_predicts_error(const RenderResult& r, const std::vector<Eigen::Vector3d>& exact,
-                                 const std::vector<bool>& mask, const std::string& what) {
+                                 const std::vector<bool>& mask, int groups,
+                                 const std::string& what) {
     double mse = 0, var = 0;
     int used = 0;
+    std::vector<double> pixel_var;
     Eigen::Vector3d sum_diff = Eigen::Vector3d::Zero(), sum_var = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < exact.size(); ++i) {
         if (!mask.empty() && !mask[i]) continue;
         ++used;
+        pixel_var.push_back(0.0);
         for (int c = 0; c < 3; ++c) {
             const double diff = r.radiance.pixels[i * 3 + static_cast<size_t>(c)] - exact[i][c];
             const double se = r.std_error.pixels[i * 3 + static_cast<size_t>(c)];
             mse += diff * diff;
             var += se * se;
+            pixel_var.back() += se * se;
             sum_diff[c] += diff;
             sum_var[c] += se * se;
         }
@@ -120,13 +157,12 @@ void expect_noise_predicts_error(const RenderResult& r, const std::vector<Eigen:
         EXPECT_LE(std::abs(sum_diff[c]), kAggregateSigmas * std::sqrt(sum_var[c]) + 1e-6 * used)
             << what << ": image-average bias in channel " << c;
     }
-    // >= 100 pixels (channels share paths, so ~100 independent errors): the MSE has a relative
-    // sd <= sqrt(2/100) = 14%, the mean of 3-dof variances <= sqrt(2/300) = 8%, so the RMS ratio
-    // has sd <= 8%; [0.7, 1.4] is over 4 sd either way.
-    constexpr double kRatioLo = 0.7, kRatioHi = 1.4;
+    const double band = noise_map_log_band(pixel_var, groups - 1);
     const double ratio = std::sqrt(mse / var);
-    EXPECT_GT(ratio, kRatioLo) << what << ": the noise map over-states the error";
-    EXPECT_LT(ratio, kRatioHi) << what << ": the noise map under-states the error";
+    std::printf("%s: actual / predicted RMS %.3f, accepted [%.3f, %.3f]\n", what.c_str(), ratio,
+                std::exp(-band), std::exp(band));
+    EXPECT_GT(ratio, std::exp(-band)) << what << ": the noise map over-states the error";
+    EXPECT_LT(ratio, std::exp(band)) << what << ": the noise map under-states the error";
 }
 
 TEST(PathTracer, WhiteFurnaceMis) {
@@ -147,7 +183,8 @@ TEST(PathTracer, WhiteFurnaceMis) {
     EXPECT_EQ(r.nonfinite_samples, 0);
     EXPECT_GT(r.std_error.pixels[(12 * 24 + 12) * 3], 0.0f);  // MIS is not trivially exact
     o.sampler = SamplerKind::kSobol;
-    expect_noise_predicts_error(render(scene, o), exact, {}, "white furnace (mis, sobol)");
+    expect_noise_predicts_error(render(scene, o), exact, {}, o.scramble_groups,
+                                "white furnace (mis, sobol)");
 }
 
 TEST(PathTracer, WhiteFurnaceBsdfSamplingIsExact) {
@@ -216,7 +253,8 @@ TEST(PathTracer, LambertSphereUnderHdriEqualsBruteForceIrradiance) {
                         "Lambert sphere under city.exr (independent)");
     o.sampler = SamplerKind::kSobol;
     const RenderResult sobol = render(scene, o);
-    expect_noise_predicts_error(sobol, exact, on_sphere, "Lambert sphere under city.exr (sobol)");
+    expect_noise_predicts_error(sobol, exact, on_sphere, o.scramble_groups,
+                                "Lambert sphere under city.exr (sobol)");
 }
 
 TEST(PathTracer, EstimatorsAgreeWithInterreflection) {
@@ -352,18 +390,27 @@ TEST(PathTracer, SobolErrorFallsFasterThanInverseSqrtOnDirectLighting) {
     EXPECT_LT(c.slope, kSlopeMax);
 }
 
-/// Relative RMSE of `img` against `ref` and the RMSE its noise map predicts, both / mean(ref).
-std::pair<double, double> error_and_prediction(const RenderResult& r, const RenderResult& ref) {
+/// Relative RMSE of `img` against `ref` and the RMSE its noise map predicts, both / mean(ref),
+/// and the accepted band of their log ratio (noise_map_log_band; the reference's own variance,
+/// from `ref_groups` groups at many more samples, is added to each pixel's).
+struct ErrorAndPrediction {
+    double error, predicted, log_band;
+};
+ErrorAndPrediction error_and_prediction(const RenderResult& r, const RenderResult& ref,
+                                        int groups) {
     double mse = 0, var = 0, mean = 0;
     const size_t n = r.radiance.pixels.size();
+    std::vector<double> pixel_var(n / 3, 0.0);
     for (size_t i = 0; i < n; ++i) {
         const double d = static_cast<double>(r.radiance.pixels[i]) - ref.radiance.pixels[i];
         const double se = r.std_error.pixels[i], se_ref = ref.std_error.pixels[i];
         mse += d * d;
         var += se * se + se_ref * se_ref;
+        pixel_var[i / 3] += se * se + se_ref * se_ref;
         mean += ref.radiance.pixels[i];
     }
-    return {std::sqrt(mse / n) / (mean / n), std::sqrt(var / n) / (mean / n)};
+    return {std::sqrt(mse / n) / (mean / n), std::sqrt(var / n) / (mean / n),
+            noise_map_log_band(pixel_var, groups - 1)};
 }
 
 TEST(PathTracer, AdaptiveSamplingLowersTheErrorAtEqualSamplesAndStaysHonest) {
@@ -398,15 +445,18 @@ TEST(PathTracer, AdaptiveSamplingLowersTheErrorAtEqualSamplesAndStaysHonest) {
     EXPECT_EQ(adaptive.radiance.pixels, adaptive2.radiance.pixels);  // any thread count
     EXPECT_NEAR(adaptive.mean_spp, 64.0, 1.0);  // the budget: the last pass is clipped to it
     EXPECT_GT(adaptive.max_pixel_spp, 2 * 64);          // it did move samples
-    const auto [e_uni, p_uni] = error_and_prediction(uniform, ref);
-    const auto [e_ad, p_ad] = error_and_prediction(adaptive, ref);
+    const ErrorAndPrediction uni = error_and_prediction(uniform, ref, o.scramble_groups);
+    const ErrorAndPrediction ad = error_and_prediction(adaptive, ref, o.scramble_groups);
     // Equal samples: the error halves here (0.029 against 0.057 when written); each error is
     // good to a few % (576 pixels), so asking for 0.8 cannot pass by luck nor fail by noise.
     constexpr double kMinGain = 0.8;
-    EXPECT_LT(e_ad, kMinGain * e_uni);
-    // Honest map: 400 pixels x 3 channels, as expect_noise_predicts_error.
-    EXPECT_GT(p_ad / e_ad, 0.7);
-    EXPECT_LT(p_ad / e_ad, 1.4);
+    EXPECT_LT(ad.error, kMinGain * uni.error);
+    // Honest map, as expect_noise_predicts_error (the pixels the sampler chose by their own
+    // estimate are where it under-states; the 3 x 3 neighbourhood it ranks by dilutes that).
+    std::printf("adaptive: actual / predicted RMS %.3f, accepted [%.3f, %.3f]\n",
+                ad.error / ad.predicted, std::exp(-ad.log_band), std::exp(ad.log_band));
+    EXPECT_GT(ad.predicted / ad.error, std::exp(-ad.log_band));
+    EXPECT_LT(ad.predicted / ad.error, std::exp(ad.log_band));
 }
 
 TEST(PathTracer, StopsAtTargetRelativeError) {
