@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/parallel.h"
 
 namespace inlight::envmap {
 
@@ -29,30 +31,92 @@ std::string to_string(Layout layout) {
     return "?";
 }
 
-InputStats scan_pixels(image::Image& img, NonFinitePolicy policy, const std::string& source) {
-    InputStats stats;
-    stats.min_value = std::numeric_limits<double>::infinity();
-    stats.max_value = -std::numeric_limits<double>::infinity();
-    int64_t first = -1;
-    for (size_t i = 0; i < img.pixels.size(); ++i) {
-        const float v = img.pixels[i];
+namespace {
+
+/// Float min / max over finite values, counts of negative and non-finite values.
+struct ScanPartial {
+    float lo = std::numeric_limits<float>::infinity();
+    float hi = -std::numeric_limits<float>::infinity();
+    int64_t negative = 0, nonfinite = 0;
+};
+
+/// One chunk, four lanes at a time with GCC/Clang vector extensions (compares give lane masks,
+/// selects become blends, min/max minps/maxps): the serial double-precision loop with isfinite
+/// it replaces cost a tenth of OIIO's whole read of a 4096 x 2048 float EXR.
+typedef float Float4 __attribute__((vector_size(16)));
+typedef int32_t Int4 __attribute__((vector_size(16)));
+ScanPartial scan_chunk(const float* p, int64_t n) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    constexpr float kMax = std::numeric_limits<float>::max();
+    Float4 lo = {kInf, kInf, kInf, kInf}, hi = -lo;
+    const Float4 inf = lo, max = {kMax, kMax, kMax, kMax}, zero = {0, 0, 0, 0};
+    Int4 negative = {0, 0, 0, 0}, finite_count = {0, 0, 0, 0};  // n / 4 per lane at most
+    int64_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        Float4 v;
+        std::memcpy(&v, p + i, sizeof v);
+        // |v| <= FLT_MAX is false for NaN and +-Inf (every comparison with NaN is false).
+        const Int4 finite = (v <= max) & (v >= -max);
+        finite_count -= finite;  // masks are -1 where true
+        negative -= finite & (v < zero);
+        const Float4 for_lo = finite ? v : inf, for_hi = finite ? v : -inf;
+        lo = for_lo < lo ? for_lo : lo;
+        hi = for_hi > hi ? for_hi : hi;
+    }
+    ScanPartial s;
+    for (int k = 0; k < 4; ++k) {
+        s.lo = std::min(s.lo, lo[k]);
+        s.hi = std::max(s.hi, hi[k]);
+        s.negative += negative[k];
+        s.nonfinite -= finite_count[k];
+    }
+    s.nonfinite += i;  // non-finite = values scanned - finite ones
+    for (; i < n; ++i) {
+        const float v = p[i];
         if (!std::isfinite(v)) {
-            if (first < 0) first = static_cast<int64_t>(i);
-            ++stats.nonfinite_values;
-            if (policy == NonFinitePolicy::kZero) img.pixels[i] = 0.0f;
+            ++s.nonfinite;
             continue;
         }
-        if (v < 0) ++stats.negative_values;
-        stats.min_value = std::min(stats.min_value, double(v));
-        stats.max_value = std::max(stats.max_value, double(v));
+        s.negative += v < 0;
+        s.lo = std::min(s.lo, v);
+        s.hi = std::max(s.hi, v);
     }
+    return s;
+}
+
+}  // namespace
+
+InputStats scan_pixels(image::Image& img, NonFinitePolicy policy, const std::string& source) {
+    // Min, max and counts do not depend on the order, so the fixed chunks run in parallel.
+    constexpr int64_t kChunk = int64_t{1} << 20;  // values; lane counts stay far below 2^31
+    const ScanPartial all = parallel::reduce(
+        static_cast<int64_t>(img.pixels.size()), kChunk, ScanPartial{},
+        [&](int64_t begin, int64_t end) { return scan_chunk(img.pixels.data() + begin, end - begin); },
+        [](ScanPartial a, const ScanPartial& b) {
+            a.lo = std::min(a.lo, b.lo);
+            a.hi = std::max(a.hi, b.hi);
+            a.negative += b.negative;
+            a.nonfinite += b.nonfinite;
+            return a;
+        });
+    InputStats stats;
+    stats.min_value = all.lo;
+    stats.max_value = all.hi;
+    stats.negative_values = all.negative;
+    stats.nonfinite_values = all.nonfinite;
     if (stats.nonfinite_values > 0) {
+        int64_t first = -1;
+        for (size_t i = 0; i < img.pixels.size(); ++i) {
+            if (std::isfinite(img.pixels[i])) continue;
+            if (first < 0) first = static_cast<int64_t>(i);
+            if (policy == NonFinitePolicy::kZero) img.pixels[i] = 0.0f;
+        }
         const int64_t pixel = first / img.channels;
         const std::string where =
             str("pixel (x=", pixel % img.width, ", y=", pixel / img.width, ") channel ",
                 first % img.channels);
-        const char* kind = std::isnan(img.pixels[static_cast<size_t>(first)]) ? "NaN" : "Inf";
         if (policy == NonFinitePolicy::kReject) {
+            const char* kind = std::isnan(img.pixels[static_cast<size_t>(first)]) ? "NaN" : "Inf";
             throw Error(str(source, ": ", where, " is ", kind, " (", stats.nonfinite_values,
                             " non-finite values in all); pass --nonfinite zero to replace them"));
         }

@@ -491,6 +491,43 @@ TEST(Input, NonFinitePixelsRejectedWithPositionOrReplacedAndCounted) {
     EXPECT_FLOAT_EQ(float(s.min_value), -0.01f);
 }
 
+TEST(Input, ParallelScanEqualsASerialScan) {
+    // 1024 x 512 x 3 values span two of the scan's 2^20-value chunks: min, max and counts
+    // against a plain serial loop; -Inf and NaN in either chunk neither count as negative nor
+    // reach min/max, and the error names the first one in memory order.
+    image::Image img(1024, 512, 3);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<float> u(-0.5f, 900.0f);
+    for (float& p : img.pixels) p = u(rng);
+    img.pixels[1200000] = -INFINITY;  // second chunk
+    img.pixels[700001] = std::nanf("");  // first chunk: named first
+    double lo = INFINITY, hi = -INFINITY;
+    int64_t negative = 0;
+    for (float v : img.pixels) {
+        if (!std::isfinite(v)) continue;
+        lo = std::min(lo, double(v));
+        hi = std::max(hi, double(v));
+        negative += v < 0;
+    }
+    image::Image copy = img;
+    const InputStats s = scan_pixels(copy, NonFinitePolicy::kZero, "big.exr");
+    EXPECT_EQ(s.nonfinite_values, 2);
+    EXPECT_EQ(s.negative_values, negative);
+    EXPECT_EQ(s.min_value, lo);
+    EXPECT_EQ(s.max_value, hi);
+    EXPECT_EQ(copy.pixels[1200000], 0.0f);
+    EXPECT_EQ(copy.pixels[700001], 0.0f);
+    try {
+        scan_pixels(img, NonFinitePolicy::kReject, "big.exr");
+        FAIL() << "expected an error";
+    } catch (const Error& e) {
+        // value 700001 = pixel 233333 (x = 885, y = 227), channel 2
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("big.exr: pixel (x=885, y=227) channel 2 is NaN"), std::string::npos)
+            << msg;
+    }
+}
+
 TEST(Input, WrongAspectNamesTheFileAndSize) {
     Environment env;
     env.source = "sky.exr";
