@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every Google Benchmark binary in BUILD/bench and prints its table (speed against error
-# where the benchmark reports error counters), then the render convergence table
+# where the benchmark reports error counters), then envmap-project against OIIO's read
+# (pipelines/envmap-load-bench.sh) and the render convergence table
 # (pipelines/render-convergence.sh). Figures are recorded in docs/benchmarks.md.
 #   pipelines/bench.sh [BUILD]
 set -euo pipefail
@@ -18,6 +19,14 @@ for b in "${benches[@]}"; do
     echo "== $(basename "$b")"
     "$b" --benchmark_min_time=0.2 --benchmark_counters_tabular=true
 done
+
+# envmap-project's whole run against OIIO's read of the same 4096 x 2048 float EXR (issue 13).
+if [ -x "$BUILD/bin/envmap-project" ]; then
+    echo
+    echo "== envmap-load-bench (envmap-project / oiiotool --stats, back-to-back pairs)"
+    INLIGHT_BIN="$BUILD/bin" "$(dirname "$0")/envmap-load-bench.sh" "$BUILD/envmap-load-bench" \
+        "${ENVMAP_LOAD_PAIRS:-10}" | grep -v '^pair '
+fi
 
 # The path tracer's error against samples and time per sampler (issue 13; minutes): its table.
 # Full-size figures (docs/benchmarks.md): pipelines/render-convergence.sh OUT 1024 128 64 4096.
