@@ -122,9 +122,15 @@ expect_exit 0 "render --compare --rt-lighting: the GLES column with the file's l
 expect_true "ES 1.00 and 3.00 variants with the light match the CPU model on >= 99.9% of pixels" -- jq -e \
     '[.metrics.realtime.gles.variants[] | select(.lights == 1) | .["cpu_model_fraction_within_1e-3"] >= 0.999]
      | length == 2 and all' "$WORK/s.json"
-expect_true "GLES with the light equals the CPU model's lit error against the truth" -- jq -e \
-    '.metrics.realtime as $r | [$r.gles.variants[] | select(.lights == 1) |
-     (.mean_rel - $r.lighting_file.with_lights.mean_rel) | fabs < 1e-3 * $r.lighting_file.with_lights.mean_rel] | all' "$WORK/s.json"
+# Each variant is held to the CPU model of its own data (ES 1.00 reads the table quantised to 16
+# bits, which moves its error against the truth by ~1e-3 of itself); 1e-3: the per-pixel agreement.
+expect_true "GLES with the light equals its CPU model's lit error against the truth" -- jq -e \
+    '[.metrics.realtime.gles.variants[] | select(.lights == 1) |
+     . as $v | ($v.mean_rel - $v.cpu_model_vs_truth.mean_rel) | fabs < 1e-3 * $v.mean_rel] | length == 2 and all' "$WORK/s.json"
+# The same model over the same pixels: only the order of a sum may differ (1e-9 of the value).
+expect_true "the float ES 3.00 variant's CPU model is the lit CPU model of the report" -- jq -e \
+    '.metrics.realtime as $r | [$r.gles.variants[] | select(.lights == 1 and .glsl_version == "300") |
+     (.cpu_model_vs_truth.mean_rel - $r.lighting_file.with_lights.mean_rel) | fabs < 1e-9 * $r.lighting_file.with_lights.mean_rel] | length == 1 and all' "$WORK/s.json"
 expect_true "three-way PNG with the light written" -- test -s "$WORK/s_compare3_es300-consistent-b3-l1-highp-file.png"
 
 # render: the scene's materials, with the albedo texture's size in the manifest.
