@@ -7,24 +7,22 @@
 
 #include "btf/quantize.h"
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
 
 namespace inlight::btf {
 
-std::string to_string(ComponentEncoding e) {
-    switch (e) {
-        case ComponentEncoding::kPng8: return "png";
-        case ComponentEncoding::kExrHalf: return "exr-half";
-        case ComponentEncoding::kExrFloat: return "exr-float";
-    }
-    return "?";
-}
+constexpr EnumName<ComponentEncoding> kComponentEncodingNames[] = {
+    {ComponentEncoding::kPng8, "png"},
+    {ComponentEncoding::kExrHalf, "exr-half"},
+    {ComponentEncoding::kExrFloat, "exr-float"},
+};
+
+std::string to_string(ComponentEncoding e) { return enum_to_string(kComponentEncodingNames, e); }
 
 ComponentEncoding component_encoding_from_string(const std::string& name) {
-    for (auto e : {ComponentEncoding::kPng8, ComponentEncoding::kExrHalf, ComponentEncoding::kExrFloat})
-        if (to_string(e) == name) return e;
-    throw UsageError("unknown component format '" + name + "' (png, exr-half, exr-float)");
+    return enum_from_string(kComponentEncodingNames, name, "component format");
 }
 
 std::string extension_of(ComponentEncoding e) { return e == ComponentEncoding::kPng8 ? "png" : "exr"; }

@@ -11,6 +11,7 @@ extern "C" {
 }
 
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace inlight::btf {
@@ -67,19 +68,16 @@ DirectionWeights compact(DirectionWeights w) {
 
 }  // namespace
 
-std::string to_string(InterpScheme s) {
-    switch (s) {
-        case InterpScheme::kThesis: return "thesis";
-        case InterpScheme::kDelaunay: return "delaunay";
-        case InterpScheme::kNearest: return "nearest";
-    }
-    return "?";
-}
+constexpr EnumName<InterpScheme> kInterpSchemeNames[] = {
+    {InterpScheme::kThesis, "thesis"},
+    {InterpScheme::kDelaunay, "delaunay"},
+    {InterpScheme::kNearest, "nearest"},
+};
+
+std::string to_string(InterpScheme s) { return enum_to_string(kInterpSchemeNames, s); }
 
 InterpScheme interp_scheme_from_string(const std::string& name) {
-    for (auto s : {InterpScheme::kThesis, InterpScheme::kDelaunay, InterpScheme::kNearest})
-        if (to_string(s) == name) return s;
-    throw UsageError("unknown interpolation scheme '" + name + "' (thesis, delaunay, nearest)");
+    return enum_from_string(kInterpSchemeNames, name, "interpolation scheme");
 }
 
 Eigen::VectorXd dense_weights(const DirectionWeights& w, int n) {

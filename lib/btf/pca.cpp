@@ -13,6 +13,7 @@
 #include <random>
 
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/parallel.h"
@@ -432,20 +433,17 @@ class Streamed : public CentredOp {
 
 }  // namespace
 
-std::string to_string(PcaMethod m) {
-    switch (m) {
-        case PcaMethod::kAuto: return "auto";
-        case PcaMethod::kGram: return "gram";
-        case PcaMethod::kRandomized: return "randomized";
-        case PcaMethod::kFullSvd: return "full-svd";
-    }
-    return "?";
-}
+constexpr EnumName<PcaMethod> kPcaMethodNames[] = {
+    {PcaMethod::kAuto, "auto"},
+    {PcaMethod::kGram, "gram"},
+    {PcaMethod::kRandomized, "randomized"},
+    {PcaMethod::kFullSvd, "full-svd"},
+};
+
+std::string to_string(PcaMethod m) { return enum_to_string(kPcaMethodNames, m); }
 
 PcaMethod pca_method_from_string(const std::string& name) {
-    for (PcaMethod m : {PcaMethod::kAuto, PcaMethod::kGram, PcaMethod::kRandomized, PcaMethod::kFullSvd})
-        if (to_string(m) == name) return m;
-    throw UsageError("unknown PCA method '" + name + "' (auto, gram, randomized, full-svd)");
+    return enum_from_string(kPcaMethodNames, name, "PCA method");
 }
 
 Eigen::MatrixXd gram_of_columns(const Eigen::MatrixXf& a) {

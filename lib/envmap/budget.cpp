@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/parallel.h"
@@ -13,15 +14,14 @@
 
 namespace inlight::envmap {
 
+constexpr EnumName<ErrorMetric> kErrorMetricNames[] = {{ErrorMetric::kAbsOverMean, "abs-over-mean"},
+                                                       {ErrorMetric::kMeanRel, "mean-rel"}};
+
 ErrorMetric error_metric_from_string(const std::string& name) {
-    if (name == "abs-over-mean") return ErrorMetric::kAbsOverMean;
-    if (name == "mean-rel") return ErrorMetric::kMeanRel;
-    throw UsageError(str("error metric '", name, "': expected abs-over-mean or mean-rel"));
+    return enum_from_string(kErrorMetricNames, name, "error metric");
 }
 
-std::string to_string(ErrorMetric metric) {
-    return metric == ErrorMetric::kAbsOverMean ? "abs-over-mean" : "mean-rel";
-}
+std::string to_string(ErrorMetric metric) { return enum_to_string(kErrorMetricNames, metric); }
 
 double metric_value(const IrradianceError& error, ErrorMetric metric) {
     return metric == ErrorMetric::kAbsOverMean ? error.abs_over_mean : error.mean_rel;

@@ -7,29 +7,25 @@
 
 #include "core/check.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/parallel.h"
 
 namespace inlight::envmap {
 
+constexpr EnumName<Layout> kLayoutNames[] = {
+    {Layout::kLatLong, "latlong"},
+    {Layout::kCube, "cube"},
+    {Layout::kAngular, "angular"},
+    {Layout::kFisheye, "fisheye"},
+};
+
 Layout layout_from_string(const std::string& name) {
-    if (name == "latlong") return Layout::kLatLong;
-    if (name == "cube") return Layout::kCube;
-    if (name == "angular") return Layout::kAngular;
-    if (name == "fisheye") return Layout::kFisheye;
-    throw UsageError(str("input kind '", name, "': expected latlong, cube, angular or fisheye"));
+    return enum_from_string(kLayoutNames, name, "input kind");
 }
 
-std::string to_string(Layout layout) {
-    switch (layout) {
-        case Layout::kLatLong: return "latlong";
-        case Layout::kCube: return "cube";
-        case Layout::kAngular: return "angular";
-        case Layout::kFisheye: return "fisheye";
-    }
-    return "?";
-}
+std::string to_string(Layout layout) { return enum_to_string(kLayoutNames, layout); }
 
 namespace {
 

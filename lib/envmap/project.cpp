@@ -7,6 +7,7 @@
 
 #include "core/check.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/parallel.h"
@@ -16,16 +17,17 @@
 
 namespace inlight::envmap {
 
+constexpr EnumName<PartialMethod> kPartialMethodNames[] = {{PartialMethod::kFit, "fit"},
+                                                           {PartialMethod::kZeroFill, "zero-fill"}};
+constexpr EnumName<LatlongPrecision> kLatlongPrecisionNames[] = {
+    {LatlongPrecision::kFloatRowSums, "float"}, {LatlongPrecision::kDouble, "double"}};
+
 PartialMethod partial_method_from_string(const std::string& name) {
-    if (name == "fit") return PartialMethod::kFit;
-    if (name == "zero-fill") return PartialMethod::kZeroFill;
-    throw UsageError(str("partial method '", name, "': expected fit or zero-fill"));
+    return enum_from_string(kPartialMethodNames, name, "partial method");
 }
 
 LatlongPrecision latlong_precision_from_string(const std::string& name) {
-    if (name == "float") return LatlongPrecision::kFloatRowSums;
-    if (name == "double") return LatlongPrecision::kDouble;
-    throw UsageError(str("lat-long precision '", name, "': expected float or double"));
+    return enum_from_string(kLatlongPrecisionNames, name, "lat-long precision");
 }
 
 namespace {

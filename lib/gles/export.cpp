@@ -10,48 +10,45 @@
 #include "brdf/bake.h"
 #include "brdf/glsl.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "sh/sh.h"
 
 namespace inlight::gles {
 
+constexpr EnumName<GlslVersion> kGlslVersionNames[] = {{GlslVersion::kEs100, "100"},
+                                                       {GlslVersion::kEs300, "300"}};
+constexpr EnumName<ShaderMode> kShaderModeNames[] = {{ShaderMode::kConsistent, "consistent"},
+                                                     {ShaderMode::kSeed, "seed"}};
+constexpr EnumName<Precision> kPrecisionNames[] = {{Precision::kHighp, "highp"},
+                                                   {Precision::kMediump, "mediump"}};
+constexpr EnumName<TableLayout> kTableLayoutNames[] = {
+    {TableLayout::kNone, "none"},
+    {TableLayout::kUniformArray, "uniform_array"},
+    {TableLayout::kFloatTexture, "rgba32f_texture"},
+    {TableLayout::kRgba8Texture, "rgba8_texture"},
+};
+constexpr EnumName<LightingLayout> kLightingLayoutNames[] = {
+    {LightingLayout::kUniformArray, "uniform_array"},
+    {LightingLayout::kFloatTexture, "rgba32f_texture"},
+    {LightingLayout::kRgba8Texture, "rgba8_texture_16bit"},
+};
+
 GlslVersion glsl_version_from_string(const std::string& name) {
-    if (name == "100") return GlslVersion::kEs100;
-    if (name == "300") return GlslVersion::kEs300;
-    throw UsageError(str("GLSL ES version '", name, "': expected '100' or '300'"));
+    return enum_from_string(kGlslVersionNames, name, "GLSL ES version");
 }
 ShaderMode shader_mode_from_string(const std::string& name) {
-    if (name == "consistent") return ShaderMode::kConsistent;
-    if (name == "seed") return ShaderMode::kSeed;
-    throw UsageError(str("shader mode '", name, "': expected 'consistent' or 'seed'"));
+    return enum_from_string(kShaderModeNames, name, "shader mode");
 }
 Precision precision_from_string(const std::string& name) {
-    if (name == "highp") return Precision::kHighp;
-    if (name == "mediump") return Precision::kMediump;
-    throw UsageError(str("precision '", name, "': expected 'highp' or 'mediump'"));
+    return enum_from_string(kPrecisionNames, name, "precision");
 }
-std::string to_string(GlslVersion v) { return v == GlslVersion::kEs100 ? "100" : "300"; }
-std::string to_string(ShaderMode m) { return m == ShaderMode::kConsistent ? "consistent" : "seed"; }
-std::string to_string(Precision p) { return p == Precision::kHighp ? "highp" : "mediump"; }
-std::string to_string(TableLayout l) {
-    switch (l) {
-        case TableLayout::kNone: return "none";
-        case TableLayout::kUniformArray: return "uniform_array";
-        case TableLayout::kFloatTexture: return "rgba32f_texture";
-        case TableLayout::kRgba8Texture: return "rgba8_texture";
-    }
-    return "?";
-}
-
-std::string to_string(LightingLayout l) {
-    switch (l) {
-        case LightingLayout::kUniformArray: return "uniform_array";
-        case LightingLayout::kFloatTexture: return "rgba32f_texture";
-        case LightingLayout::kRgba8Texture: return "rgba8_texture_16bit";
-    }
-    return "?";
-}
+std::string to_string(GlslVersion v) { return enum_to_string(kGlslVersionNames, v); }
+std::string to_string(ShaderMode m) { return enum_to_string(kShaderModeNames, m); }
+std::string to_string(Precision p) { return enum_to_string(kPrecisionNames, p); }
+std::string to_string(TableLayout l) { return enum_to_string(kTableLayoutNames, l); }
+std::string to_string(LightingLayout l) { return enum_to_string(kLightingLayoutNames, l); }
 
 namespace {
 template <typename T>

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/log.h"
@@ -34,30 +35,28 @@
 namespace inlight::image {
 namespace {
 
-struct NameEntry {
-    ColorSpace cs;
-    const char* name;
-    const char* oiio_name;  // "oiio:ColorSpace" for linear (float or linear-integer) files
+constexpr EnumName<ColorSpace> kColorSpaceNames[] = {
+    {ColorSpace::kLinearSrgb, "linear_srgb"},
+    {ColorSpace::kSrgb, "srgb"},
+    {ColorSpace::kAcescg, "acescg"},
+    {ColorSpace::kAces2065_1, "aces2065_1"},
+    {ColorSpace::kLinearRec2020, "linear_rec2020"},
+    {ColorSpace::kXyzD65, "xyz_d65"},
+    {ColorSpace::kRawCamera, "raw_camera"},
+    {ColorSpace::kData, "data"},
 };
 
-constexpr NameEntry kNames[] = {
-    {ColorSpace::kLinearSrgb, "linear_srgb", "Linear"},
-    {ColorSpace::kSrgb, "srgb", "sRGB"},
-    {ColorSpace::kAcescg, "acescg", "ACEScg"},
-    {ColorSpace::kAces2065_1, "aces2065_1", "ACES2065-1"},
-    {ColorSpace::kLinearRec2020, "linear_rec2020", "lin_rec2020"},
-    {ColorSpace::kXyzD65, "xyz_d65", "CIE-XYZ-D65"},
-    {ColorSpace::kRawCamera, "raw_camera", "Raw"},
-    {ColorSpace::kData, "data", "Raw"},
+/// "oiio:ColorSpace" for linear (float or linear-integer) files.
+constexpr EnumName<ColorSpace> kOiioColorSpaceNames[] = {
+    {ColorSpace::kLinearSrgb, "Linear"},
+    {ColorSpace::kSrgb, "sRGB"},
+    {ColorSpace::kAcescg, "ACEScg"},
+    {ColorSpace::kAces2065_1, "ACES2065-1"},
+    {ColorSpace::kLinearRec2020, "lin_rec2020"},
+    {ColorSpace::kXyzD65, "CIE-XYZ-D65"},
+    {ColorSpace::kRawCamera, "Raw"},
+    {ColorSpace::kData, "Raw"},
 };
-
-const NameEntry& entry(ColorSpace cs) {
-    for (const auto& e : kNames) {
-        if (e.cs == cs) return e;
-    }
-    INLIGHT_CHECK(false) << "unknown ColorSpace value " << static_cast<int>(cs);
-    return kNames[0];
-}
 
 enum class Format { kExr, kHdr, kPng, kJpeg, kTiff };
 
@@ -195,15 +194,10 @@ ImageInfo info_of(const std::string& name, OIIO::Filesystem::IOProxy* memory) {
 
 }  // namespace
 
-std::string to_string(ColorSpace cs) { return entry(cs).name; }
+std::string to_string(ColorSpace cs) { return enum_to_string(kColorSpaceNames, cs); }
 
 ColorSpace color_space_from_string(const std::string& name) {
-    for (const auto& e : kNames) {
-        if (name == e.name) return e.cs;
-    }
-    std::string names;
-    for (const auto& e : kNames) names += std::string(names.empty() ? "" : ", ") + e.name;
-    throw UsageError(str("unknown colour space '", name, "' (accepted: ", names, ")"));
+    return enum_from_string(kColorSpaceNames, name, "colour space");
 }
 
 Image::Image(int w, int h, int c, ColorSpace cs)
@@ -250,9 +244,9 @@ Image read_from(const std::string& path, const ReadOptions& options,
     const std::string transfer = inlight_value(spec, "inlight:transfer");
     ColorSpace tagged = ColorSpace::kLinearSrgb;
     bool known = false;
-    for (const auto& e : kNames) {
-        if (stored_cs == e.name && e.cs != ColorSpace::kSrgb) {
-            tagged = e.cs;
+    for (const auto& e : kColorSpaceNames) {
+        if (stored_cs == e.name && e.value != ColorSpace::kSrgb) {
+            tagged = e.value;
             known = true;
         }
     }
@@ -368,7 +362,9 @@ void prepare_write(const std::string& path, const Image& img, const WriteOptions
     const std::string transfer = encode ? "srgb" : "linear";
     spec.attribute("inlight:color_space", cs_name);
     if (integer) spec.attribute("inlight:transfer", transfer);
-    spec.attribute("oiio:ColorSpace", encode ? "sRGB" : entry(img.color_space).oiio_name);
+    const std::string oiio_cs =
+        encode ? std::string("sRGB") : enum_to_string(kOiioColorSpaceNames, img.color_space);
+    spec.attribute("oiio:ColorSpace", oiio_cs);
     if (format == Format::kTiff || format == Format::kJpeg) {
         spec.attribute("ImageDescription",
                        "inlight:color_space=" + cs_name + " inlight:transfer=" + transfer);

@@ -8,18 +8,22 @@
 
 #include "core/check.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "weave/weave.h"
 
 namespace inlight::render {
 
+constexpr EnumName<ShapeKind> kShapeNames[] = {
+    {ShapeKind::kPatch, "patch"},
+    {ShapeKind::kSphere, "sphere"},
+    {ShapeKind::kMesh, "mesh"},
+    {ShapeKind::kWeave, "weave"},
+};
+
 ShapeKind shape_from_string(const std::string& name) {
-    if (name == "patch") return ShapeKind::kPatch;
-    if (name == "sphere") return ShapeKind::kSphere;
-    if (name == "mesh") return ShapeKind::kMesh;
-    if (name == "weave") return ShapeKind::kWeave;
-    throw UsageError(str("shape '", name, "': expected 'patch', 'sphere', 'mesh' or 'weave'"));
+    return enum_from_string<Error>(kShapeNames, name, "shape");
 }
 
 namespace {

@@ -22,7 +22,7 @@ enum class ShapeKind {
     kCurves,  ///< round B-spline tubes (yarns), world coordinates
     kWeave,   ///< scene files only: a fabric file, turned into kCurves and a backing kPatch
 };
-/// "patch" | "sphere" | "mesh" | "weave"; throws UsageError otherwise.
+/// "patch" | "sphere" | "mesh" | "weave" (a scene file's name); throws Error otherwise.
 ShapeKind shape_from_string(const std::string& name);
 
 /// Round uniform cubic B-spline tubes, Embree's RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE layout:

@@ -4,19 +4,19 @@
 #include <cmath>
 
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace inlight::render {
 
+constexpr EnumName<Projection> kProjectionNames[] = {{Projection::kOrthographic, "orthographic"},
+                                                     {Projection::kPerspective, "perspective"}};
+
 Projection projection_from_string(const std::string& name) {
-    if (name == "orthographic") return Projection::kOrthographic;
-    if (name == "perspective") return Projection::kPerspective;
-    throw UsageError(str("projection '", name, "': expected 'orthographic' or 'perspective'"));
+    return enum_from_string<Error>(kProjectionNames, name, "projection");
 }
 
-std::string to_string(Projection p) {
-    return p == Projection::kOrthographic ? "orthographic" : "perspective";
-}
+std::string to_string(Projection p) { return enum_to_string(kProjectionNames, p); }
 
 void Camera::validate(const std::string& context) const {
     const Eigen::Vector3d forward = look_at - position;

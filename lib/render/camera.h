@@ -17,7 +17,7 @@ struct Ray {
 };
 
 enum class Projection { kOrthographic, kPerspective };
-/// "orthographic" | "perspective"; throws UsageError otherwise.
+/// "orthographic" | "perspective" (a scene file's name); throws Error otherwise.
 Projection projection_from_string(const std::string& name);
 std::string to_string(Projection p);
 

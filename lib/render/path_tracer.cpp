@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <limits>
 
 #include "brdf/brdf.h"
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/progress.h"
@@ -168,11 +169,11 @@ bool russian_roulette(Eigen::Vector3d& beta, Sampler::Stream& u, int dim) {
     return roulette(beta, [&u, dim] { return u.get1d(dim); });
 }
 
+constexpr EnumName<Strategy> kStrategyNames[] = {
+    {Strategy::kMis, "mis"}, {Strategy::kBsdf, "bsdf"}, {Strategy::kLight, "light"}};
+
 Strategy strategy_from_string(const std::string& name) {
-    if (name == "mis") return Strategy::kMis;
-    if (name == "bsdf") return Strategy::kBsdf;
-    if (name == "light") return Strategy::kLight;
-    throw UsageError(str("strategy '", name, "': expected 'mis', 'bsdf' or 'light'"));
+    return enum_from_string(kStrategyNames, name, "strategy");
 }
 
 Eigen::Vector3d trace_path(const Scene& scene, const Ray& camera_ray, Sampler::Stream& u,

@@ -5,6 +5,7 @@
 
 #include "brdf/bake.h"
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "envmap/project.h"
@@ -13,15 +14,14 @@
 
 namespace inlight::render {
 
+constexpr EnumName<RealtimeMode> kRealtimeModeNames[] = {{RealtimeMode::kConsistent, "consistent"},
+                                                         {RealtimeMode::kSeed, "seed"}};
+
 RealtimeMode realtime_mode_from_string(const std::string& name) {
-    if (name == "consistent") return RealtimeMode::kConsistent;
-    if (name == "seed") return RealtimeMode::kSeed;
-    throw UsageError(str("real-time mode '", name, "': expected 'consistent' or 'seed'"));
+    return enum_from_string(kRealtimeModeNames, name, "real-time mode");
 }
 
-std::string to_string(RealtimeMode mode) {
-    return mode == RealtimeMode::kConsistent ? "consistent" : "seed";
-}
+std::string to_string(RealtimeMode mode) { return enum_to_string(kRealtimeModeNames, mode); }
 
 Eigen::MatrixXd project_environment(const EnvironmentLight& env, int sh_bands) {
     image::Image img(env.width(), env.height(), 3);

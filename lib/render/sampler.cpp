@@ -6,6 +6,7 @@
 
 #include "core/bits.h"
 #include "core/check.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/sobol.h"
 
@@ -35,15 +36,14 @@ constexpr double kU32ToUnit = 0x1p-32;  // [0, 2^32) -> [0, 1): never 1
 
 }  // namespace
 
+constexpr EnumName<SamplerKind> kSamplerNames[] = {{SamplerKind::kSobol, "sobol"},
+                                                   {SamplerKind::kIndependent, "independent"}};
+
 SamplerKind sampler_from_string(const std::string& name) {
-    if (name == "sobol") return SamplerKind::kSobol;
-    if (name == "independent") return SamplerKind::kIndependent;
-    throw UsageError(str("sampler '", name, "': expected 'sobol' or 'independent'"));
+    return enum_from_string(kSamplerNames, name, "sampler");
 }
 
-std::string to_string(SamplerKind kind) {
-    return kind == SamplerKind::kSobol ? "sobol" : "independent";
-}
+std::string to_string(SamplerKind kind) { return enum_to_string(kSamplerNames, kind); }
 
 uint32_t owen_scramble(uint32_t v, uint32_t seed) {
     // Burley 2020, listing 3: a Laine-Karras permutation (each bit flipped by a hash of the

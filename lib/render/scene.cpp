@@ -4,14 +4,23 @@
 #include <map>
 
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/toml.h"
+#include "envmap/environment.h"
 #include "render/mesh.h"
 #include "render/weave_geometry.h"
 
 namespace inlight::render {
 namespace {
+
+/// envmap's layouts but the fisheye frame: the path tracer needs the whole sphere.
+constexpr EnumName<envmap::Layout> kSceneLayoutNames[] = {
+    {envmap::Layout::kLatLong, "latlong"},
+    {envmap::Layout::kCube, "cube"},
+    {envmap::Layout::kAngular, "angular"},
+};
 
 std::string resolve(const std::string& base_dir, const std::string& path) {
     if (path.empty()) return path;
@@ -47,9 +56,10 @@ void parse_environment(const toml::Document& doc, SceneDesc& scene, const std::s
     }
     env.radiance = vec3(r, "radiance", env.radiance, true);
     env.layout = r.get_string("layout", env.layout);
-    if (env.layout != "latlong" && env.layout != "cube" && env.layout != "angular") {
-        throw Error(str(r.where("layout"), "expected \"latlong\", \"cube\" or \"angular\", got \"",
-                        env.layout, "\""));
+    try {
+        enum_from_string<Error>(kSceneLayoutNames, env.layout, "environment layout");
+    } catch (const Error& e) {
+        throw Error(str(r.where("layout"), e.what()));
     }
     env.latlong_height_px = r.get_int("latlong_height_px", env.latlong_height_px);
     r.check_range("latlong_height_px", env.latlong_height_px, 0, 16384);

@@ -100,12 +100,14 @@ TEST(SceneFile, ErrorsNameFileLineTableAndKey) {
     expect_error(replace(kScene, "material = \"denim\"\nsize", "material = \"silk\"\nsize"),
                  "bad.toml:21: [object] material: no [material.silk] in the scene");
     expect_error(replace(kScene, "shape = \"sphere\"", "shape = \"cube\""),
-                 "bad.toml:25: [object] shape: shape 'cube'");
+                 "bad.toml:25: [object] shape: unknown shape 'cube' (expected patch, sphere, mesh "
+                 "or weave)");
     expect_error(replace(kScene, "rotation = \"z=90\"", "rotation = \"q=90\""),
                  "bad.toml:4: [environment] rotation: rotation 'q=90'");
     expect_error(
         replace(kScene, "rotation = \"z=90\"", "rotation = \"z=90\"\nlayout = \"fisheye\""),
-        "bad.toml:5: [environment] layout: expected \"latlong\", \"cube\" or \"angular\"");
+        "bad.toml:5: [environment] layout: unknown environment layout 'fisheye' (expected "
+        "latlong, cube or angular)");
     expect_error(replace(kScene, "[environment]", "[environmnet]"),
                  "bad.toml: missing [environment] table");
     expect_error(replace(kScene, "radius = 0.25", "radius = 0.25 0.5"),
