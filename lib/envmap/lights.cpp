@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "core/conventions.h"
+#include "core/enum_names.h"
 #include "core/error.h"
 #include "envmap/validate.h"
 
@@ -33,15 +34,16 @@ double cap_cosine_integral(double cos_beta, double alpha) {
     return std::max(0.0, e);
 }
 
+namespace {
+constexpr EnumName<LightShading> kLightShadingNames[] = {{LightShading::kCap, "cap"},
+                                                         {LightShading::kSmoothCap, "smooth-cap"}};
+}  // namespace
+
 LightShading light_shading_from_string(const std::string& name) {
-    if (name == "cap") return LightShading::kCap;
-    if (name == "smooth-cap") return LightShading::kSmoothCap;
-    throw UsageError(str("light shading '", name, "': expected cap or smooth-cap"));
+    return enum_from_string(kLightShadingNames, name, "light shading");
 }
 
-std::string to_string(LightShading shading) {
-    return shading == LightShading::kCap ? "cap" : "smooth-cap";
-}
+std::string to_string(LightShading shading) { return enum_to_string(kLightShadingNames, shading); }
 
 double smooth_cap_cosine(double cos_beta, double alpha) {
     const double t = std::clamp(cos_beta, -1.0, 1.0), s = std::sin(alpha);
@@ -416,10 +418,12 @@ DirectionalLight light_from_json(const nlohmann::json& j, const std::string& whe
     if (j.contains("irradiance")) {
         if (!j["irradiance"].is_string())
             throw Error(str(where, ": light irradiance must be \"cap\" or \"smooth-cap\""));
-        const std::string name = j["irradiance"].get<std::string>();
-        if (name != "cap" && name != "smooth-cap")
-            throw Error(str(where, ": light irradiance '", name, "': expected cap or smooth-cap"));
-        l.shading = light_shading_from_string(name);
+        try {
+            l.shading = enum_from_string<Error>(kLightShadingNames,
+                                                j["irradiance"].get<std::string>(), "light irradiance");
+        } catch (const Error& e) {
+            throw Error(str(where, ": ", e.what()));
+        }
     }
     return l;
 }

@@ -35,7 +35,7 @@ enum class LightShading {
     kCap,        ///< the uniform cap's exact irradiance (Snyder 1996): acos, atan, sqrt
     kSmoothCap,  ///< the cap's irradiance above the horizon band, a quadratic across it
 };
-/// "cap" | "smooth-cap"; throws UsageError otherwise.
+/// "cap" | "smooth-cap"; throws UsageError otherwise (an option value).
 LightShading light_shading_from_string(const std::string& name);
 std::string to_string(LightShading shading);
 

@@ -372,7 +372,10 @@ TEST(DirectionalLight, JsonRoundTripAndBadValues) {
     EXPECT_EQ(light_from_json(j, "x.json").shading, LightShading::kCap);
     j["irradiance"] = "disc";
     EXPECT_EQ(inlight::testing::error_of([&] { light_from_json(j, "x.json"); }),
-              "x.json: light irradiance 'disc': expected cap or smooth-cap");
+              "x.json: unknown light irradiance 'disc' (expected cap or smooth-cap)");
+    // An option value names the option's subject and is a usage error.
+    EXPECT_EQ(to_string(light_shading_from_string("smooth-cap")), "smooth-cap");
+    EXPECT_THROW(light_shading_from_string("disc"), UsageError);
     j["flux"][1] = std::nan("");
     EXPECT_EQ(inlight::testing::error_of([&] { light_from_json(j, "x.json: lights[0]"); }),
               "x.json: lights[0]: light flux is not finite");
