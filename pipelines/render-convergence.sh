@@ -18,6 +18,12 @@
 # the run does not reach it).
 # Outputs: OUT/<scene>_<mode>.json (reports), OUT/convergence.tsv, OUT/convergence.md,
 # OUT/convergence_spp.svg, OUT/convergence_time.svg.
+# Every run is done again on each call, so the table holds only this call's runs, made by this
+# binary with these arguments, and its cost ratios are measured in one run; files left in OUT by
+# an earlier call (other sizes, spp, modes or binary) are overwritten or ignored, never read.
+# RESUME=1 (after an interrupted long run) keeps a run whose report says "ok" and whose
+# OUT/<run>.key records this same render binary (SHA-256), scene file and command; the table
+# then says how many runs it took from earlier calls (their CPU times are from then).
 set -euo pipefail
 if [ $# -lt 1 ]; then
     echo "usage: render-convergence.sh OUT_DIR [MAX_SPP] [SPHERE_PX] [PATCH_PX] [PATCH_REF_SPP]" >&2
@@ -53,30 +59,42 @@ has_scene() { [[ " ${SCENE_LIST[*]} " == *" $1 "* ]]; }
 MACHINE="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), load $(cut -d' ' -f1-3 /proc/loadavg), $(date -u '+%F %H:%M') UTC"
 echo "render-convergence: $MACHINE"
 
-# Runs whose report says "ok" are kept (delete OUT to rerun them): plots and tables can be redone.
-# A failed run also leaves a report (status "failed"); that run is done again.
-ran_ok() { [ -f "$1" ] && [ "$(jq -r .status "$1")" = ok ]; }
+# run NAME SCENE ARGS...: renders SCENE into OUT/NAME.exr with the report OUT/NAME.json. With
+# RESUME=1 an "ok" report whose OUT/NAME.key matches this binary, scene file and command is kept.
+# A failed run leaves a report (status "failed") and no key; it is always done again.
+RENDER_SHA=$(sha256sum "$BIN/render" | cut -d' ' -f1)
+REUSED=0
+run() {
+    local name=$1 scene=$2 key
+    shift 2
+    key=$(printf '%s\n' "render $RENDER_SHA" "scene $(sha256sum "$scene" | cut -d' ' -f1)" "threads $THREADS" "$scene" "$@")
+    if [ "${RESUME:-0}" = 1 ] && [ -f "$OUT/$name.json" ] && [ "$(jq -r .status "$OUT/$name.json")" = ok ] \
+        && [ -f "$OUT/$name.key" ] && [ "$(cat "$OUT/$name.key")" = "$key" ]; then
+        REUSED=$((REUSED + 1))
+        return
+    fi
+    rm -f "$OUT/$name.key"
+    "$BIN/render" "$scene" -o "$OUT/$name.exr" --threads "$THREADS" -q --report "$OUT/$name.json" "$@"
+    printf '%s\n' "$key" > "$OUT/$name.key"
+}
 # The patch's reference: one converged render for every mode.
 REF="$OUT/patch_ref_${PATCH_PX}px_${PATCH_REF}spp.exr"
-if has_scene patch && ! ran_ok "${REF%.exr}.json"; then
-    "$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$REF" \
-        --spp "$PATCH_REF" --width-px "$PATCH_PX" --height-px "$PATCH_PX" --seed 1000 \
-        --threads "$THREADS" -q --report "${REF%.exr}.json"
+if has_scene patch; then
+    run "patch_ref_${PATCH_PX}px_${PATCH_REF}spp" "$ROOT/configs/scenes/patch_city.toml" \
+        --spp "$PATCH_REF" --width-px "$PATCH_PX" --height-px "$PATCH_PX" --seed 1000
 fi
 for mode in "${MODES[@]}"; do
-    if has_scene sphere && ! ran_ok "$OUT/sphere_$mode.json"; then
+    if has_scene sphere; then
         # shellcheck disable=SC2046 # mode_args is a list of words
-        "$BIN/render" "$ROOT/configs/scenes/sphere_city.toml" -o "$OUT/sphere_$mode.exr" \
+        run "sphere_$mode" "$ROOT/configs/scenes/sphere_city.toml" \
             --spp "$MAX_SPP" --width-px "$SPHERE_PX" --height-px "$SPHERE_PX" --no-jitter \
-            --convergence-ref-irradiance --threads "$THREADS" -q \
-            --report "$OUT/sphere_$mode.json" $(mode_args "$mode")
+            --convergence-ref-irradiance $(mode_args "$mode")
     fi
-    if has_scene patch && ! ran_ok "$OUT/patch_$mode.json"; then
+    if has_scene patch; then
         # shellcheck disable=SC2046
-        "$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/patch_$mode.exr" \
+        run "patch_$mode" "$ROOT/configs/scenes/patch_city.toml" \
             --spp "$MAX_SPP" --width-px "$PATCH_PX" --height-px "$PATCH_PX" \
-            --convergence-ref-image "$REF" --threads "$THREADS" -q \
-            --report "$OUT/patch_$mode.json" $(mode_args "$mode")
+            --convergence-ref-image "$REF" $(mode_args "$mode")
     fi
 done
 
@@ -95,7 +113,7 @@ done
 } > "$OUT/convergence.tsv"
 
 # The table: error at 64 / 256 / 1024 spp per mode, the slope, and (sphere) equal time.
-awk -F'\t' -v modelist="${MODES[*]}" -v e64="$PEER_E64" -v ps="$PEER_SLOPE" -v pc="$PEER_COST" -v i64="$ISSUE_IND64" -v machine="$MACHINE" '
+awk -F'\t' -v modelist="${MODES[*]}" -v e64="$PEER_E64" -v ps="$PEER_SLOPE" -v pc="$PEER_COST" -v i64="$ISSUE_IND64" -v machine="$MACHINE" -v reused="$REUSED" '
 NR == 1 { next }
 {
     k = $1 SUBSEP $2; n[k]++; spp[k, n[k]] = $4; err[k, n[k]] = ($1 == "sphere" ? $8 : $7)
@@ -113,6 +131,7 @@ function show(x) { return x < 0 ? "-" : sprintf("%.4f", x) }
 END {
     print "Machine: " machine ". Errors: sphere = mean relative error of luminance over the"
     print "sphere against brute-force irradiance; patch = relative RMSE against the converged render."
+    if (reused > 0) print "RESUME=1: " reused " run(s) taken from an earlier call (same binary and command; CPU times from then)."
     print ""
     print "| scene | sampler | 16 spp | 64 spp | 256 spp | 1024 spp | slope | CPU per sample / independent | predicted / actual (last) |"
     print "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
@@ -132,16 +151,32 @@ END {
     print ""
     print "| peer spp | peer error (issue / scaled) | render sampler | render spp at equal time | render error | render / peer (issue / scaled) |"
     print "| --- | --- | --- | --- | --- | --- |"
+    # No scaled figures when the run stops short of the independent error at 64 spp.
     scale = at("sphere" SUBSEP "independent", 64) / i64
+    missing = 0; need = 0
     for (p = 64; p <= 1024; p *= 4) {
         pe = e64 * exp(ps * log(p / 64))
         for (mi = 1; mi <= nm; mi++) {
             k = "sphere" SUBSEP modes[mi]; if (!(k in slope)) continue
             s = p * pc * cpu["sphere" SUBSEP "independent"] / cpu[k]
             e = at(k, s)
-            printf "| %d | %.4f / %.4f | %s | %.0f | %s | %s |\n", p, pe, pe * scale, modes[mi], s,
-                show(e), e < 0 ? "-" : sprintf("%.2f / %.2f", e / pe, e / (pe * scale))
+            if (e < 0 && s > last[k]) { missing++; if (s > need) need = s }
+            ps_ = scale > 0 ? sprintf("%.4f", pe * scale) : "-"
+            r1 = e < 0 ? "-" : sprintf("%.2f", e / pe)
+            r2 = (e < 0 || scale <= 0) ? "-" : sprintf("%.2f", e / (pe * scale))
+            printf "| %d | %.4f / %s | %s | %.0f | %s | %s / %s |\n", p, pe, ps_, modes[mi], s, show(e), r1, r2
         }
+    }
+    if (scale <= 0) {
+        print ""
+        print "Scaled \"-\": this run does not reach 64 spp of independent sampling on the sphere."
+    }
+    if (missing > 0) {
+        print ""
+        printf "\"-\" (%d rows): render'\''s spp at equal time lies beyond this run'\''s last snapshot", missing
+        printf " (%g spp; mean spp for adaptive) and errors are only interpolated between measured", last["sphere" SUBSEP "independent"]
+        printf " snapshots, never extrapolated. MAX_SPP %d measures them (%.0f spp at this run'\''s", 1024 * int((need * 1.15 + 1023) / 1024), need
+        print " cost ratios, plus 15% for their noise; SCENES=sphere runs the sphere alone)."
     }
 }' "$OUT/convergence.tsv" > "$OUT/convergence.md"
 cat "$OUT/convergence.md"
