@@ -9,8 +9,8 @@
 # Rerun it at any time: only what changed (by content) is rebuilt; after a kill, the jobs that
 # were running are redone and nothing else. Binaries from ${INLIGHT_BIN:-build/bin}.
 set -euo pipefail
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
 JOBS=$(nproc)
 SLURM=0
 while [ $# -gt 0 ]; do
@@ -21,15 +21,11 @@ while [ $# -gt 0 ]; do
         *) break ;;
     esac
 done
-if [ $# -lt 2 ]; then
-    echo "usage: bake-catalog.sh [-j N] [--slurm] CATALOG OUT [SNAKEMAKE_ARGS...]" >&2
-    exit 2
-fi
-CATALOG=$(cd "$1" && pwd)
-mkdir -p "$2"
-OUT=$(cd "$2" && pwd)
+usage_unless $# 2 - "[-j N] [--slurm] CATALOG OUT [SNAKEMAKE_ARGS...]"
+CATALOG=$(abs_dir "$1")
+OUT=$(out_dir "$2")
 shift 2
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+BIN=$(tool_bin)
 for t in bundle brdf-sh-bake btf-pca calibrate render; do
     if [ ! -x "$BIN/$t" ]; then
         echo "bake-catalog: $BIN/$t not found: build first (make)" >&2

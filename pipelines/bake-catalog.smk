@@ -77,6 +77,10 @@ def tool(name):
     return os.path.join(BIN, name)
 
 
+def script(name):  # a pipeline script and the lib.sh it sources: a change to either rebuilds
+    return [os.path.join(PIPE, name), os.path.join(PIPE, "lib.sh")]
+
+
 # The catalogue's own settings: environments (globs, relative to the catalogue folder).
 settings = {}
 if os.path.isfile(os.path.join(CAT, "catalog.toml")):
@@ -105,10 +109,10 @@ for fid in FABRICS:
             and os.path.isfile(os.path.join(fdir, "capture.toml"))):
         CAPTURED.append(fid)
         content_key("capture-" + fid, [os.path.join(fdir, "weave.toml"), os.path.join(fdir, "capture.toml"),
-                                       os.path.join(PIPE, "capture-btf.sh"), tool("render")])
+                                       tool("render")] + script("capture-btf.sh"))
     content_key("fabric-" + fid, [fdir] + textures + [
         os.path.join(ROOT, "configs", "brdf-sh-bake.toml"), os.path.join(ROOT, "configs", "btf-pca.toml"),
-        os.path.join(PIPE, "bake-fabric.sh"), tool("bundle"), tool("brdf-sh-bake"), tool("btf-pca")])
+        tool("bundle"), tool("brdf-sh-bake"), tool("btf-pca")] + script("bake-fabric.sh"))
 
 DEVICES = []
 for did in folders("devices"):
@@ -121,14 +125,13 @@ for did in folders("devices"):
               "(../shared/data is not beside the repository)", file=sys.stderr)
         continue
     DEVICES.append(did)
-    content_key("device-" + did, [ddir] + inputs + [os.path.join(PIPE, "bake-device.sh"),
-                                                    tool("bundle"), tool("calibrate")])
+    content_key("device-" + did, [ddir] + inputs + [tool("bundle"), tool("calibrate")] + script("bake-device.sh"))
 
 for env, path in ENVS.items():
     content_key("env-" + env, [path])
-content_key("validate", [VALIDATE_CONFIG, os.path.join(PIPE, "validate-pair.sh"), tool("render"),
-                         tool("bundle"), tool("envmap-project")])
-content_key("report", [os.path.join(PIPE, "validate-report.sh")])
+content_key("validate", [VALIDATE_CONFIG, tool("render"), tool("bundle"), tool("envmap-project")]
+            + script("validate-pair.sh"))
+content_key("report", script("validate-report.sh"))
 content_key("index", [tool("bundle")])
 
 # The error decomposition (render --rt-decompose) runs on each fabric's first environment: it

@@ -7,17 +7,13 @@
 # line: the device's name for the catalogue). Each step writes OUT/work/devices/ID/<step>/ with
 # its --report; the bundle goes to OUT/bundles/devices/ID/.
 set -euo pipefail
-if [ $# -lt 2 ]; then
-    echo "usage: bake-device.sh DEVICE_DIR OUT [ID]" >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-DEVICE=$(cd "$1" && pwd)
-mkdir -p "$2"
-OUT=$(cd "$2" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 2 - "DEVICE_DIR OUT [ID]"
+DEVICE=$(abs_dir "$1")
+OUT=$(out_dir "$2")
 ID=${3:-$(basename "$DEVICE")}
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+BIN=$(tool_bin)
 W="$OUT/work/devices/$ID"
 say() { echo "[bake-device $ID] $*" >&2; }
 if [ ! -f "$DEVICE/calibrate.toml" ]; then

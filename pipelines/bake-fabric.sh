@@ -11,17 +11,13 @@
 # Each step writes OUT/work/fabrics/ID/<step>/ with its --report; the bundle goes to
 # OUT/bundles/fabrics/ID/ (atomic, verified).
 set -euo pipefail
-if [ $# -lt 2 ] || [ $# -gt 4 ]; then
-    echo "usage: bake-fabric.sh FABRIC_DIR OUT [ID [BTF_DIR]]" >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-FABRIC=$(cd "$1" && pwd)
-mkdir -p "$2"
-OUT=$(cd "$2" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 2 4 "FABRIC_DIR OUT [ID [BTF_DIR]]"
+FABRIC=$(abs_dir "$1")
+OUT=$(out_dir "$2")
 ID=${3:-$(basename "$FABRIC")}
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+BIN=$(tool_bin)
 W="$OUT/work/fabrics/$ID"
 say() { echo "[bake-fabric $ID] $*" >&2; }
 for f in fabric.toml material.toml; do

@@ -9,7 +9,8 @@
 set -euo pipefail
 BUILD=${1:-build}
 OUT=${2:-docs/budget}
-ROOT=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
 EP="$BUILD/bin/envmap-project"
 GOAL=${GOAL:-0.01}
 [ -x "$EP" ] || { echo "budget-tradeoff: $EP not built" >&2; exit 1; }

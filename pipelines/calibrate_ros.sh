@@ -5,9 +5,8 @@
 set -euo pipefail
 OUT=${1:-out/calibrate_ros}
 BIN=${INLIGHT_BIN:-build/bin}
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-SHARED=${INLIGHT_SHARED_DIR:-$ROOT/../shared}
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
 DATA="$SHARED/data/fisheye-ros-mono"
 FRAME=${2:-$DATA/left-0000.png}
 if [ ! -d "$DATA" ]; then

@@ -6,22 +6,18 @@
 # OUTDIR/btf/ (UBO2003 layout, 81 view folders) and OUTDIR/capture.json (render's report);
 # render's output transaction makes the folder appear whole or not at all.
 set -euo pipefail
-if [ $# -ne 2 ]; then
-    echo "usage: capture-btf.sh FABRIC_DIR OUTDIR" >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-FABRIC=$(cd "$1" && pwd)
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 2 2 "FABRIC_DIR OUTDIR"
+FABRIC=$(abs_dir "$1")
+BIN=$(tool_bin)
 for f in weave.toml capture.toml; do
     if [ ! -f "$FABRIC/$f" ]; then
         echo "capture-btf: $FABRIC/$f not found (a captured fabric needs weave.toml and capture.toml)" >&2
         exit 2
     fi
 done
-mkdir -p "$2"
-OUT=$(cd "$2" && pwd)
+OUT=$(out_dir "$2")
 rm -rf "$OUT/btf"
 echo "[capture-btf $(basename "$FABRIC")] render weave.toml --btf-capture --config capture.toml" >&2
 "$BIN/render" "$FABRIC/weave.toml" --btf-capture --config "$FABRIC/capture.toml" -o "$OUT/btf" \

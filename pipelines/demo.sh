@@ -4,9 +4,8 @@
 set -euo pipefail
 OUT=${1:-out}
 BIN=${INLIGHT_BIN:-build/bin}
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-SHARED=${INLIGHT_SHARED_DIR:-$ROOT/../shared}
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
 HDRI_DIR=/usr/share/blender/datafiles/studiolights/world
 mkdir -p "$OUT"
 

@@ -7,17 +7,13 @@
 # OUT_DIR; not in the repository). Prints each pair and the median, quartiles and range of the
 # ratios envmap-project / oiiotool in user CPU time, user + system CPU time and wall time.
 set -euo pipefail
-if [ $# -lt 1 ]; then
-    echo "usage: envmap-load-bench.sh OUT_DIR [PAIRS] [WIDTH]" >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-mkdir -p "$1"
-OUT=$(cd "$1" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 1 - "OUT_DIR [PAIRS] [WIDTH]"
+OUT=$(out_dir "$1")
 PAIRS=${2:-15}
 WIDTH=${3:-4096}
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+BIN=$(tool_bin)
 THREADS=${THREADS:-2}
 SRC=/usr/share/blender/datafiles/studiolights/world/forest.exr
 if [ ! -f "$SRC" ]; then

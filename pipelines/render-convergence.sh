@@ -25,19 +25,15 @@
 # OUT/<run>.key records this same render binary (SHA-256), scene file and command; the table
 # then says how many runs it took from earlier calls (their CPU times are from then).
 set -euo pipefail
-if [ $# -lt 1 ]; then
-    echo "usage: render-convergence.sh OUT_DIR [MAX_SPP] [SPHERE_PX] [PATCH_PX] [PATCH_REF_SPP]" >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-mkdir -p "$1"
-OUT=$(cd "$1" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 1 - "OUT_DIR [MAX_SPP] [SPHERE_PX] [PATCH_PX] [PATCH_REF_SPP]"
+OUT=$(out_dir "$1")
 MAX_SPP=${2:-1024}
 SPHERE_PX=${3:-128}
 PATCH_PX=${4:-64}
 PATCH_REF=${5:-4096}
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+BIN=$(tool_bin)
 THREADS=${THREADS:-2}
 # The issue's figures: at 64 spp the peer's error 0.039 against render-independent's 0.10.
 PEER_E64=0.039 PEER_SLOPE=-0.67 PEER_COST=2.5 ISSUE_IND64=0.10

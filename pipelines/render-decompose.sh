@@ -14,7 +14,8 @@
 set -euo pipefail
 BUILD=${1:-build}
 OUT=${2:-docs/decomposition}
-ROOT=$(cd "$(dirname "$0")/.." && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
 R="$BUILD/bin/render"
 EP="$BUILD/bin/envmap-project"
 SCENES=${SCENES:-patch_city patch_report sphere_city drape_velvet}

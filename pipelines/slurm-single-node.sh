@@ -7,10 +7,9 @@
 # 60 s), so a test can report a skip; otherwise with the command's exit code.
 # Example: pipelines/slurm-single-node.sh pipelines/bake-catalog.sh --slurm -j 4 samples/catalog out/slurm
 set -euo pipefail
-if [ $# -lt 1 ]; then
-    echo "usage: slurm-single-node.sh COMMAND [ARGS...]" >&2
-    exit 2
-fi
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 1 - "COMMAND [ARGS...]"
 cannot() {
     echo "slurm-single-node: cannot start Slurm here: $*" >&2
     exit 77

@@ -5,16 +5,13 @@
 #   pipelines/validate-convergence.sh PAIR_DIR [SPP] [REFERENCE_SPP]   (after validate-pair.sh)
 # 32 x 32 pixels: per-pixel noise depends on samples, not on the image size.
 set -euo pipefail
-if [ $# -lt 1 ]; then
-    echo "usage: validate-convergence.sh PAIR_DIR [SPP] [REFERENCE_SPP]" >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-PAIR=$(cd "$1" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 1 - "PAIR_DIR [SPP] [REFERENCE_SPP]"
+PAIR=$(abs_dir "$1")
 SPP=${2:-256}
 REF=${3:-1024}
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+BIN=$(tool_bin)
 mkdir -p "$PAIR/convergence"
 "$BIN/render" "$PAIR/scene.toml" -o "$PAIR/convergence/render.exr" --spp "$SPP" \
     --convergence-ref-spp "$REF" --width-px 32 --height-px 32 -q --report "$PAIR/convergence/report.json"

@@ -22,17 +22,13 @@
 # Bytes per stream prefix come from the bundle manifest; VALIDATE_BTF_SPP (default 256) and
 # VALIDATE_BTF_VIEWS (a view directions file; default the pair's own view, along the normal).
 set -euo pipefail
-if [ $# -lt 3 ] || [ $# -gt 5 ]; then
-    echo "usage: validate-pair.sh FABRIC_BUNDLE ENVIRONMENT OUTDIR [RAW_BTF [WEAVE]]" >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
-ROOT=$(cd "$HERE/.." && pwd)
-BUNDLE=$(cd "$1" && pwd)
-ENV_MAP=$(cd "$(dirname "$2")" && pwd)/$(basename "$2")
-mkdir -p "$3"
-OUTDIR=$(cd "$3" && pwd)
-BIN=$(cd "${INLIGHT_BIN:-$ROOT/build/bin}" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 3 5 "FABRIC_BUNDLE ENVIRONMENT OUTDIR [RAW_BTF [WEAVE]]"
+BUNDLE=$(abs_dir "$1")
+ENV_MAP=$(abs_dir "$(dirname "$2")")/$(basename "$2")
+OUTDIR=$(out_dir "$3")
+BIN=$(tool_bin)
 CONFIG=${VALIDATE_RENDER_CONFIG:-$ROOT/configs/pipelines/validate.toml}
 PATCH_WIDTH_M=0.1
 M="$BUNDLE/manifest.json"

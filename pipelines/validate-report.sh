@@ -12,11 +12,10 @@
 # envmap-project --max-error chooses for this environment and table) and the error decomposition
 # at the shipped band count (render --compare --rt-decompose).
 set -euo pipefail
-if [ $# -ne 1 ]; then
-    echo "usage: validate-report.sh VALIDATE_DIR" >&2
-    exit 2
-fi
-V=$(cd "$1" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 1 1 "VALIDATE_DIR"
+V=$(abs_dir "$1")
 MAX_DE2000=${MAX_DE2000:-2.0}
 JND_DE2000=${JND_DE2000:-1.0}
 P="$V/plots"

@@ -7,11 +7,9 @@
 # also shaded as a BTF against its woven geometry (validate-pair.sh's RAW_BTF).
 # bake-catalog runs the same two scripts as Snakemake rules, in parallel.
 set -euo pipefail
-if [ $# -lt 3 ]; then
-    echo "usage: validate.sh OUT BUNDLE_ROOT ENVIRONMENT..." >&2
-    exit 2
-fi
-HERE=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+usage_unless $# 3 - "OUT BUNDLE_ROOT ENVIRONMENT..."
 OUT=$1
 BUNDLES=$2
 shift 2

@@ -9,11 +9,7 @@ HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/../cli/lib.sh"
 # shellcheck source=tests/pipelines/tiny.sh
 source "$HERE/tiny.sh"
-require_blender_data
-CAT="$WORK/cat"
-OUT="$WORK/out"
-make_catalog "$CAT" 3 "$HDRI_DIR/night.exr"
-export VALIDATE_RENDER_CONFIG="$CAT/validate.toml"
+tiny_catalog 3
 run() { "$PIPE/bake-catalog.sh" -j 1 "$CAT" "$OUT" >"$WORK/run.log" 2>&1; }
 
 # 1. Start, and kill everything once one fabric is done and another is running.

@@ -8,11 +8,7 @@ HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/../cli/lib.sh"
 # shellcheck source=tests/pipelines/tiny.sh
 source "$HERE/tiny.sh"
-require_blender_data
-CAT="$WORK/cat"
-OUT="$WORK/out"
-make_catalog "$CAT" 2 "$HDRI_DIR/night.exr"
-export VALIDATE_RENDER_CONFIG="$CAT/validate.toml"
+tiny_catalog 2
 "$PIPE/slurm-single-node.sh" "$PIPE/bake-catalog.sh" --slurm -j 4 "$CAT" "$OUT" >"$WORK/slurm.log" 2>&1
 code=$?
 if [ "$code" -eq 77 ]; then

@@ -52,3 +52,15 @@ make_catalog() {
     } > "$dir/catalog.toml"
     printf 'spp = 8\nwidth-px = 16\nheight-px = 16\nrt-max-bands = 4\nrt-supersample = 1\n' > "$dir/validate.toml"
 }
+
+# tiny_catalog NFABRICS: the Snakemake tests' set-up: skips without blender-data, makes CAT (a
+# catalogue of NFABRICS fabrics under night.exr) with its fast validation options
+# (VALIDATE_RENDER_CONFIG) and names OUT, the bake-catalog output folder, both in WORK.
+tiny_catalog() {
+    require_blender_data
+    CAT="$WORK/cat"
+    # shellcheck disable=SC2034  # OUT is the calling test's
+    OUT="$WORK/out"
+    make_catalog "$CAT" "$1" "$HDRI_DIR/night.exr"
+    export VALIDATE_RENDER_CONFIG="$CAT/validate.toml"
+}
