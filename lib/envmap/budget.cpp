@@ -14,14 +14,96 @@
 
 namespace inlight::envmap {
 
+namespace {
 constexpr EnumName<ErrorMetric> kErrorMetricNames[] = {{ErrorMetric::kAbsOverMean, "abs-over-mean"},
                                                        {ErrorMetric::kMeanRel, "mean-rel"}};
+constexpr EnumName<ShFit> kShFitNames[] = {{ShFit::kProjection, "projection"},
+                                           {ShFit::kMetric, "metric"}};
+}  // namespace
 
 ErrorMetric error_metric_from_string(const std::string& name) {
     return enum_from_string(kErrorMetricNames, name, "error metric");
 }
 
 std::string to_string(ErrorMetric metric) { return enum_to_string(kErrorMetricNames, metric); }
+
+ShFit sh_fit_from_string(const std::string& name) {
+    return enum_from_string(kShFitNames, name, "SH fit");
+}
+
+std::string to_string(ShFit fit) { return enum_to_string(kShFitNames, fit); }
+
+double fit_sh_to_metric(Eigen::MatrixXd& coeffs, int sh_bands, std::vector<DirectionalLight>& lights,
+                        const std::vector<Eigen::Vector3d>& normals, const Eigen::MatrixXd& e_ref,
+                        ErrorMetric metric) {
+    const auto nn = static_cast<Eigen::Index>(normals.size());
+    // Columns: A_l Y_lm(n) for every coefficient with A_l != 0, then each light's irradiance per
+    // unit flux (its shape; the flux scales every channel alike).
+    std::vector<int> rows;
+    for (int l = 0; l < sh_bands; ++l)
+        if (sh::cosine_zonal(l) != 0)
+            for (int m = -l; m <= l; ++m) rows.push_back(sh::index(l, m));
+    const auto nc = static_cast<Eigen::Index>(rows.size());
+    const auto nl = static_cast<Eigen::Index>(lights.size());
+    Eigen::MatrixXd a(nn, nc + nl);
+    std::vector<double> y(static_cast<size_t>(sh::count(sh_bands)));
+    for (Eigen::Index i = 0; i < nn; ++i) {
+        const Eigen::Vector3d& n = normals[static_cast<size_t>(i)];
+        sh::eval(sh_bands, n, y.data());
+        for (Eigen::Index k = 0; k < nc; ++k) {
+            const int r = rows[static_cast<size_t>(k)];
+            const int l = static_cast<int>(std::sqrt(static_cast<double>(r)));
+            a(i, k) = sh::cosine_zonal(l) * y[static_cast<size_t>(r)];
+        }
+        for (Eigen::Index j = 0; j < nl; ++j) {
+            DirectionalLight unit = lights[static_cast<size_t>(j)];
+            unit.flux = Eigen::Vector3d::Ones();
+            a(i, nc + j) = light_irradiance(unit, n)[0];
+        }
+    }
+    // The start's unknowns, and the metric of any unknowns on these normals.
+    Eigen::MatrixXd x(nc + nl, 3);
+    for (Eigen::Index k = 0; k < nc; ++k) x.row(k) = coeffs.row(rows[static_cast<size_t>(k)]);
+    for (Eigen::Index j = 0; j < nl; ++j) x.row(nc + j) = lights[static_cast<size_t>(j)].flux.transpose();
+    const auto value = [&](const Eigen::MatrixXd& u) {
+        return metric_value(irradiance_error(a * u, e_ref), metric);
+    };
+    // Per normal: the luminance reference and the metric's divisor (as irradiance_error).
+    Eigen::VectorXd ref(nn), scale(nn);
+    for (Eigen::Index i = 0; i < nn; ++i) ref(i) = luminance(e_ref(i, 0), e_ref(i, 1), e_ref(i, 2));
+    const double floor = std::max(kRelFloor * ref.cwiseAbs().maxCoeff(), 1e-30);
+    for (Eigen::Index i = 0; i < nn; ++i)
+        scale(i) = metric == ErrorMetric::kMeanRel ? 1.0 / std::max(std::abs(ref(i)), floor) : 1.0;
+    const Eigen::RowVector3d lum(0.2126, 0.7152, 0.0722);
+    Eigen::MatrixXd best = x;
+    double best_value = value(x);
+    // IRLS for min sum_i scale_i |r_i|: weighted least squares with w_i = scale_i / |r_i|, from
+    // w_i = scale_i^2 (least squares of the scaled residual). Every channel has the same
+    // weights, so the luminance of the solution is the weighted fit of the luminance.
+    Eigen::VectorXd w = scale.cwiseProduct(scale);
+    // |r| below this fraction of the mean reference is treated as this (the IRLS's smoothing).
+    const double delta = 1e-6 * std::max(ref.cwiseAbs().mean(), 1e-30);
+    constexpr int kIterations = 12;
+    for (int it = 0; it < kIterations; ++it) {
+        const Eigen::VectorXd sw = w.cwiseSqrt();
+        const Eigen::MatrixXd u =
+            (sw.asDiagonal() * a).colPivHouseholderQr().solve(sw.asDiagonal() * e_ref);
+        if (!u.allFinite()) break;
+        const double v = value(u);
+        const bool fluxes_ok = nl == 0 || (u.bottomRows(nl).array() >= 0).all();
+        if (fluxes_ok && v < best_value) {
+            best_value = v;
+            best = u;
+        }
+        const Eigen::VectorXd r = (a * u - e_ref) * lum.transpose();
+        for (Eigen::Index i = 0; i < nn; ++i)
+            w(i) = scale(i) / std::max(std::abs(r(i)), delta);
+    }
+    for (Eigen::Index k = 0; k < nc; ++k) coeffs.row(rows[static_cast<size_t>(k)]) = best.row(k);
+    for (Eigen::Index j = 0; j < nl; ++j)
+        lights[static_cast<size_t>(j)].flux = best.row(nc + j).transpose();
+    return best_value;
+}
 
 double metric_value(const IrradianceError& error, ErrorMetric metric) {
     return metric == ErrorMetric::kAbsOverMean ? error.abs_over_mean : error.mean_rel;
@@ -268,13 +350,33 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
 
     std::vector<Eigen::Vector3d> fit_set;
     Eigen::MatrixXd e_fit;
-    // Per band count b - 1: the fitted light sets for 1 .. max_k lights.
-    std::vector<std::vector<LightSetFit>> fitted(static_cast<size_t>(options.max_bands));
-    if (fit && max_k > 0) {
+    // The metric fit of the coefficients needs the brute force at the fit normals: full-sphere
+    // maps without clipped pixels (a camera frame's unseen part has no reference).
+    const bool sh_fit = options.sh_fit == ShFit::kMetric && env.full_sphere() && !saturated;
+    if (sh_fit && options.fit_normals < 1)
+        throw UsageError("budget: the metric SH fit needs fit normals (fit_normals >= 1)");
+    if ((fit && max_k > 0) || sh_fit) {
         fit_set = fit_normals(options.fit_normals);
         t0 = std::chrono::steady_clock::now();
         e_fit = brute_force_irradiance(env, fit_set);
         plan.reference_time_s += seconds_since(t0);
+    }
+    // The metric fit's weights for the light geometry (least squares of the metric's per-normal
+    // error): 1 for abs-over-mean, 1 / max(E_ref, floor)^2 for mean-rel (as irradiance_error).
+    Eigen::VectorXd fit_weights;
+    if (sh_fit) {
+        const auto nf = e_fit.rows();
+        Eigen::VectorXd y(nf);
+        for (Eigen::Index i = 0; i < nf; ++i) y[i] = luminance(e_fit(i, 0), e_fit(i, 1), e_fit(i, 2));
+        const double floor = std::max(kRelFloor * y.cwiseAbs().maxCoeff(), 1e-30);
+        fit_weights = Eigen::VectorXd::Ones(nf);
+        if (options.metric == ErrorMetric::kMeanRel)
+            for (Eigen::Index i = 0; i < nf; ++i)
+                fit_weights[i] = 1 / std::pow(std::max(std::abs(y[i]), floor), 2);
+    }
+    // Per band count b - 1: the fitted light sets for 1 .. max_k lights.
+    std::vector<std::vector<LightSetFit>> fitted(static_cast<size_t>(options.max_bands));
+    if (fit && max_k > 0) {
         for (int b = 1; b <= options.max_bands; ++b) {
             auto& f = fitted[static_cast<size_t>(b - 1)];
             const Eigen::MatrixXd& map = proj[0][static_cast<size_t>(b - 1)].coeffs_unwindowed;
@@ -311,6 +413,25 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
                 c.lights_fitted = true;
                 c.start_regions = f.regions;
                 r.coeffs = r.coeffs_unwindowed = f.coeffs;
+            }
+            if (sh_fit) {
+                // proj[0] also starts the light fits above: those are done by now.
+                double v = fit_sh_to_metric(r.coeffs, b, c.light_set, fit_set, e_fit, options.metric);
+                if (k > 0) {
+                    // The lights' geometry refitted with the coefficients free, from the lights
+                    // above; kept if the metric on the fit normals is lower.
+                    LightFitResult g = fit_lights_free_sh(c.light_set, b, fit_set, e_fit, fit_weights);
+                    Eigen::MatrixXd coeffs = r.coeffs;
+                    const double vg = fit_sh_to_metric(coeffs, b, g.lights, fit_set, e_fit, options.metric);
+                    if (vg < v) {
+                        v = vg;
+                        c.light_set = std::move(g.lights);
+                        r.coeffs = coeffs;
+                        c.lights_fitted = true;
+                    }
+                }
+                r.coeffs_unwindowed = r.coeffs;
+                c.sh_fitted = true;
             }
             const std::vector<DirectionalLight>& used = c.light_set;
             const Eigen::MatrixXd e_lights =
@@ -422,9 +543,11 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
               {"lights", plan.lights},
               {"error", best.error},
               {"lights_fitted", best.lights_fitted},
+              {"sh_fitted", best.sh_fitted},
               {"cost", cost_json(best.cost)}}},
             {"lights_found", lights},
             {"light_shading", to_string(options.light_shading)},
+            {"sh_fit", to_string(options.sh_fit)},
             {"fit_normals", options.fit_normals},
             {"extra_start_regions", options.extra_start_regions},
             {"median_luminance", plan.extraction.median_luminance},

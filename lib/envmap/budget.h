@@ -47,6 +47,28 @@ std::string to_string(ErrorMetric metric);
 /// The metric's value in an IrradianceError.
 double metric_value(const IrradianceError& error, ErrorMetric metric);
 
+/// How a candidate's SH coefficients (and its lights' fluxes) are found once its lights'
+/// directions and radii are fixed:
+///  - kProjection: the plain projection of the map minus the lights (the lights' fluxes as
+///    extracted or fitted);
+///  - kMetric: irradiance is linear in the coefficients with A_l != 0 and in the fluxes, so they
+///    are fitted to the brute-force irradiance at the fit normals, minimising the budget's metric
+///    there (iteratively reweighted least squares: the L1 norm of the absolute error for
+///    abs-over-mean, of the relative error for mean-rel). Same coefficient count, same shader.
+enum class ShFit { kProjection, kMetric };
+/// "projection" | "metric"; throws UsageError otherwise.
+ShFit sh_fit_from_string(const std::string& name);
+std::string to_string(ShFit fit);
+
+/// The kMetric fit (see ShFit): `coeffs` (count(sh_bands) x 3) and `lights` are the start and
+/// are replaced by the fit (coefficients with A_l = 0 are kept). `e_ref` is the brute-force
+/// irradiance at `normals` (normals x 3). The result never has a larger metric on `normals`
+/// than the start; fluxes stay >= 0 (else they are kept as given). Returns the metric on
+/// `normals` after the fit.
+double fit_sh_to_metric(Eigen::MatrixXd& coeffs, int sh_bands, std::vector<DirectionalLight>& lights,
+                        const std::vector<Eigen::Vector3d>& normals, const Eigen::MatrixXd& e_ref,
+                        ErrorMetric metric);
+
 // Operation counts per fragment (docs/budget.md derives each from render/realtime.cpp).
 /// SH basis Y_lm(n) by the associated-Legendre recurrence: per coefficient.
 inline constexpr int kBasisOpsPerCoeff = 3;
@@ -97,6 +119,8 @@ struct RadianceCheck {
 struct BudgetOptions {
     double max_error = 0.01;  ///< > 0, in the chosen metric (irradiance and, if given, radiance)
     ErrorMetric metric = ErrorMetric::kAbsOverMean;
+    /// kMetric needs the fit normals' brute force: full-sphere maps without clipped pixels.
+    ShFit sh_fit = ShFit::kProjection;
     int max_bands = 9;           ///< 1 .. sh::kMaxBands
     ExtractOptions extract;      ///< extract.max_lights = 0 gives pure SH
     /// How every light is shaded, fitted and costed (kSmoothCap: a third of kCap's operations).
@@ -124,6 +148,7 @@ struct BudgetCandidate {
     ShaderCost cost;
     std::vector<DirectionalLight> light_set;  ///< the lights shaded (fitted, or as extracted)
     bool lights_fitted = false;
+    bool sh_fitted = false;  ///< coefficients and fluxes fitted to the metric (ShFit::kMetric)
     std::vector<int> start_regions;  ///< indices into extraction.lights the lights started from
     double error = 0;  ///< the budget's value: max of the metric over irradiance and radiance
     bool meets = false;

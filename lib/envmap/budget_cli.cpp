@@ -41,6 +41,13 @@ void add_budget_options(CLI::App& app, BudgetArgs& a) {
                    "operations) or with a quadratic across its horizon band (smooth-cap: 15)")
         ->check(CLI::IsMember({"cap", "smooth-cap"}))
         ->capture_default_str();
+    app.add_option("--sh-fit", a.sh_fit,
+                   "Budget: each candidate's SH coefficients (and its lights' fluxes) as the "
+                   "projection of the map minus the lights, or fitted to the brute-force "
+                   "irradiance at the fit normals to minimise --error-metric there (metric: "
+                   "same coefficient count and shader; full-sphere maps without clipped pixels)")
+        ->check(CLI::IsMember({"projection", "metric"}))
+        ->capture_default_str();
     auto* table = app.add_option("--brdf-table", a.brdf_table,
                                  "Budget: a brdf-sh-bake table (.bin); the outgoing radiance "
                                  "toward its view must meet the budget too")
@@ -60,6 +67,7 @@ BudgetSetup::BudgetSetup(const BudgetArgs& a, int validate_normals) {
     m_options.extract.max_lights = a.max_lights;
     m_options.fit_normals = a.fit_normals;
     m_options.light_shading = light_shading_from_string(a.light_shading);
+    m_options.sh_fit = sh_fit_from_string(a.sh_fit);
     m_options.validate_normals = validate_normals;
     if (!a.brdf_table.empty()) {
         m_radiance = std::make_unique<RadianceCheck>();

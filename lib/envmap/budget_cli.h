@@ -18,6 +18,7 @@ struct BudgetArgs {
     int max_bands = 9;
     int fit_normals = 512;   ///< --light-fit-normals: 0 = shade the extracted regions' caps
     std::string light_shading = "smooth-cap";  ///< --light-shading: cap | smooth-cap
+    std::string sh_fit = "projection";         ///< --sh-fit: projection | metric
     std::string brdf_table;  ///< brdf-sh-bake .bin table (with --material)
     std::string material;    ///< the material file the table was baked from
 

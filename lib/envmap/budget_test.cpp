@@ -13,6 +13,7 @@
 #include "brdf/grid.h"
 #include "core/conventions.h"
 #include "envmap/envmap_testing.h"
+#include "sh/sh.h"
 #include "testing/testing.h"
 
 namespace inlight::envmap {
@@ -211,6 +212,76 @@ TEST(PlanBudget, MeanRelativeErrorExplodesOnDarkNormals) {
     EXPECT_GT(at3[1e-3].mean_rel, 3 * at3[0.3].mean_rel);
     EXPECT_NEAR(at3[1e-3].abs_over_mean, at3[0.3].abs_over_mean, 0.3 * at3[0.3].abs_over_mean);
     EXPECT_GT(bands[1e-3], bands[0.3]);
+}
+
+TEST(FitShToMetric, RecoversAnExactModelFromAPerturbedStartInEitherMetric) {
+    // The reference is exactly 4 bands of SH plus one smooth-cap light: the fit's unknowns (the
+    // coefficients with A_l != 0 and the flux) can reproduce it, so the fitted metric is
+    // rounding: the least-squares solve's condition (~1e3 for these columns) x 1e-16.
+    constexpr double kRounding = 1e-10;
+    const auto normals = fit_normals(256);
+    Eigen::MatrixXd truth(sh::count(4), 3);
+    for (int i = 0; i < truth.rows(); ++i)
+        truth.row(i) << 0.3 / (1 + i), 0.2 / (2 + i), 0.25 * std::cos(i);
+    truth.row(0) << 2.0, 1.8, 1.6;
+    const DirectionalLight light = testmaps::smooth_light(direction_from_spherical(0.7, 1.1), 0.1,
+                                                          Eigen::Vector3d(5, 4, 3));
+    const Eigen::MatrixXd e_ref = testmaps::sh_and_lights_irradiance(truth, 4, {light}, normals);
+    for (const ErrorMetric metric : {ErrorMetric::kAbsOverMean, ErrorMetric::kMeanRel}) {
+        Eigen::MatrixXd c = truth;
+        c.row(1) *= 1.5;
+        c.row(6) *= -1;
+        c.row(sh::index(3, 1)) << 7, 7, 7;  // A_3 = 0: invisible to irradiance, so kept
+        std::vector<DirectionalLight> lights{light};
+        lights[0].flux *= 0.5;
+        const Eigen::MatrixXd start_irr = testmaps::sh_and_lights_irradiance(c, 4, lights, normals);
+        const double start = metric_value(irradiance_error(start_irr, e_ref), metric);
+        const double fitted = fit_sh_to_metric(c, 4, lights, normals, e_ref, metric);
+        EXPECT_GT(start, 0.01);
+        EXPECT_LT(fitted, kRounding) << to_string(metric);
+        EXPECT_LT((lights[0].flux - light.flux).norm(), kRounding * 1e3);
+        EXPECT_EQ(c(sh::index(3, 1), 0), 7.0);
+        for (int l : {0, 1, 2})
+            for (int m = -l; m <= l; ++m)
+                EXPECT_NEAR(c(sh::index(l, m), 2), truth(sh::index(l, m), 2), kRounding * 1e3);
+    }
+    EXPECT_EQ(sh_fit_from_string("metric"), ShFit::kMetric);
+    EXPECT_EQ(to_string(ShFit::kProjection), "projection");
+    EXPECT_THROW(sh_fit_from_string("fit"), UsageError);
+}
+
+TEST(PlanBudget, MetricFitLowersMeanRelOnNormalsItDidNotSee) {
+    // The dark-ground map of the test above: the projection spreads the patch's ringing evenly,
+    // so the dark normals carry large relative errors. The mean-rel fit (at the fit normals)
+    // moves the error to the bright normals; measured at the validation normals, which are
+    // not fit normals (fit_normals turns them off the lattice) and are 4x denser here.
+    const Eigen::Vector3d patch = direction_from_spherical(0.6, 0.3);
+    const Environment env = latlong(256, 128, [&](const Eigen::Vector3d& d) {
+        if (d.z() <= 0) return Eigen::Vector3d::Constant(1e-3);
+        return Eigen::Vector3d::Constant(d.dot(patch) > std::cos(0.17) ? 20.0 : 1.0);
+    });
+    BudgetOptions o;
+    o.max_error = 0.01;
+    o.metric = ErrorMetric::kMeanRel;
+    o.extract.max_lights = 0;
+    o.fit_normals = 256;
+    o.validate_normals = 1024;
+    o.max_bands = 5;
+    const BudgetPlan proj = plan_budget(env, o);
+    o.sh_fit = ShFit::kMetric;
+    const BudgetPlan fit = plan_budget(env, o);
+    for (int b : {3, 5}) {
+        const auto& p = proj.candidates[static_cast<size_t>(b - 1)];
+        const auto& f = fit.candidates[static_cast<size_t>(b - 1)];
+        std::printf("%d bands: mean_rel projection %.4f, metric fit %.4f; abs_over_mean %.4f, %.4f\n",
+                    b, p.irradiance.mean_rel, f.irradiance.mean_rel, p.irradiance.abs_over_mean,
+                    f.irradiance.abs_over_mean);
+        EXPECT_TRUE(f.sh_fitted);
+        EXPECT_FALSE(p.sh_fitted);
+        // The claim is a real gain, not rounding: at least a fifth off (measured: 27% at 3
+        // bands, 52% at 5).
+        EXPECT_LT(f.irradiance.mean_rel, 0.8 * p.irradiance.mean_rel) << b << " bands";
+    }
 }
 
 TEST(PlanBudget, UnreachableBudgetKeepsTheLeastError) {

@@ -5,13 +5,38 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <vector>
 
 #include "core/conventions.h"
 #include "envmap/environment.h"
+#include "envmap/lights.h"
+#include "envmap/validate.h"
 
 namespace inlight::envmap::testmaps {
 
 using Fn = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
+
+/// A smooth-cap light of the given geometry and flux.
+inline DirectionalLight smooth_light(const Eigen::Vector3d& direction, double radius,
+                                     const Eigen::Vector3d& flux) {
+    DirectionalLight l;
+    l.direction = direction;
+    l.angular_radius = radius;
+    l.flux = flux;
+    l.shading = LightShading::kSmoothCap;
+    return l;
+}
+
+/// The analytic irradiance of sh_bands of SH plus lights at each normal (normals x 3).
+inline Eigen::MatrixXd sh_and_lights_irradiance(const Eigen::MatrixXd& coeffs, int sh_bands,
+                                                const std::vector<DirectionalLight>& lights,
+                                                const std::vector<Eigen::Vector3d>& normals) {
+    Eigen::MatrixXd e = sh_irradiance(coeffs, sh_bands, normals);
+    for (const auto& l : lights)
+        for (size_t i = 0; i < normals.size(); ++i)
+            e.row(static_cast<Eigen::Index>(i)) += light_irradiance(l, normals[i]).transpose();
+    return e;
+}
 
 inline Environment latlong(int w, int h, const Fn& f) {
     Environment env;

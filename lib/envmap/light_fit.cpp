@@ -78,6 +78,65 @@ struct Geometry {
     std::vector<double> alpha, flux_y;
 };
 
+/// A cap moved by p[0], p[1] (tangent offsets of its direction) and p[2] (its radius, kept in
+/// [0, alpha_max]).
+void move_cap(const Eigen::Vector3d& d, double alpha, const double* p, double alpha_max,
+              Eigen::Vector3d& d_out, double& alpha_out) {
+    const Eigen::Vector3d t1 = d.unitOrthogonal();
+    const Eigen::Vector3d t2 = d.cross(t1);
+    d_out = (d + p[0] * t1 + p[1] * t2).normalized();
+    alpha_out = std::clamp(alpha + p[2], 0.0, alpha_max);
+}
+
+/// Levenberg-Marquardt on `state` (np parameters moved by moved(state, step)) minimising
+/// |residual(state)|^2, whose value at the start is `cost` (updated). Returns the iterations.
+template <typename State, typename Residual, typename Move>
+int levenberg_marquardt(State& g, int np, const Residual& residual, const Move& moved,
+                        int max_iterations, double& cost) {
+    // Central differences: the step (radians, or relative flux) is far above the rounding of the
+    // residual (~1e-16 relative) and below the curvature's scale (the cap's horizon band, >= the
+    // radius; radii under the step act as points).
+    constexpr double kStep = 1e-4;
+    double damping = 1e-3;
+    int iterations = 0;
+    for (int it = 0; it < max_iterations; ++it) {
+        const Eigen::VectorXd r0 = residual(g);
+        Eigen::MatrixXd jac(r0.size(), np);
+        for (int q = 0; q < np; ++q) {
+            Eigen::VectorXd p = Eigen::VectorXd::Zero(np);
+            p[q] = kStep;
+            const Eigen::VectorXd rp = residual(moved(g, p));
+            p[q] = -kStep;
+            jac.col(q) = (rp - residual(moved(g, p))) / (2 * kStep);
+        }
+        const Eigen::MatrixXd a = jac.transpose() * jac;
+        const Eigen::VectorXd grad = jac.transpose() * r0;
+        bool improved = false;
+        for (int attempt = 0; attempt < 12 && !improved; ++attempt) {
+            Eigen::MatrixXd ad = a;
+            for (int q = 0; q < np; ++q) ad(q, q) = a(q, q) * (1 + damping) + 1e-15;
+            const Eigen::VectorXd step = -ad.ldlt().solve(grad);
+            if (!step.allFinite()) break;
+            const State trial = moved(g, step);
+            const double c = residual(trial).squaredNorm();
+            if (c < cost) {
+                // Stop once a step gains under 1e-9 of the cost: the optimum to double precision.
+                const bool converged = cost - c < 1e-9 * cost;
+                g = trial;
+                cost = c;
+                damping = std::max(damping * 0.3, 1e-9);
+                improved = !converged;
+                if (converged) it = max_iterations;
+            } else {
+                damping *= 10;
+            }
+        }
+        iterations = it + 1;
+        if (!improved) break;
+    }
+    return iterations;
+}
+
 }  // namespace
 
 std::vector<double> cap_zonal_factors(int sh_bands, double alpha) {
@@ -155,10 +214,7 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
         Geometry o = g;
         for (int j = 0; j < k; ++j) {
             const auto js = static_cast<size_t>(j);
-            const Eigen::Vector3d t1 = g.direction[js].unitOrthogonal();
-            const Eigen::Vector3d t2 = g.direction[js].cross(t1);
-            o.direction[js] = (g.direction[js] + p[4 * j] * t1 + p[4 * j + 1] * t2).normalized();
-            o.alpha[js] = std::clamp(g.alpha[js] + p[4 * j + 2], 0.0, alpha_max);
+            move_cap(g.direction[js], g.alpha[js], &p[4 * j], alpha_max, o.direction[js], o.alpha[js]);
             o.flux_y[js] = g.flux_y[js] * std::exp(std::clamp(p[4 * j + 3], -5.0, 5.0));
         }
         return o;
@@ -173,47 +229,7 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
     LightFitResult out;
     double cost = residual(g).squaredNorm();
     out.rms_start = std::sqrt(cost / static_cast<double>(nn));
-    const int np = 4 * k;
-    // Central differences: the step (radians, or relative flux) is far above the rounding of the
-    // residual (~1e-16 relative) and below the curvature's scale (the cap's horizon band, >= the
-    // radius; radii under the step act as points).
-    constexpr double kStep = 1e-4;
-    double damping = 1e-3;
-    for (int it = 0; it < options.max_iterations; ++it) {
-        const Eigen::VectorXd r0 = residual(g);
-        Eigen::MatrixXd jac(nn, np);
-        for (int q = 0; q < np; ++q) {
-            Eigen::VectorXd p = Eigen::VectorXd::Zero(np);
-            p[q] = kStep;
-            const Eigen::VectorXd rp = residual(moved(g, p));
-            p[q] = -kStep;
-            jac.col(q) = (rp - residual(moved(g, p))) / (2 * kStep);
-        }
-        const Eigen::MatrixXd a = jac.transpose() * jac;
-        const Eigen::VectorXd grad = jac.transpose() * r0;
-        bool improved = false;
-        for (int attempt = 0; attempt < 12 && !improved; ++attempt) {
-            Eigen::MatrixXd ad = a;
-            for (int q = 0; q < np; ++q) ad(q, q) = a(q, q) * (1 + damping) + 1e-15;
-            const Eigen::VectorXd step = -ad.ldlt().solve(grad);
-            if (!step.allFinite()) break;
-            const Geometry trial = moved(g, step);
-            const double c = residual(trial).squaredNorm();
-            if (c < cost) {
-                // Stop once a step gains under 1e-9 of the cost: the optimum to double precision.
-                const bool converged = cost - c < 1e-9 * cost;
-                g = trial;
-                cost = c;
-                damping = std::max(damping * 0.3, 1e-9);
-                improved = !converged;
-                if (converged) it = options.max_iterations;
-            } else {
-                damping *= 10;
-            }
-        }
-        out.iterations = it + 1;
-        if (!improved) break;
-    }
+    out.iterations = levenberg_marquardt(g, 4 * k, residual, moved, options.max_iterations, cost);
 
     // Each channel's flux at the fitted geometry (linear least squares, negatives clamped).
     const Eigen::MatrixXd h = design(lobes_of(g), normals);
@@ -238,6 +254,101 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
     }
     out.coeffs = map_coeffs.topRows(sh::count(sh_bands));
     for (const auto& l : out.lights) out.coeffs -= cap_coefficients(l, sh_bands);
+    return out;
+}
+
+LightFitResult fit_lights_free_sh(const std::vector<DirectionalLight>& start, int sh_bands,
+                                  const std::vector<Eigen::Vector3d>& normals,
+                                  const Eigen::MatrixXd& e_ref, const Eigen::VectorXd& weights,
+                                  const LightFitOptions& options) {
+    const int k = static_cast<int>(start.size());
+    const auto nn = static_cast<Eigen::Index>(normals.size());
+    if (k < 1 || sh_bands < 1 || e_ref.rows() != nn || e_ref.cols() != 3 ||
+        weights.size() != nn || !(weights.array() >= 0).all())
+        throw UsageError("fit_lights_free_sh: lights, bands, weights or normals do not agree");
+    const double alpha_max = options.max_radius_deg * kPi / 180;
+    const Eigen::VectorXd sw = weights.cwiseSqrt();
+    // The weighted SH columns A_l Y_lm(n) (A_l != 0), orthonormalised once: Q.
+    int nc = 0;
+    for (int l = 0; l < sh_bands; ++l)
+        if (sh::cosine_zonal(l) != 0) nc += 2 * l + 1;
+    if (nn < nc + 4 * k)
+        throw UsageError("fit_lights_free_sh: too few normals for the unknowns");
+    Eigen::MatrixXd a_sh(nn, nc);
+    std::vector<double> y(static_cast<size_t>(sh::count(sh_bands)));
+    for (Eigen::Index i = 0; i < nn; ++i) {
+        sh::eval(sh_bands, normals[static_cast<size_t>(i)], y.data());
+        int col = 0;
+        for (int l = 0; l < sh_bands; ++l) {
+            const double al = sh::cosine_zonal(l);
+            if (al == 0) continue;
+            for (int m = -l; m <= l; ++m)
+                a_sh(i, col++) = sw[i] * al * y[static_cast<size_t>(sh::index(l, m))];
+        }
+    }
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(a_sh);
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(nn, nc);
+    const auto project_out = [&](const Eigen::MatrixXd& m) -> Eigen::MatrixXd {
+        return m - q * (q.transpose() * m);
+    };
+    Eigen::VectorXd target(nn);
+    for (Eigen::Index i = 0; i < nn; ++i)
+        target[i] = sw[i] * luminance(e_ref(i, 0), e_ref(i, 1), e_ref(i, 2));
+    const Eigen::VectorXd target_perp = project_out(target);
+
+    struct Shape {
+        std::vector<Eigen::Vector3d> direction;
+        std::vector<double> alpha;
+    };
+    // The weighted unit-flux light columns with the SH part projected out.
+    const auto columns = [&](const Shape& g) {
+        Eigen::MatrixXd c(nn, k);
+        for (int j = 0; j < k; ++j) {
+            DirectionalLight unit = start[static_cast<size_t>(j)];
+            unit.direction = g.direction[static_cast<size_t>(j)];
+            unit.angular_radius = g.alpha[static_cast<size_t>(j)];
+            unit.flux = Eigen::Vector3d::Ones();
+            for (Eigen::Index i = 0; i < nn; ++i)
+                c(i, j) = sw[i] * light_irradiance(unit, normals[static_cast<size_t>(i)])[0];
+        }
+        return Eigen::MatrixXd(project_out(c));
+    };
+    const auto fluxes = [&](const Eigen::MatrixXd& c) -> Eigen::VectorXd {
+        return c.colPivHouseholderQr().solve(target_perp);
+    };
+    const auto residual = [&](const Shape& g) -> Eigen::VectorXd {
+        const Eigen::MatrixXd c = columns(g);
+        const Eigen::VectorXd f = fluxes(c);
+        return target_perp - c * f;
+    };
+    const auto moved = [&](const Shape& g, const Eigen::VectorXd& p) {
+        Shape o = g;
+        for (int j = 0; j < k; ++j) {
+            const auto js = static_cast<size_t>(j);
+            move_cap(g.direction[js], g.alpha[js], &p[3 * j], alpha_max, o.direction[js], o.alpha[js]);
+        }
+        return o;
+    };
+    Shape g;
+    for (const auto& l : start) {
+        g.direction.push_back(l.direction.normalized());
+        g.alpha.push_back(std::clamp(l.angular_radius, 0.0, alpha_max));
+    }
+    LightFitResult out;
+    double cost = residual(g).squaredNorm();
+    out.rms_start = std::sqrt(cost / static_cast<double>(nn));
+    out.iterations = levenberg_marquardt(g, 3 * k, residual, moved, options.max_iterations, cost);
+    out.rms_fitted = std::sqrt(cost / static_cast<double>(nn));
+    const Eigen::VectorXd f = fluxes(columns(g));
+    out.lights = start;
+    for (int j = 0; j < k; ++j) {
+        auto& l = out.lights[static_cast<size_t>(j)];
+        l.direction = g.direction[static_cast<size_t>(j)];
+        l.angular_radius = g.alpha[static_cast<size_t>(j)];
+        l.fitted = true;
+        // The luminance flux as a grey light; the caller fits each channel.
+        l.flux = Eigen::Vector3d::Constant(std::max(0.0, f[j]));
+    }
     return out;
 }
 

@@ -51,6 +51,18 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
                           const std::vector<Eigen::Vector3d>& normals,
                           const Eigen::MatrixXd& e_ref, const LightFitOptions& options = {});
 
+/// Lights fitted for a model whose SH coefficients (those with A_l != 0, l < sh_bands) and
+/// fluxes are free (budget.h, ShFit::kMetric): Levenberg-Marquardt over each light's direction
+/// and radius, the linear unknowns solved at every step by least squares of the luminance
+/// weighted by `weights` (one per normal; variable projection: the SH part is projected out
+/// once, each step solves for the fluxes only). rms_start / rms_fitted are the weighted RMS;
+/// `coeffs` is left empty and the fluxes are the luminance fit's (the caller fits each
+/// channel). Never ends above its start. Deterministic.
+LightFitResult fit_lights_free_sh(const std::vector<DirectionalLight>& start, int sh_bands,
+                                  const std::vector<Eigen::Vector3d>& normals,
+                                  const Eigen::MatrixXd& e_ref, const Eigen::VectorXd& weights,
+                                  const LightFitOptions& options = {});
+
 /// One light count's best fit among several starts (fit_light_sets).
 struct LightSetFit {
     std::vector<DirectionalLight> lights;  ///< fitted

@@ -141,6 +141,43 @@ TEST(FitLights, RecoverACapFromAPoorStart) {
     EXPECT_LT((f.coeffs - (map - cap_coefficients(l, 3))).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+TEST(FitLightsFreeSh, RecoversALightOverAnyLowBandFieldInEitherWeighting) {
+    // The reference is exactly 3 bands of SH (any field, not the light's own bands) plus one
+    // smooth-cap light, evaluated analytically: the geometry the fit may reach includes the
+    // truth, where the weighted residual is rounding. From 4 degrees off at 60% of the radius
+    // the fit must end there: direction and radius to 1e-5 rad (the LM stops at a cost gain
+    // of 1e-9 relative, i.e. a residual ~3e-5 of the start's; the parameters follow to that
+    // order times the residual's slope, well above rounding).
+    constexpr double kParam = 1e-5;
+    const auto normals = fit_normals(256);
+    Eigen::MatrixXd sh(9, 3);
+    for (int i = 0; i < 9; ++i) sh.row(i) << 0.5 / (1 + i), 0.3 * std::cos(i), 0.2;
+    sh.row(0) << 3, 2.5, 2;
+    const DirectionalLight truth = testmaps::smooth_light(direction_from_spherical(1.0, -2.0), 0.15,
+                                                          Eigen::Vector3d(6, 5, 4));
+    const Eigen::MatrixXd e_ref = testmaps::sh_and_lights_irradiance(sh, 3, {truth}, normals);
+    DirectionalLight start = truth;
+    start.direction =
+        Eigen::AngleAxisd(4 * kPi / 180, start.direction.unitOrthogonal()) * start.direction;
+    start.angular_radius *= 0.6;
+    Eigen::VectorXd relative(static_cast<Eigen::Index>(normals.size()));
+    for (Eigen::Index i = 0; i < relative.size(); ++i)
+        relative[i] = 1 / std::pow(luminance(e_ref(i, 0), e_ref(i, 1), e_ref(i, 2)), 2);
+    for (const Eigen::VectorXd& w :
+         {Eigen::VectorXd(Eigen::VectorXd::Ones(relative.size())), relative}) {
+        const LightFitResult f = fit_lights_free_sh({start}, 3, normals, e_ref, w);
+        ASSERT_EQ(f.lights.size(), 1u);
+        EXPECT_LE(f.rms_fitted, f.rms_start);
+        EXPECT_LT(f.rms_fitted, 1e-4 * f.rms_start);
+        EXPECT_LT(std::acos(std::min(1.0, f.lights[0].direction.dot(truth.direction))), kParam);
+        EXPECT_NEAR(f.lights[0].angular_radius, truth.angular_radius, kParam);
+        // The grey flux is the luminance fit's: the truth's luminance flux.
+        EXPECT_NEAR(f.lights[0].flux[0], luminance_flux(truth), kParam * luminance_flux(truth) * 10);
+    }
+    EXPECT_THROW(fit_lights_free_sh({start}, 3, normals, e_ref, Eigen::VectorXd::Ones(3)),
+                 UsageError);
+}
+
 TEST(FitLights, NeverEndsAboveItsStart) {
     const CapScene scene(256, 128);
     ProjectOptions po;

@@ -70,4 +70,24 @@ if have_shared_data probes-latlong/grace.hdr; then
         jq -e '.metrics.environments[0].budget.candidates[] | select(.lights == 3 and .sh_bands == 3)
           | .start_regions | max >= 3' "$WORK/grace.json"
 fi
+# The mean of per-normal relative errors (--error-metric mean-rel): ennis with the projected SH
+# misses 1% within 5 bands' cost (3 lights + 3 bands: 1.42%); with the coefficients, fluxes and
+# light geometry fitted to that metric (--sh-fit metric; same coefficients, same shader) the
+# same 108 operations meet it, measured at the validation normals (not the fit normals).
+if have_shared_data probes-latlong/ennis.hdr; then
+    ENNIS="$INLIGHT_SHARED_DIR/data/probes-latlong/ennis.hdr"
+    expect_exit 3 "ennis mean-rel: projected SH miss 1% within 5 bands" -- "$EP" "$ENNIS" \
+        -o "$WORK/ennis_mr_p.json" --max-error 0.01 --error-metric mean-rel --budget-max-bands 5 \
+        --report "$WORK/ennis_mr_p_r.json" -q
+    expect_true "ennis mean-rel, projection: nothing within 129 operations meets 1%" -- \
+        jq -e '.metrics.environments[0].budget | .sh_fit == "projection" and ([.candidates[]
+          | select(.cost.operations <= 129) | .irradiance.mean_rel > 0.01] | all)' "$WORK/ennis_mr_p_r.json"
+    expect_exit 0 "ennis mean-rel: met with --sh-fit metric" -- "$EP" "$ENNIS" \
+        -o "$WORK/ennis_mr_f.json" --max-error 0.01 --error-metric mean-rel --sh-fit metric \
+        --budget-max-bands 5 --report "$WORK/ennis_mr_f_r.json" -q
+    expect_true "ennis mean-rel, metric fit: 3 lights + 3 bands (108 operations), fitted, within 1%" -- \
+        jq -e '.metrics.environments[0].budget | .met and .sh_fit == "metric" and .chosen.sh_fitted
+          and .chosen.lights == 3 and .chosen.sh_bands == 3 and .chosen.cost.operations == 108
+          and .chosen.error <= 0.01' "$WORK/ennis_mr_f_r.json"
+fi
 finish
