@@ -285,6 +285,8 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
         throw UsageError(
             str(env.source, ": the radiance check (--brdf-table) needs a full-sphere map"));
     const auto t_start = std::chrono::steady_clock::now();
+    if (!(options.metric_start_min_flux_fraction >= 0 && options.metric_start_min_flux_fraction <= 1))
+        throw UsageError("budget: metric_start_min_flux_fraction must be in [0, 1]");
     if (options.extra_start_regions < 0)
         throw UsageError("budget: extra_start_regions must be >= 0");
     BudgetPlan plan;
@@ -295,6 +297,9 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
                      options.project.window == sh::Window::kNone;
     ExtractOptions pool = options.extract;
     if (fit) pool.max_lights += options.extra_start_regions;
+    if (fit && options.sh_fit == ShFit::kMetric)
+        pool.min_flux_fraction =
+            std::min(pool.min_flux_fraction, options.metric_start_min_flux_fraction);
     plan.extraction = extract_lights(env, pool, saturated);
     for (auto& l : plan.extraction.lights) l.shading = options.light_shading;
     const auto& lights = plan.extraction.lights;

@@ -136,6 +136,10 @@ struct BudgetOptions {
     /// (fit_light_sets): the k-th light may start from any of the strongest
     /// extract.max_lights + extra_start_regions regions.
     int extra_start_regions = 3;
+    /// With sh_fit = kMetric the start pool also takes regions down to this fraction of the
+    /// map's luminance flux (extract.min_flux_fraction otherwise): the fit, not the region's
+    /// flux, decides whether a light pays (uffizi's skylight lights: docs/budget.md).
+    double metric_start_min_flux_fraction = 0.003;
     const RadianceCheck* radiance = nullptr;  ///< optional
 };
 

@@ -176,12 +176,16 @@ TEST(PlanBudget, OvercastSkyFindsNoLightAndPaysForNone) {
     BudgetOptions o;
     o.max_error = 0.01;
     o.validate_normals = 64;
-    const BudgetPlan p = plan_budget(latlong(256, 128, overcast), o);
-    EXPECT_TRUE(p.extraction.lights.empty());
-    EXPECT_EQ(p.lights, 0);
-    for (const auto& c : p.candidates) EXPECT_EQ(c.lights, 0);
-    EXPECT_EQ(p.candidates[static_cast<size_t>(p.chosen)].cost.operations,
-              shader_cost(p.sh_bands, 0, {}).operations);
+    // Also with the metric fit, whose start pool takes regions down to 0.3% of the flux.
+    for (const ShFit fit : {ShFit::kProjection, ShFit::kMetric}) {
+        o.sh_fit = fit;
+        const BudgetPlan p = plan_budget(latlong(256, 128, overcast), o);
+        EXPECT_TRUE(p.extraction.lights.empty()) << to_string(fit);
+        EXPECT_EQ(p.lights, 0);
+        for (const auto& c : p.candidates) EXPECT_EQ(c.lights, 0);
+        EXPECT_EQ(p.candidates[static_cast<size_t>(p.chosen)].cost.operations,
+                  shader_cost(p.sh_bands, 0, {}).operations);
+    }
 }
 
 TEST(PlanBudget, MeanRelativeErrorExplodesOnDarkNormals) {

@@ -90,4 +90,16 @@ if have_shared_data probes-latlong/ennis.hdr; then
           and .chosen.lights == 3 and .chosen.sh_bands == 3 and .chosen.cost.operations == 108
           and .chosen.error <= 0.01' "$WORK/ennis_mr_f_r.json"
 fi
+# uffizi (a gallery lit from a wide skylight): in mean-rel the projected SH need 7 bands; with
+# --sh-fit metric the start pool also takes regions down to 0.3% of the flux, and three fitted
+# lights over 3 bands meet 1% at 108 operations (docs/budget/mean-rel/tradeoff.md).
+if have_shared_data probes-latlong/uffizi.hdr; then
+    UFFIZI="$INLIGHT_SHARED_DIR/data/probes-latlong/uffizi.hdr"
+    expect_exit 0 "uffizi mean-rel: met with --sh-fit metric" -- "$EP" "$UFFIZI" \
+        -o "$WORK/uffizi_mr.json" --max-error 0.01 --error-metric mean-rel --sh-fit metric \
+        --budget-max-bands 5 --report "$WORK/uffizi_mr_r.json" -q
+    expect_true "uffizi mean-rel, metric fit: within 1% at no more than 5 bands' cost" -- \
+        jq -e '.metrics.environments[0].budget | .met and .chosen.lights == 3 and .chosen.sh_bands == 3
+          and .chosen.cost.operations == 108 and .chosen.error <= 0.01' "$WORK/uffizi_mr_r.json"
+fi
 finish
