@@ -34,12 +34,21 @@ void Report::set_argv(int argc, char** argv) {
     m_argv.assign(argv, argv + argc);
 }
 
-void Report::add_input(const std::string& path) {
+bool Report::has_input(const std::string& path) const {
     for (const auto& in : m_inputs) {
-        if (in["path"] == path) return;
+        if (in["path"] == path) return true;
     }
+    return false;
+}
+
+void Report::add_input(const std::string& path) {
+    if (!has_input(path)) add_input(path, sha256_file(path));
+}
+
+void Report::add_input(const std::string& path, const std::string& sha256) {
+    if (has_input(path)) return;
     fs::declare_input(path);
-    m_inputs.push_back({{"path", path}, {"sha256", sha256_file(path)}});
+    m_inputs.push_back({{"path", path}, {"sha256", sha256}});
 }
 
 void Report::add_output(const std::string& path, const std::string& kind,

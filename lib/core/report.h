@@ -28,6 +28,9 @@ class Report {
     /// (fs::declare_input), so no output of the run may overwrite it. Throws Error if the file
     /// cannot be read, UsageError if it is one of the run's outputs.
     void add_input(const std::string& path);
+    /// As add_input, with the SHA-256 the caller computed (e.g. on another thread while the file
+    /// was being decoded: envmap-project).
+    void add_input(const std::string& path, const std::string& sha256);
     /// Records an output file with its kind ("sh_coefficients", "image", ...) and colour space
     /// (empty when not an image).
     void add_output(const std::string& path, const std::string& kind,
@@ -51,6 +54,7 @@ class Report {
     const std::string& tool() const { return m_tool; }
 
   private:
+    bool has_input(const std::string& path) const;
     std::string m_tool;
     std::vector<std::string> m_argv;
     nlohmann::json m_config = nlohmann::json::object();

@@ -80,13 +80,30 @@ expect_true "gate status in report, outputs still written" -- \
     jq -e '.status == "quality_gate_failed" and .exit_code == 3' "$WORK/gate.json"
 expect_true "outputs exist after a failed gate" -- test -s "$WORK/sun_sh.json"
 
-# Same input, any thread count: byte-identical binary output.
-"$EP" "$WORK/sun.exr" -o "$WORK/t1.json" --sh-bands 9 --threads 1 -q
-"$EP" "$WORK/sun.exr" -o "$WORK/t2.json" --sh-bands 9 --threads 2 -q
+# Same input, any thread count: byte-identical binary output. The input's SHA-256 is hashed on
+# its own thread during the decode with 2 threads and after it with 1: the same digest as
+# sha256sum's either way.
+"$EP" "$WORK/sun.exr" -o "$WORK/t1.json" --sh-bands 9 --threads 1 -q --report "$WORK/t1r.json"
+"$EP" "$WORK/sun.exr" -o "$WORK/t2.json" --sh-bands 9 --threads 2 -q --report "$WORK/t2r.json"
 expect_true "identical output for --threads 1 and 2" -- cmp -s "$WORK/t1.bin" "$WORK/t2.bin"
+expect_true "identical coefficients in the JSON for --threads 1 and 2" -- \
+    cmp -s <(jq -c .coefficients "$WORK/t1.json") <(jq -c .coefficients "$WORK/t2.json")
+SUN_SHA=$(sha256sum "$WORK/sun.exr" | cut -d' ' -f1)
+# shellcheck disable=SC2016  # $h is a jq variable
+for t in 1 2; do
+    expect_true "--threads $t: report's input digest is sha256sum's" -- \
+        jq -e --arg h "$SUN_SHA" '.inputs == [{path: .inputs[0].path, sha256: $h}]' "$WORK/t${t}r.json"
+done
+# shellcheck disable=SC2016  # $h is a jq variable
+expect_true "failed load: the report still names the input with its digest" -- \
+    jq -e --arg h "$(sha256sum "$WORK/bad_aspect.exr" | cut -d' ' -f1)" '.inputs[0].sha256 == $h' "$WORK/bad.json"
 
 # Several inputs into a directory.
-expect_exit 0 "two inputs into a directory" -- "$EP" "$WORK/const.exr" "$WORK/sun.exr" -o "$WORK/many" -q
+expect_exit 0 "two inputs into a directory" -- "$EP" "$WORK/const.exr" "$WORK/sun.exr" -o "$WORK/many" -q \
+    --report "$WORK/many.json"
+# shellcheck disable=SC2016  # $c and $s are jq variables
+expect_true "each input's digest in the report, in order" -- jq -e --arg c "$(sha256sum "$WORK/const.exr" | cut -d' ' -f1)" \
+    --arg s "$SUN_SHA" '[.inputs[].sha256] == [$c, $s]' "$WORK/many.json"
 expect_true "one file pair per input" -- test -s "$WORK/many/const_sh.json" -a -s "$WORK/many/sun_sh.bin"
 
 # An 8-bit camera frame through a response curve. A linear camera: g(z) = ln(z / 128), so code
