@@ -413,6 +413,34 @@ ErrorAndPrediction error_and_prediction(const RenderResult& r, const RenderResul
             noise_map_log_band(pixel_var, groups - 1)};
 }
 
+/// The accepted band of log(RMS error / RMS predicted) pooled over K renders of different seeds
+/// against one shared reference: `render_var[k][i]` is pixel i's map (channel-summed se^2) of
+/// render k, `ref_var[i]` the reference's; both maps have `dof` degrees of freedom. As
+/// noise_map_log_band, a pixel is one unit with fully correlated channels (the worst case), but
+/// the reference's error r_i is common to the K errors e_ki + r_i: with a_ki, b_i their
+/// variances, the pooled squared error D has variance 2 sum_i (sum_k a_ki^2 + 2 b_i sum_k a_ki +
+/// K^2 b_i^2) (2 tr(M^2), M = diag(a_i) + b_i 1 1^T), the pooled prediction
+/// P = sum_i (sum_k s_ki + K s_ref_i) has variance 2 / dof sum_i (sum_k a_ki^2 + K^2 b_i^2), and
+/// sd(log sqrt(D / P)) = 0.5 sqrt(Var D + Var P) / E[P]. Squares are estimated from the maps as
+/// in noise_map_log_band (s^2 / (1 + 2 / dof)), cross terms by products of independent maps.
+double pooled_noise_map_log_band(const std::vector<std::vector<double>>& render_var,
+                                 const std::vector<double>& ref_var, int dof) {
+    const double k = static_cast<double>(render_var.size()), sq = 1.0 + 2.0 / dof;
+    double var_d = 0, var_p = 0, p = 0;
+    for (size_t i = 0; i < ref_var.size(); ++i) {
+        const double b = ref_var[i];
+        double sum_a = 0, sum_a2 = 0;
+        for (const auto& a : render_var) {
+            sum_a += a[i];
+            sum_a2 += a[i] * a[i] / sq;
+        }
+        var_d += 2 * (sum_a2 + 2 * b * sum_a + k * k * b * b / sq);
+        var_p += 2.0 / dof * (sum_a2 + k * k * b * b / sq);
+        p += sum_a + k * b;
+    }
+    return kNoiseMapSigmas * 0.5 * std::sqrt(var_d + var_p) / p;
+}
+
 TEST(PathTracer, AdaptiveSamplingLowersTheErrorAtEqualSamplesAndStaysHonest) {
     // A small Lambert sphere in perspective under a sky with a sun: the noise sits on the
     // sphere (the background is the sky seen directly, nearly noise-free), so spending the same
@@ -451,12 +479,41 @@ TEST(PathTracer, AdaptiveSamplingLowersTheErrorAtEqualSamplesAndStaysHonest) {
     // good to a few % (576 pixels), so asking for 0.8 cannot pass by luck nor fail by noise.
     constexpr double kMinGain = 0.8;
     EXPECT_LT(ad.error, kMinGain * uni.error);
-    // Honest map, as expect_noise_predicts_error (the pixels the sampler chose by their own
-    // estimate are where it under-states; the 3 x 3 neighbourhood it ranks by dilutes that).
-    std::printf("adaptive: actual / predicted RMS %.3f, accepted [%.3f, %.3f]\n",
-                ad.error / ad.predicted, std::exp(-ad.log_band), std::exp(ad.log_band));
-    EXPECT_GT(ad.predicted / ad.error, std::exp(-ad.log_band));
-    EXPECT_LT(ad.predicted / ad.error, std::exp(ad.log_band));
+    // Honest map, as expect_noise_predicts_error. One render cannot be held tighter than
+    // [0.46, 2.2] here: the noise sits on a few sphere pixels (the map's effective pixel count
+    // is ~40 of 576) and 2 scramble groups give each pixel's variance 1 dof, so the derived sd
+    // of log(actual / predicted) is 0.16 (measured 0.12 over 128 seeds). Pooling K renders of
+    // other seeds against the same reference divides the renders' part of that variance by K:
+    // with K = 8 the derived sd is 0.04-0.055 (measured 0.035 over 16 sets of 8) and 5 of them
+    // give [0.76, 1.32] for these seeds. The pooled ratio sat at exp(0.055 +- 0.009) over those
+    // 16 sets (~1.2 derived sd, inside the band): the map under-states the error a little as
+    // the pixels the sampler chose by their own estimate keep the under-estimates (predicted /
+    // actual 0.91-0.92 for adaptive and 0.99 for plain sobol in render-convergence agree).
+    constexpr int kPooledRenders = 8;
+    std::vector<std::vector<double>> render_var;
+    std::vector<double> ref_var(ref.radiance.pixels.size() / 3, 0.0);
+    double d2 = 0, p2 = 0;
+    for (int k = 0; k < kPooledRenders; ++k) {
+        o.seed = 5 + k;  // seed 5 is `adaptive` above
+        const RenderResult r = k == 0 ? adaptive : render(scene, o);
+        render_var.emplace_back(ref_var.size(), 0.0);
+        for (size_t i = 0; i < r.radiance.pixels.size(); ++i) {
+            const double diff = static_cast<double>(r.radiance.pixels[i]) - ref.radiance.pixels[i];
+            const double se = r.std_error.pixels[i], se_ref = ref.std_error.pixels[i];
+            d2 += diff * diff;
+            p2 += se * se + se_ref * se_ref;
+            render_var.back()[i / 3] += se * se;
+            if (k == 0) ref_var[i / 3] += se_ref * se_ref;
+        }
+    }
+    const double ratio = std::sqrt(d2 / p2);
+    const double band = pooled_noise_map_log_band(render_var, ref_var, o.scramble_groups - 1);
+    std::printf("adaptive, %d seeds pooled: actual / predicted RMS %.3f, accepted [%.3f, %.3f] "
+                "(one render: %.3f in [%.3f, %.3f])\n",
+                kPooledRenders, ratio, std::exp(-band), std::exp(band), ad.error / ad.predicted,
+                std::exp(-ad.log_band), std::exp(ad.log_band));
+    EXPECT_GT(ratio, std::exp(-band)) << "the adaptive noise map over-states the error";
+    EXPECT_LT(ratio, std::exp(band)) << "the adaptive noise map under-states the error";
 }
 
 TEST(PathTracer, StopsAtTargetRelativeError) {
