@@ -10,12 +10,13 @@ source "$HERE/../cli/lib.sh"
 RC="$HERE/../../pipelines/render-convergence.sh"
 
 # The deterministic part of a call's results: the TSV without its CPU and wall seconds, and the
-# Markdown tables without the columns that depend on CPU times.
+# Markdown tables without the columns and the note that depend on CPU times (which equal-time
+# rows are "-", and the MAX_SPP that would measure them).
 fixed_tsv() { cut -f1-4,7- "$1/convergence.tsv"; }
 fixed_md() {
     awk -F'|' 'NF == 11 { print $2 $3 $4 $5 $6 $7 $8 $10 }  # per-sampler table: not CPU / sample
                NF == 8 { print $2 $3 $4 }                    # equal time: peer spp, error, sampler
-               NF != 11 && NF != 8 && !/^(Machine|render-convergence)/' "$1/convergence.md"
+               NF != 11 && NF != 8 && !/^(Machine|render-convergence|"-" \()/' "$1/convergence.md"
 }
 rc() {  # rc OUT MAX_SPP SPHERE_PX PATCH_PX PATCH_REF_SPP
     "$RC" "$@" > "$WORK/rc.log" 2>&1 || { sed 's/^/    /' "$WORK/rc.log" | tail -20; return 1; }
