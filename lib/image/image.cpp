@@ -171,7 +171,23 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& name, OIIO::Imag
     void* proxy = memory;
     if (memory) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
     follow_thread_count();
-    auto in = OIIO::ImageInput::open(name, &config);
+    // Only the reader of the format the extension names: ImageInput::open would try every other
+    // reader OpenImageIO has (about 30, RAW, DICOM, FITS, PSD, ...) when that one fails, so a
+    // PNG named .exr was read as a PNG without a word, and a corrupt file reached decoders the
+    // project never meant to feed. A name whose extension no reader claims is still recognised
+    // by its content.
+    std::unique_ptr<OIIO::ImageInput> in;
+    const std::string ext = fs::extension(name);
+    if (!ext.empty()) in = OIIO::ImageInput::create(ext);
+    if (in) {
+        OIIO::ImageSpec spec;
+        if (!in->open(name, spec, config)) {
+            throw Error(str(name, ": cannot open: ", clean(in->geterror())));
+        }
+        return in;
+    }
+    (void)OIIO::geterror();  // "could not find a format reader for <ext>": not this file's error
+    in = OIIO::ImageInput::open(name, &config);
     if (!in) throw Error(str(name, ": cannot open: ", clean(OIIO::geterror())));
     return in;
 }

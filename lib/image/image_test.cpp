@@ -484,6 +484,29 @@ TEST(ImageIo, TruncatedAndCorruptFilesNameTheFile) {
     }
 }
 
+TEST(ImageIo, ReadsAFileOnlyWithTheReaderOfItsExtension) {
+    // OpenImageIO's ImageInput::open falls back to every other reader when the extension's own
+    // fails: a PNG named .exr was read as a PNG without a word. Now it is a bad EXR.
+    const std::string dir = testing::temp_dir("reader");
+    const std::string png = dir + "/p.png";
+    write_image(png, random_image(8, 4, 3, 0.0f, 1.0f, 7));
+    for (const char* ext : {"exr", "hdr", "tif"}) {
+        const std::string path = dir + "/p." + ext;
+        stdfs::copy_file(png, path, stdfs::copy_options::overwrite_existing);
+        const std::string msg = error_of([&] { read_image(path); });
+        EXPECT_EQ(starts(msg, path.size() + 15), path + ": cannot open: ") << msg;
+        EXPECT_EQ(starts(error_of([&] { read_info(path); }), path.size() + 15),
+                  path + ": cannot open: ");
+        std::printf("[ png named .%s ] %s\n", ext, msg.c_str());
+    }
+    EXPECT_NE(error_of([&] { read_image(dir + "/p.exr"); }).find("not an OpenEXR file"),
+              std::string::npos);
+    // A name no reader claims is still recognised by its content; the same bytes as .png read.
+    const std::string unknown = dir + "/p.data";
+    stdfs::copy_file(png, unknown);
+    EXPECT_EQ(read_image(unknown).pixels, read_image(png).pixels);
+}
+
 TEST(ImageIo, FailedWriteKeepsTheOldFileAndLeavesNoTemporary) {
     const std::string dir = testing::temp_dir("atomic");
     const std::string path = dir + "/keep.hdr";

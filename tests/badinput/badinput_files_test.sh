@@ -26,6 +26,12 @@ bad 1 "truncated.exr" "truncated EXR" -- "$EP" "$WORK/truncated.exr" -o "$OUT/t_
 bad 1 "garbage.hdr" "HDR with a lying header" -- "$EP" "$WORK/garbage.hdr" -o "$OUT/g_sh.json"
 bad 1 "garbage.png" "garbage PNG" -- "$EP" "$WORK/garbage.png" -o "$OUT/g_sh.json"
 bad 1 "empty.exr" "empty EXR" -- "$EP" "$WORK/empty.exr" -o "$OUT/e_sh.json"
+# A file is read only by the reader its extension names: OpenImageIO's fallback to its other
+# readers read this PNG named .exr as a PNG, exit 0.
+"$MK" "$WORK/env.png" 32 16 0.5
+cp "$WORK/env.png" "$WORK/png_named.exr"
+bad 1 "png_named.exr: cannot open: .*not an OpenEXR file" "PNG named .exr" -- \
+    "$EP" "$WORK/png_named.exr" -o "$OUT/p_sh.json"
 # Length fields larger than the file (fuzz/regressions/image, btf): refused before OpenEXR or
 # libpng allocate them (they cost 2 GB and minutes). A string attribute claiming 1.9 GB in an
 # EXR of 600 bytes; a PNG tEXt chunk claiming 1.7 GB; an EXR whose data window needs more
