@@ -20,7 +20,9 @@
 # truth; the raw BTF, the bundle's compressed BTF and each prefix of its stream are shaded and
 # measured against it and against the raw shading (docs/pipelines.md says what each measures).
 # Bytes per stream prefix come from the bundle manifest; VALIDATE_BTF_SPP (default 256) and
-# VALIDATE_BTF_VIEWS (a view directions file; default the pair's own view, along the normal).
+# VALIDATE_BTF_VIEWS (a view directions file, "theta phi" in degrees a line; default the pair's
+# own view, along the normal, then an oblique one, theta 45 phi 40, to show the BTF's view
+# dependence: about 0.5 s of CPU more per pair, docs/pipelines.md).
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -116,7 +118,7 @@ if [ -n "$(role btf_manifest)" ] && [ $# -ge 4 ]; then
     g=$(jq '[.files[] | select(.role == "btf_mean")] | length' "$M")
     points=$(jq -rn --argjson n "$n" --argjson g "$g" '[range(0; $n; $g), $n] | unique | join(",")')
     views=${VALIDATE_BTF_VIEWS:-$OUTDIR/btf-views.txt}
-    [ -n "${VALIDATE_BTF_VIEWS:-}" ] || echo "0 0" > "$views"
+    [ -n "${VALIDATE_BTF_VIEWS:-}" ] || printf '0 0\n45 40\n' > "$views"
     "$BIN/render" "$WEAVE" --btf-shade "$RAW_BTF" --btf-compressed "$S" --shade-stream "$points" \
         --environment "$ENV_MAP" --shade-views "$views" --spp "${VALIDATE_BTF_SPP:-256}" \
         -o "$OUTDIR/btf" -q --report "$OUTDIR/btf.json.tmp"

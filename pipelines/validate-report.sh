@@ -40,7 +40,7 @@ jq -s --argjson t "$MAX_DE2000" --argjson jnd "$JND_DE2000" '
                      sh_specular: $dec.sh_truncation_specular, fixed_view: $p.decomposition.fixed_view,
                      visibility: $p.decomposition.visibility, truth_noise: $p.decomposition.truth_noise}
        else null end) as $parts
-    | ($p.btf.views[0] // null) as $bv
+    | ($p.btf.views // [] | (map(select(.view_deg == [0, 0]))[0] // .[0])) as $bv
     | $p + {shipped: $ship, gles_shipped: $gl, error_parts: $parts,
             btf_view: $bv,
             btf_enough: (if $bv then $bv.stream | map(select(.mean_de2000 <= $bv.shipped.mean_de2000 + $jnd))
@@ -231,7 +231,7 @@ if [ "${#BTF_KEYS[@]}" -gt 0 ]; then
         {
             echo "set terminal pngcairo size 1000,$((nb * 380 + 40)) font 'sans,9'"
             echo "set output '$P/btf_error_vs_$axis.png'"
-            echo "set multiplot layout $nb,2 title 'BTF fabrics: the shipped BTF stream shaded under each environment (render --btf-shade --shade-stream)'"
+            echo "set multiplot layout $nb,2 title 'BTF fabrics: the shipped BTF stream shaded under each environment, view along the normal (render --btf-shade --shade-stream)'"
             echo "set grid; set key top right font 'sans,7'; set xlabel '$xl'"
             i=0
             for f in "${BTF_FABRICS[@]}"; do
@@ -250,10 +250,18 @@ if [ "${#BTF_KEYS[@]}" -gt 0 ]; then
     done
 fi
 
+# jq definitions the BTF tables share.
+JQ_DEFS='def r(n): . * n | round / n;
+    def median: sort | if length % 2 == 1 then .[length / 2 | floor] else (.[length / 2 - 1] + .[length / 2]) / 2 end;
+    def view_text: "theta \(.[0]), phi \(.[1]) deg";'
+# The BTF views the pairs were shaded at, in one line.
+BTF_VIEWS_TEXT=$(jq -r "$JQ_DEFS"' [.[] | .btf.views // [] | .[].view_deg] | unique | map(view_text) | join("; ")' "$V/summary.json")
 # What each BTF comparison measures (the Markdown summary and the page say it once).
 btf_measures_text() {
-    echo "Each BTF fabric's BTF is shaded under the environment as the app would shade it (render --btf-shade,"
-    echo "view along the normal, as the pair's camera) and measured against a truth of its own: the woven"
+    echo "Each BTF fabric's BTF is shaded under the environment as the app would shade it (render"
+    echo "--btf-shade) at each of these views: $BTF_VIEWS_TEXT (theta from the normal). Theta 0 is the"
+    echo "pair's own camera: the per-pair table, the stream table and the plots are at it; the view table"
+    echo "sets the views side by side. Each is measured against a truth of its own: the woven"
     echo "geometry the BTF was captured from, path-traced under the same environment through the BTF's"
     echo "rectified camera at the BTF's size. **Raw BTF vs truth**: the BTF representation itself (81 light"
     echo "directions standing in for the environment, the capture's noise). **Shipped vs truth**: what"
@@ -266,8 +274,7 @@ btf_measures_text() {
 # environments against the truth and against the raw BTF shading, with the bytes sent.
 btf_stream_table() {
     # shellcheck disable=SC2016  # jq program
-    local prog='def r(n): . * n | round / n;
-        def median: sort | if length % 2 == 1 then .[length / 2 | floor] else (.[length / 2 - 1] + .[length / 2]) / 2 end;
+    local prog="$JQ_DEFS"'
         [.[] | select(.btf_view)] | group_by(.fabric)[] | .[0].fabric as $f
         | [.[].btf_view.stream[]] | group_by(.components_sent)[]
         | [$f, .[0].components_sent, (.[0].bytes_sent / 1000 | r(10)), (map(.mean_de2000) | median | r(100)),
@@ -280,6 +287,29 @@ btf_stream_table() {
     else
         echo "<table><tr><th>fabric</th><th>components sent</th><th>kB sent</th><th>dE2000 vs truth, median (worst)</th><th>rel. RMSE vs raw BTF, median (worst)</th></tr>"
         jq -r "$prog"' | "<tr><td>\(.[0])</td><td>\(.[1])</td><td>\(.[2])</td><td>\(.[3]) (\(.[4]))</td><td>\(.[5]) (\(.[6]))</td></tr>"' "$V/summary.json"
+        echo "</table>"
+    fi
+}
+
+# btf_view_table md|html: the BTF's view dependence: per BTF fabric and view, the median and worst
+# error over the environments of the raw and the shipped BTF against the truth, and of the shipped
+# against the raw BTF shading.
+btf_view_table() {
+    # shellcheck disable=SC2016  # jq program
+    local prog="$JQ_DEFS"'
+        [.[] | select(.btf_view) | .fabric as $f | .btf.views[] | . + {fabric: $f}]
+        | group_by(.fabric)[] | group_by(.view_deg)[]
+        | [.[0].fabric, (.[0].view_deg | view_text), length,
+           (map(.raw.mean_de2000) | median | r(100)), (map(.raw.mean_de2000) | max | r(100)),
+           (map(.shipped.mean_de2000) | median | r(100)), (map(.shipped.mean_de2000) | max | r(100)),
+           (map(.shipped.vs_raw_rel_rmse) | median | r(10000)), (map(.shipped.vs_raw_rel_rmse) | max | r(10000))]'
+    if [ "$1" = md ]; then
+        echo "| fabric | view | environments | raw BTF vs truth: dE2000, median (worst) | shipped vs truth: dE2000, median (worst) | shipped vs raw BTF: rel. RMSE, median (worst) |"
+        echo "| --- | --- | --- | --- | --- | --- |"
+        jq -r "$prog"' | "| \(.[0]) | \(.[1]) | \(.[2]) | \(.[3]) (\(.[4])) | \(.[5]) (\(.[6])) | \(.[7]) (\(.[8])) |"' "$V/summary.json"
+    else
+        echo "<table><tr><th>fabric</th><th>view</th><th>environments</th><th>raw BTF vs truth: dE2000, median (worst)</th><th>shipped vs truth: dE2000, median (worst)</th><th>shipped vs raw BTF: rel. RMSE, median (worst)</th></tr>"
+        jq -r "$prog"' | "<tr><td>\(.[0])</td><td>\(.[1])</td><td>\(.[2])</td><td>\(.[3]) (\(.[4]))</td><td>\(.[5]) (\(.[6]))</td><td>\(.[7]) (\(.[8]))</td></tr>"' "$V/summary.json"
         echo "</table>"
     fi
 }
@@ -313,6 +343,10 @@ btf_stream_table() {
         echo "Error against the stream, median (and worst) over the environments:"
         echo
         btf_stream_table md
+        echo
+        echo "The BTF's view dependence, median (and worst) over the environments:"
+        echo
+        btf_view_table md
     fi
     jq -r '.[] | select(.has_btf and .btf_view == null) | "\nBTF of \(.fabric) under \(.environment) not shaded: no raw capture was given (a BTF without woven geometry has no truth to path-trace)."' "$V/summary.json"
     echo
@@ -355,6 +389,9 @@ HTML
         jq -r 'def r(n): . * n | round / n; .[] | select(.btf_view) | .btf_view as $b | "<tr><td>\(.fabric)</td><td>\(.environment)</td><td>\($b.truth_noise | r(1000))</td><td>\($b.raw.mean_de2000 | r(100)) (\($b.raw.mean_rel | r(1000)))</td><td>\($b.shipped.components_sent), \($b.shipped.bytes / 1000 | r(10))</td><td>\($b.shipped.mean_de2000 | r(100)) (\($b.shipped.mean_rel | r(1000)))</td><td>\($b.shipped.vs_raw_rel_rmse | r(1000))</td><td>\(.btf_enough.components_sent) components, \(.btf_enough.bytes_sent / 1000 | r(10)) kB (dE2000 \(.btf_enough.mean_de2000 | r(100)))</td><td>\(.shipped.mean_de2000 | r(100))</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\($b.compare_image)\" alt=\"BTF \(.fabric) \(.environment)\"></td></tr>"' "$V/summary.json"
         echo "</table><p>Error against the stream, median (and worst) over the environments:</p>"
         btf_stream_table html
+        echo "<p>The BTF's view dependence, median (and worst) over the environments (images: truth | raw BTF | error at each view):</p>"
+        btf_view_table html
+        jq -r '.[] | select(.btf_view) | "<p>\(.fabric) under \(.environment): " + ([.fabric as $f | .environment as $e | .btf.views[] | "<img class=\"pair\" src=\"pairs/\($f)/\($e)/\(.compare_image)\" alt=\"BTF \($f) \($e) theta \(.view_deg[0]) phi \(.view_deg[1])\" title=\"theta \(.view_deg[0]), phi \(.view_deg[1]) deg\">"] | join(" ")) + "</p>"' "$V/summary.json"
     fi
     echo "<h2>Error against cost</h2>"
     for p in error_vs_sh_bands error_vs_frame_time error_vs_spp truth_noise error_vs_bytes error_parts btf_error_vs_components btf_error_vs_bytes; do

@@ -50,27 +50,35 @@ expect_true "bytes per stream prefix equal btf-pca's streaming.tsv" -- test \
 # shellcheck disable=SC2016  # jq program
 expect_true "shipped bytes are the bundle's btf files" -- jq -e --slurpfile m "$C/manifest.json" \
     '.btf.bytes_shipped == ([$m[0].files[] | select(.role | startswith("btf_")) | .bytes] | add)' "$SC"
-# Error against the raw shading: the view (0, 0) lies in one group and each prefix projects its
-# images onto nested subspaces, so it cannot rise (tolerance 1e-6: float32 fold of ~16 terms,
-# 2^-24 each).
-# shellcheck disable=SC2016  # jq program
-expect_true "error against the raw BTF shading non-increasing over the 17 prefixes" -- jq -e \
-    '.btf.views[0].stream | ([range(1; length) as $i | .[$i].vs_raw_rel_rmse <= .[$i - 1].vs_raw_rel_rmse + 1e-6] | all)' "$SC"
+expect_true "shaded at the default views: the pair's (0, 0) and the oblique (45, 40)" -- jq -e \
+    '[.btf.views[].view_deg] == [[0, 0], [45, 40]] and ([.btf.views[].compare_image] | unique | length) == 2' "$SC"
+# At each view (both are capture views, taken whole: --view-neighbours 1):
+# Error against the raw shading: the view lies in one group and each prefix projects its images
+# onto nested subspaces, so it cannot rise (tolerance 1e-6: float32 fold of ~16 terms, 2^-24 each).
 # Full rank: every reconstructed value is within btf-pca's max_abs_linear of the raw one; the
 # shading is a non-negative blend of the view's 81 images, so its RMSE relative to its mean is
 # at most max_abs_linear / (the darkest image's mean), bounded below by sRGB-decoding each
 # image's channel means (the decode is convex: Jensen), plus the fold's float32 rounding (1e-6).
-dark=$(oiiotool --stats "$RAW"/tv000_pv000/*.png 2>&1 | awk '/Stats Avg/ {m = 0; for (c = 3; c <= 5; c++) {v = $c / 255; m += (v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055) ^ 2.4) / 3}; print m}' | sort -g | head -n 1)
-bound=$(jq -n --argjson e "$(jq .metrics.error.max_abs_linear "$WORK/out/work/fabrics/cap/btf-pca.json")" --argjson d "$dark" '$e / $d + 1e-6')
-echo "full rank: bound $bound (darkest image mean >= $dark)"
-# shellcheck disable=SC2016  # jq program
-expect_true "full rank equals the raw BTF shading within the reconstruction bound" -- jq -e --argjson b "$bound" \
-    '(.btf.views[0].stream | last | .components_sent == 48 and .vs_raw_rel_rmse <= $b) and .btf.views[0].stream[0].vs_raw_rel_rmse > 1000 * $b' "$SC"
+max_abs=$(jq .metrics.error.max_abs_linear "$WORK/out/work/fabrics/cap/btf-pca.json")
+for v in 0 1; do
+    view=$(jq -r ".btf.views[$v].view_deg | \"tv\(.[0] + 1000 | tostring | .[1:])_pv\(.[1] + 1000 | tostring | .[1:])\"" "$SC")
+    # shellcheck disable=SC2016  # jq program
+    expect_true "$view: error against the raw BTF shading non-increasing over the 17 prefixes" -- jq -e --argjson v "$v" \
+        '.btf.views[$v].stream | ([range(1; length) as $i | .[$i].vs_raw_rel_rmse <= .[$i - 1].vs_raw_rel_rmse + 1e-6] | all)' "$SC"
+    dark=$(oiiotool --stats "$RAW/$view"/*.png 2>&1 | awk '/Stats Avg/ {m = 0; for (c = 3; c <= 5; c++) {v = $c / 255; m += (v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055) ^ 2.4) / 3}; print m}' | sort -g | head -n 1)
+    bound=$(jq -n --argjson e "$max_abs" --argjson d "$dark" '$e / $d + 1e-6')
+    echo "$view full rank: bound $bound (darkest image mean >= $dark)"
+    # shellcheck disable=SC2016  # jq program
+    expect_true "$view: full rank equals the raw BTF shading within the reconstruction bound" -- jq -e --argjson b "$bound" --argjson v "$v" \
+        '(.btf.views[$v].stream | last | .components_sent == 48 and .vs_raw_rel_rmse <= $b) and .btf.views[$v].stream[0].vs_raw_rel_rmse > 1000 * $b' "$SC"
+done
 
 expect_exit 0 "validate-report" -- "$PIPE/validate-report.sh" "$WORK/val"
 for p in btf_error_vs_components btf_error_vs_bytes; do
     expect_true "plot $p is a PNG" -- bash -c "file '$WORK/val/plots/$p.png' | grep -q 'PNG image'"
 done
 expect_true "page shows the BTF shading of the captured fabric" -- grep -q 'pairs/cap/sunset/btf_sunset_tv000_pv000_compare.png' "$WORK/val/index.html"
-expect_true "Markdown: a BTF row and the stream table (17 prefixes)" -- test "$(grep -c '^| cap |' "$WORK/val/summary.md")" -eq 19
+expect_true "page shows the oblique view too" -- grep -q 'pairs/cap/sunset/btf_sunset_tv045_pv040_compare.png' "$WORK/val/index.html"
+expect_true "Markdown: a BTF row, the stream table (17 prefixes) and the view table (2 views)" -- test "$(grep -c '^| cap |' "$WORK/val/summary.md")" -eq 21
+expect_true "Markdown says which views were shaded" -- grep -q 'at each of these views: theta 0, phi 0 deg; theta 45, phi 40 deg' "$WORK/val/summary.md"
 finish
