@@ -96,7 +96,8 @@ int main(int argc, char** argv) {
         if (!gles_args.dir.empty() && max_error <= 0) {
             // The table's shape is known: a variant that does not fit is refused before the bake.
             const brdf::Table shape = gles::table_shape(material, grid, o.sh_bands);
-            gles::export_material(lambert ? nullptr : &shape, gles_in, gles_set);
+            gles::check_before_work(
+                [&] { gles::export_material(lambert ? nullptr : &shape, gles_in, gles_set); });
         }
         brdf::ValidateOptions vopt;
         vopt.reference_rel_tol = brdf::reference_rel_tol_for(o);

@@ -226,6 +226,14 @@ int main(int argc, char** argv) {
             scene = std::make_unique<render::Scene>(std::move(desc));
             for (const auto& f : scene->files()) report.add_input(f);
         }
+        // Every GLES variant is built now on tables of the baked shape, so one that does not fit
+        // is refused before the render and the bakes.
+        gles::SceneExportOptions gles_export;
+        gles_export.set = gles_set;
+        gles_export.grid = cmp.grid;
+        gles_export.bake_samples = cmp.bake_samples;
+        if (!gles_args.dir.empty())
+            gles::check_before_work([&] { gles::check_scene_export(*scene, gles_export); });
         render::RenderResult r;
         {
             ScopedStage stage(report, "render");
@@ -304,11 +312,7 @@ int main(int argc, char** argv) {
         }
         if (!gles_args.dir.empty()) {
             ScopedStage stage(report, "export gles");
-            gles::SceneExportOptions eo;
-            eo.set = gles_set;
-            eo.grid = cmp.grid;
-            eo.bake_samples = cmp.bake_samples;
-            const auto exports = gles::export_scene(*scene, eo);
+            const auto exports = gles::export_scene(*scene, gles_export);
             for (const auto& path : gles::write_exports(gles_args.dir, exports)) {
                 report.add_output(path, "gles_export");
             }

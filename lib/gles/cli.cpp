@@ -32,6 +32,16 @@ ExportSet ExportArgs::prepare(Report& report) const {
     return set();
 }
 
+void check_before_work(const std::function<void()>& check) {
+    try {
+        check();
+    } catch (const UsageError& e) {
+        throw UsageError(str("--export-gles: ", e.what()));
+    } catch (const Error& e) {
+        throw Error(str("--export-gles: ", e.what()));
+    }
+}
+
 void add_export_options(CLI::App& app, ExportArgs& a) {
     app.add_option("--export-gles", a.dir,
                    "Also write GLES vertex + fragment shaders, manifests and BRDF data of every "

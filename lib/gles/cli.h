@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <string>
 
 #include "core/report.h"
@@ -23,6 +24,10 @@ struct ExportArgs {
     /// `report`, and returns set().
     ExportSet prepare(Report& report) const;
 };
+
+/// Runs `check` (the export on tables of the baked shape, before any bake or rendering) and
+/// names --export-gles in what it throws, keeping the type (UsageError: exit 2, Error: exit 1).
+void check_before_work(const std::function<void()>& check);
 
 /// Adds --export-gles DIR, --gles-versions, --gles-modes, --gles-precisions, --gles-max-bands,
 /// --gles-lighting FILE, --gles-max-texture-size N.

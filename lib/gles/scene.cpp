@@ -12,7 +12,12 @@
 
 namespace inlight::gles {
 
-std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOptions& options) {
+namespace {
+
+/// export_scene() on the baked tables, or (`shapes_only`) on zero tables of their shape: the
+/// same variants at the same limits, without the bake.
+std::vector<Export> export_materials(const render::Scene& scene,
+                                     const SceneExportOptions& options, bool shapes_only) {
     brdf::BakeOptions bo;
     bo.sh_bands = std::max(3, options.set.max_sh_bands);
     bo.samples = options.bake_samples;
@@ -36,13 +41,23 @@ std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOp
         if (m.brdf.specular == brdf::Model::kLambert) {
             for (Export& e : export_material(nullptr, in, options.set)) out.push_back(std::move(e));
         } else {
-            const brdf::Table table = brdf::bake(m.brdf, grid, bo);
+            const brdf::Table table = shapes_only ? table_shape(m.brdf, grid, bo.sh_bands)
+                                                  : brdf::bake(m.brdf, grid, bo);
             for (Export& e : export_material(&table, in, options.set)) out.push_back(std::move(e));
         }
     }
     return out;
 }
 
+}  // namespace
+
+std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOptions& options) {
+    return export_materials(scene, options, false);
+}
+
+void check_scene_export(const render::Scene& scene, const SceneExportOptions& options) {
+    export_materials(scene, options, true);
+}
 
 Eigen::Matrix4f clip_from_world(const render::Camera& cam, double near, double far) {
     const Eigen::Vector3d f = (cam.look_at - cam.position).normalized();

@@ -25,6 +25,10 @@ struct SceneExportOptions {
 /// export_material.
 std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOptions& options);
 
+/// export_scene() without the bakes (on tables of the baked shape): throws as it would, so that
+/// render refuses a variant that does not fit before any rendering or baking.
+void check_scene_export(const render::Scene& scene, const SceneExportOptions& options);
+
 /// clip_from_world of the scene's camera (the rays of render::Camera: image row 0 at clip
 /// y = +1), depth mapping [near, far] (world distance along the view) to [-1, 1].
 Eigen::Matrix4f clip_from_world(const render::Camera& camera, double near, double far);

@@ -132,6 +132,20 @@ expect_true "the float ES 3.00 variant's CPU model is the lit CPU model of the r
     '.metrics.realtime as $r | [$r.gles.variants[] | select(.lights == 1 and .glsl_version == "300") |
      (.cpu_model_vs_truth.mean_rel - $r.lighting_file.with_lights.mean_rel) | fabs < 1e-9 * $r.lighting_file.with_lights.mean_rel] | length == 1 and all' "$WORK/s.json"
 expect_true "three-way PNG with the light written" -- test -s "$WORK/s_compare3_es300-consistent-b3-l1-highp-file.png"
+# Every option is checked before any work: 8 lights need 1 + 2 x 8 = 17 fragment uniform vectors
+# in ES 1.00, above the ES 2.0 minimum of 16, so render refuses them before it renders or bakes
+# (as brdf-sh-bake does before its bake).
+jq '.lights = [limit(8; repeat(.lights[0]))]' "$WORK/sun_sh.json" > "$WORK/sun8.json"
+expect_exit 1 "render refuses an ES 1.00 variant with 8 lights" -- "$R" "$WORK/sun_scene.toml" -o "$WORK/f.exr" \
+    --spp 16 --export-gles "$WORK/gf" --gles-lighting "$WORK/sun8.json" --gles-versions 100 \
+    --gles-modes consistent --gles-precisions highp --report "$WORK/f.json"
+expect_stderr "^render: error: --export-gles: GLES export velvet-es100-consistent-b3-l8-highp: needs 17 fragment uniform vectors" \
+    "the refusal names the option, the variant and the vectors needed"
+expect_stderr "GL_MAX_FRAGMENT_UNIFORM_VECTORS is 16" "the refusal names the limit"
+expect_true "the refusal comes before the render and the bakes" -- \
+    jq -e '.exit_code == 1 and (.stage_time_s | keys == ["load scene"])' "$WORK/f.json"
+expect_true "nothing written by the refusal" -- \
+    bash -c "test ! -e '$WORK/f.exr' && test ! -e '$WORK/f_stderr.exr' && test ! -e '$WORK/gf'"
 
 # render: the scene's materials, with the albedo texture's size in the manifest.
 if [ -e /usr/share/blender/datafiles/studiolights/world/city.exr ]; then
