@@ -101,12 +101,8 @@ TEST(Decompose, SphereInPerspectiveShowsGridAndFixedViewAndTheFirstModelIsTheRea
     d.camera.position = {0, 0, 3};
     d.camera.fov_deg = 25;
     d.camera.width_px = d.camera.height_px = 12;
-    d.materials.push_back(ggx("ggx"));
-    ObjectSpec o;
-    o.shape.kind = ShapeKind::kSphere;
-    o.shape.radius = 0.6;
-    o.material = "ggx";
-    d.objects.push_back(o);
+    d = testscenes::with_object(d, ggx("ggx"), ShapeKind::kSphere);
+    d.objects[0].shape.radius = 0.6;
     d.environment.image = band_limited_sky(64, 32);
     const Scene scene(d);
     const RenderResult truth = pixel_centre_truth(scene, 16);

@@ -40,12 +40,7 @@ SceneDesc sphere_scene(int px, const std::string& model) {
     m.name = "m";
     m.brdf.specular = brdf::model_from_string(model);
     m.brdf.albedo = {0.8, 0.5, 0.3};
-    d.materials.push_back(m);
-    ObjectSpec o;
-    o.shape.kind = ShapeKind::kSphere;
-    o.material = "m";
-    d.objects.push_back(o);
-    return d;
+    return testscenes::with_object(d, m, ShapeKind::kSphere);
 }
 
 TEST(BruteForceIrradiance, UpperSkyClosedForm) {

@@ -13,6 +13,7 @@
 #include "core/parallel.h"
 #include "render/path_tracer.h"
 #include "render/realtime.h"
+#include "render/render_testing.h"
 
 namespace {
 
@@ -34,19 +35,16 @@ image::Image environment_map() {
     return img;
 }
 
+/// The app's case of the render tests (render_testing.h) at 64x64, the camera as wide as the
+/// patch (as the figures in docs/benchmarks.md were measured).
 SceneDesc patch_scene() {
-    SceneDesc d;
-    d.camera.width_px = d.camera.height_px = 64;
-    d.environment.image = environment_map();
     SurfaceMaterial m;
     m.name = "satin";
     m.brdf.specular = brdf::Model::kGgx;
     m.brdf.alpha = 0.2;
-    d.materials.push_back(m);
-    ObjectSpec o;
-    o.shape.kind = ShapeKind::kPatch;
-    o.material = "satin";
-    d.objects.push_back(o);
+    SceneDesc d = testscenes::patch_scene(m, 64);
+    d.camera.ortho_height = 1;
+    d.environment.image = environment_map();
     return d;
 }
 
@@ -116,15 +114,8 @@ void BM_RealtimeFrame(benchmark::State& state) {
         d.camera.width_px = d.camera.height_px = 256;
         return Scene(d);
     }();
-    static const RealtimeLighting lighting = [] {
-        RealtimeLighting l;
-        l.coeffs = project_environment(s.environment(), 8);
-        brdf::BakeOptions bo;
-        bo.sh_bands = 8;
-        bo.samples = 1024;
-        l.tables.push_back(brdf::bake(s.desc().materials[0].brdf, brdf::parse_grid("octa:17"), bo));
-        return l;
-    }();
+    static const RealtimeLighting lighting =
+        testscenes::one_material_lighting(s, 8, "octa:17", 1024);
     RealtimeOptions ro;
     ro.sh_bands = static_cast<int>(state.range(0));
     ro.supersample = 1;

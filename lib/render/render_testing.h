@@ -1,4 +1,5 @@
-// render/render_testing.h: scenes shared by the render tests (header-only, tests only).
+// render/render_testing.h: scenes shared by the render tests and render_bench (header-only, not
+// part of the library), so a test and the benchmark of the same case build one scene.
 #pragma once
 
 #include <string>
@@ -40,18 +41,24 @@ inline image::Image band_limited_sky(int w, int h) {
     return img;
 }
 
+/// `d` with material `m` and one object of `kind` in it, at the shape's defaults: a 1x1 patch at
+/// z = 0 facing +z, or a sphere of radius 0.5, centred on the origin.
+inline SceneDesc with_object(SceneDesc d, const SurfaceMaterial& m, ShapeKind kind) {
+    d.materials.push_back(m);
+    ObjectSpec o;
+    o.shape.kind = kind;
+    o.material = m.name;
+    d.objects.push_back(o);
+    return d;
+}
+
 /// The app's case in miniature: a 1x1 patch at z = 0 facing +z in material m, seen by the
 /// default orthographic camera (px x px pixels, 0.8 wide: every pixel on the patch).
 inline SceneDesc patch_scene(const SurfaceMaterial& m, int px) {
     SceneDesc d;
     d.camera.width_px = d.camera.height_px = px;
     d.camera.ortho_height = 0.8;  // inside the 1x1 patch
-    d.materials.push_back(m);
-    ObjectSpec o;
-    o.shape.kind = ShapeKind::kPatch;
-    o.material = m.name;
-    d.objects.push_back(o);
-    return d;
+    return with_object(d, m, ShapeKind::kPatch);
 }
 
 /// The real-time model's inputs for a one-material scene: the environment's SH at `bands` and
