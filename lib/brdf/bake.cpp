@@ -258,6 +258,19 @@ int nodes_on_piece(int n, size_t break_count, double len) {
     return std::max(std::min(n, 3), static_cast<int>(std::lround(n * len)));
 }
 
+// Gauss-Legendre quadrature over [0, 1] split at `breaks` (0, ..., 1): for each node of each
+// piece [t0, t0 + len], fn(t0, len, x, w) with x and w the node and weight of the piece's rule
+// on [-1, 1] (nodes_on_piece of n); the caller maps x into the piece.
+template <typename Fn>
+void for_each_piece_node(GaussLegendreCache& rules, int n, const std::vector<double>& breaks,
+                         Fn&& fn) {
+    for (size_t piece = 0; piece + 1 < breaks.size(); ++piece) {
+        const double t0 = breaks[piece], len = breaks[piece + 1] - t0;
+        const auto& [x, w] = rules.get(nodes_on_piece(n, breaks.size(), len));
+        for (size_t i = 0; i < x.size(); ++i) fn(t0, len, x[i], w[i]);
+    }
+}
+
 template <typename Fn>
 void for_each_gl_node(const Material& m, const FacetView& fv, int n, Fn&& fn) {
     const Eigen::Vector3d& wo = fv.wo;
@@ -339,44 +352,34 @@ void for_each_gl_node(const Material& m, const FacetView& fv, int n, Fn&& fn) {
             }
         }
         phi_breaks.push_back(1.0);
-        for (size_t phi_piece = 0; phi_piece + 1 < phi_breaks.size(); ++phi_piece) {
-            const double s0 = phi_breaks[phi_piece], s_len = phi_breaks[phi_piece + 1] - s0;
-            const int n_phi_piece = nodes_on_piece(n, phi_breaks.size(), s_len);
-            const auto& [qx, qw] = rules.get(n_phi_piece);
-            for (int j = 0; j < n_phi_piece; ++j) {
-                const double xj = qx[static_cast<size_t>(j)];
+        for_each_piece_node(
+            rules, n, phi_breaks, [&](double s0, double s_len, double xs, double ws) {
                 const double phi = phi_breaks.size() == 2
-                                       ? phi_o + 0.5 * kPi * xj + kPi * half_index
-                                       : phi0 + kPi * (s0 + 0.5 * s_len * (xj + 1.0));
+                                       ? phi_o + 0.5 * kPi * xs + kPi * half_index
+                                       : phi0 + kPi * (s0 + 0.5 * s_len * (xs + 1.0));
                 // GL weight on an interval of length pi s_len
-                const double w_phi = 0.5 * kPi * s_len * qw[static_cast<size_t>(j)];
+                const double w_phi = 0.5 * kPi * s_len * ws;
                 const Line line = line_of(phi);
-                if (!(line.half > 0)) continue;
+                if (!(line.half > 0)) return;
                 const auto h_of = [&](double tau) { return h_on(line, tau); };
                 // tau in [0, 1], split at the kinks of the report's G.
                 breaks.assign(1, 0.0);
                 if (kinked) report_g_kinks<true>(wo, h_of, &breaks);
                 breaks.push_back(1.0);
-                for (size_t piece = 0; piece + 1 < breaks.size(); ++piece) {
-                    const double t0 = breaks[piece], len = breaks[piece + 1] - t0;
-                    const int n_piece = nodes_on_piece(n, breaks.size(), len);
-                    const auto& [px, pw] = rules.get(n_piece);
-                    for (int i = 0; i < n_piece; ++i) {
-                        const double tau = t0 + 0.5 * len * (px[static_cast<size_t>(i)] + 1.0);
+                for_each_piece_node(
+                    rules, n, breaks, [&](double t0, double len, double xt, double wt) {
+                        const double tau = t0 + 0.5 * len * (xt + 1.0);
                         const Eigen::Vector3d h = h_of(tau);
                         const double ph = warp.density(h.z());
-                        if (!(ph > 0) || !std::isfinite(ph)) continue;
+                        if (!(ph > 0) || !std::isfinite(ph)) return;
                         const double wo_h = wo.dot(h);
-                        if (wo_h <= 0) continue;
+                        if (wo_h <= 0) return;
                         const Eigen::Vector3d wi = 2.0 * wo_h * h - wo;
-                        if (wi.z() <= 0) continue;
-                        const double w_u = 0.5 * len * pw[static_cast<size_t>(i)] * 12.0 *
-                                           line.half * tau * (1.0 - tau);
+                        if (wi.z() <= 0) return;
+                        const double w_u = 0.5 * len * wt * 12.0 * line.half * tau * (1.0 - tau);
                         fn(wi.normalized(), w_u * w_phi / (2.0 * kPi) / ph * 4.0 * wo_h);
-                    }
-                }
-            }
-        }
+                    });
+            });
     }
 }
 
