@@ -2,8 +2,11 @@
 # Runs every Google Benchmark binary in BUILD/bench and prints its table (speed against error
 # where the benchmark reports error counters), then envmap-project against OIIO's read
 # (pipelines/envmap-load-bench.sh) and the render convergence table
-# (pipelines/render-convergence.sh). Figures are recorded in docs/benchmarks.md.
+# (pipelines/render-convergence.sh), and btf-pca end to end on a Bonn-size folder of PNGs
+# (pipelines/btf-pca-bench.sh). Figures are recorded in docs/benchmarks.md.
 #   pipelines/bench.sh [BUILD]
+# BTF_PCA_BENCH_ARGS="SIDE_PX DIRECTIONS K C" sizes the btf-pca run (default "256 81 1 8", Bonn
+# size: 6561 PNGs written once into BUILD/btf-pca-bench; e.g. "64 27 1 8" for a quick one).
 set -euo pipefail
 BUILD=${1:-build}
 shopt -s nullglob
@@ -36,4 +39,14 @@ if [ -x "$BUILD/bin/render" ]; then
     # shellcheck disable=SC2086 # the arguments are a list of words
     INLIGHT_BIN="$BUILD/bin" "$(dirname "$0")/render-convergence.sh" "$BUILD/render-convergence" \
         ${RENDER_CONVERGENCE_ARGS:-1024 64 32 1024} | grep -v '^render-convergence: /'
+fi
+
+# btf-pca end to end (issue 10; a minute or more at Bonn size, and 6561 PNGs on disk, ~0.3 GB):
+# the btf_bench figure's BTF written as real PNGs, then decoded and compressed by the tool.
+if [ -x "$BUILD/bin/btf-pca" ] && [ -x "$BUILD/bench/btf_bench" ]; then
+    echo
+    echo "== btf-pca-bench (btf_bench --write-ubo2003, then btf-pca under /usr/bin/time -v)"
+    # shellcheck disable=SC2086 # the arguments are a list of words
+    INLIGHT_BIN="$BUILD/bin" BTF_BENCH="$BUILD/bench/btf_bench" "$(dirname "$0")/btf-pca-bench.sh" \
+        "$BUILD/btf-pca-bench" ${BTF_PCA_BENCH_ARGS:-256 81 1 8}
 fi

@@ -14,19 +14,29 @@
 // group's Gram fit against the full SVD in the same run (CPU and wall ratios, RMSE of each),
 // against the goals of issue 10 (whole BTF <= 60 CPU s, i.e. under a minute on 2 free cores;
 // Gram >= 10x faster than the full SVD at equal error).
+//
+// `btf_bench --write-ubo2003 DIR ...` writes the same data as image files instead: the end-to-end
+// figure (pipelines/btf-pca-bench.sh) decodes them with the btf-pca tool (write_ubo2003_main).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <string>
 
+#include "btf/dataset.h"
 #include "btf/pca.h"
 #include "btf/synthetic.h"
+#include "core/error.h"
 #include "core/memory.h"
 #include "core/parallel.h"
 
@@ -53,22 +63,28 @@ struct Summary {
     double whole_read_cpu_s = -1, whole_fit_cpu_s = -1, whole_peak_mib = -1;
 } g_summary;
 
-/// The analytic BTF at Bonn size, clipped at 1 like a saturated 8-bit capture.
+/// The benchmark's data: the analytic BTF of rank 6 at scale 4, by default at Bonn size.
+AnalyticBtfOptions bench_options(int side_px = 256) {
+    AnalyticBtfOptions o;
+    o.width = o.height = side_px;
+    o.rank = 6;
+    o.scale = 4.0;
+    return o;
+}
+
+/// An analytic BTF clipped at 1 like a saturated 8-bit capture.
 class ClippedBtf : public BtfSource {
   public:
-    explicit ClippedBtf(int side_px = 256) {
-        AnalyticBtfOptions o;
-        o.width = o.height = side_px;
-        o.rank = 6;
-        o.scale = 4.0;
-        m_btf = std::make_unique<AnalyticBtf>(o);
-    }
+    explicit ClippedBtf(int side_px = 256) : ClippedBtf(bench_options(side_px)) {}
+    explicit ClippedBtf(const AnalyticBtfOptions& o) : m_btf(std::make_unique<AnalyticBtf>(o)) {}
     const BtfShape& shape() const override { return m_btf->shape(); }
     inlight::image::Image read_image(int light, int view) const override {
         inlight::image::Image img = m_btf->read_image(light, view);
         for (float& v : img.pixels) v = std::min(v, 1.0f);
         return img;
     }
+    /// The values before clipping.
+    const AnalyticBtf& unclipped() const { return *m_btf; }
 
   private:
     std::unique_ptr<AnalyticBtf> m_btf;
@@ -238,7 +254,123 @@ void print_summary() {
 
 }  // namespace
 
+namespace {
+
+/// `btf_bench --write-ubo2003 DIR [--side-px N] [--directions N] [--rank R] [--scale S] [--check]`:
+/// writes the benchmark's BTF (by default the analytic BTF of rank 6 at scale 4, 81 x 81
+/// directions, 256 x 256 px: the data of the figures above, clipped at 1) as a UBO2003 folder
+/// of 8-bit sRGB PNGs, one folder per view as Bonn ships, for btf-pca to decode end to end.
+/// --directions N < 81 takes every (81/N)-th dome direction (evenly strided indices) for lights
+/// and views alike and writes them to DIR.directions.txt (btf-pca's --light-directions and
+/// --view-directions). --check reads every image back as btf-pca does (sRGB-decoded) and reports
+/// the RMS and largest difference from the analytic values, the 8-bit quantisation the folder
+/// adds, and the largest analytic value before clipping: at scale 1 (values below 0.95) nothing
+/// clips, so the BTF matrix has rank <= R and a model of C >= R components is exact up to that
+/// quantisation (Eckart-Young). Prints one JSON line. DIR must not exist (nothing is overwritten).
+/// Exit 2 on a bad option (named), 1 on a runtime error.
+int write_ubo2003_main(int argc, char** argv) {
+    auto usage = [&](const std::string& why) {
+        std::fprintf(stderr, "btf_bench --write-ubo2003: %s\nusage: %s --write-ubo2003 DIR [--side-px N] "
+                     "[--directions N] [--rank R] [--scale S] [--check]\n", why.c_str(), argv[0]);
+        return 2;
+    };
+    if (argc < 3 || argv[2][0] == '-') return usage("DIR missing");
+    std::string dir = argv[2];
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    AnalyticBtfOptions o = bench_options();
+    int directions = 81;
+    bool check = false;
+    for (int i = 3; i < argc; ++i) {
+        const std::string opt = argv[i];
+        if (opt == "--check") {
+            check = true;
+            continue;
+        }
+        if (i + 1 >= argc) return usage(opt + ": value missing");
+        const char* text = argv[++i];
+        char* end = nullptr;
+        const double x = std::strtod(text, &end);
+        const bool whole = *end == '\0' && std::isfinite(x) && x == std::floor(x);
+        if (opt == "--side-px" && whole && x >= 1 && x <= 16384) o.width = o.height = int(x);
+        else if (opt == "--directions" && whole && x >= 1 && x <= 81) directions = int(x);
+        else if (opt == "--rank" && whole && x >= 1 && x <= 6) o.rank = int(x);
+        else if (opt == "--scale" && *end == '\0' && std::isfinite(x) && x > 0) o.scale = x;
+        else if (opt == "--side-px" || opt == "--directions" || opt == "--rank" || opt == "--scale")
+            return usage(opt + " " + text + ": out of range (side 1..16384, directions 1..81, rank 1..6, scale > 0)");
+        else return usage(opt + ": unknown option");
+    }
+    try {
+        namespace stdfs = std::filesystem;
+        if (stdfs::exists(dir)) throw inlight::Error(dir + ": exists; the generator writes a new folder only");
+        std::string directions_file;
+        if (directions < 81) {
+            const auto& dome = ubo2003_dome();
+            std::vector<Direction> subset;
+            for (int i = 0; i < directions; ++i) subset.push_back(dome[size_t(i * 81 / directions)]);
+            o.lights = o.views = subset;
+            directions_file = dir + ".directions.txt";
+            std::ofstream f(directions_file);
+            f << "# " << directions << " of the 81 UBO2003 dome directions, evenly strided (btf_bench --write-ubo2003)\n";
+            for (const Direction& d : subset) f << d.theta_deg << " " << d.phi_deg << "\n";
+            if (!f.flush()) throw inlight::Error(directions_file + ": cannot write");
+        }
+        const ClippedBtf btf(o);
+        const std::clock_t c0 = std::clock();
+        const auto t0 = std::chrono::steady_clock::now();
+        write_ubo2003(btf, dir);
+        const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double write_cpu_s = double(std::clock() - c0) / CLOCKS_PER_SEC;
+        uint64_t bytes = 0;
+        int64_t files = 0;
+        for (const auto& e : stdfs::recursive_directory_iterator(dir))
+            if (e.is_regular_file()) bytes += e.file_size(), ++files;
+        std::printf("{\"dir\": \"%s\", \"images\": %lld, \"side_px\": %d, \"directions\": %d, \"rank\": %d, "
+                    "\"scale\": %.17g, \"directions_file\": \"%s\", \"stored_bytes\": %llu, \"write_s\": %.3f, "
+                    "\"write_cpu_s\": %.3f, \"threads\": %d",
+                    dir.c_str(), static_cast<long long>(files), o.width, directions, o.rank, o.scale,
+                    directions_file.c_str(), static_cast<unsigned long long>(bytes), write_s, write_cpu_s,
+                    inlight::parallel::thread_count());
+        if (check) {
+            OpenOptions oo;
+            oo.light_directions = oo.view_directions = directions_file;
+            const std::unique_ptr<FolderBtf> files_btf = FolderBtf::open(dir, oo);
+            const int n_lights = btf.shape().n_lights();
+            // Per image: squared differences, largest difference, largest unclipped value, clipped samples.
+            using Sums = std::array<double, 4>;
+            const Sums s = inlight::parallel::reduce(
+                int64_t(n_lights) * btf.shape().n_views(), 1, Sums{0, 0, 0, 0},
+                [&](int64_t b, int64_t e) {
+                    Sums x{0, 0, 0, 0};
+                    for (int64_t i = b; i < e; ++i) {
+                        const int l = int(i % n_lights), v = int(i / n_lights);
+                        const inlight::image::Image got = files_btf->read_image(l, v), raw = btf.unclipped().read_image(l, v);
+                        for (size_t k = 0; k < got.pixels.size(); ++k) {
+                            const double d = double(got.pixels[k]) - std::min(raw.pixels[k], 1.0f);
+                            x[0] += d * d;
+                            x[1] = std::max(x[1], std::abs(d));
+                            x[2] = std::max(x[2], double(raw.pixels[k]));
+                            x[3] += raw.pixels[k] > 1.0f;
+                        }
+                    }
+                    return x;
+                },
+                [](Sums a, const Sums& b) { return Sums{a[0] + b[0], std::max(a[1], b[1]), std::max(a[2], b[2]), a[3] + b[3]}; });
+            std::printf(", \"check\": {\"rmse_linear\": %.17g, \"max_abs_linear\": %.17g, \"max_value_unclipped\": %.17g, "
+                        "\"clipped_samples\": %.0f, \"samples\": %.0f}",
+                        std::sqrt(s[0] / btf.shape().sample_count()), s[1], s[2], s[3], btf.shape().sample_count());
+        }
+        std::printf("}\n");
+    } catch (const std::exception& e) {  // inlight::Error, and std::filesystem's errors
+        std::fprintf(stderr, "btf_bench --write-ubo2003: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+    if (argc >= 2 && std::strcmp(argv[1], "--write-ubo2003") == 0) return write_ubo2003_main(argc, argv);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();
