@@ -41,7 +41,7 @@ if [ -x "$BUILD/bin/render" ]; then
         ${RENDER_CONVERGENCE_ARGS:-1024 64 32 1024} | grep -v '^render-convergence: /'
 fi
 
-# btf-pca end to end (issue 10; a minute or more at Bonn size, and 6561 PNGs on disk, ~0.3 GB):
+# btf-pca end to end (issue 10; minutes at Bonn size, and 6561 PNGs on disk, 243 MiB):
 # the btf_bench figure's BTF written as real PNGs, then decoded and compressed by the tool.
 if [ -x "$BUILD/bin/btf-pca" ] && [ -x "$BUILD/bench/btf_bench" ]; then
     echo
