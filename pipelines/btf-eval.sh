@@ -11,7 +11,14 @@
 #   pipelines/btf-eval.sh [OUT] [SIZE_PX] [CAP_PX] [CAP_SPP]  (defaults: out/btf-eval, 32, 64, 4)
 #   BTF_EVAL_SETS="woven analytic" (default both),
 #   BTF_EVAL_FABRICS="wool-twill denim-plain satin" (names in configs/fabrics/, in this order;
-#   default all of them), NOISE_FABRICS="wool-twill" (default)
+#   default all of them), NOISE_FABRICS="wool-twill" (default),
+#   BTF_EVAL_KS="1 3 9 81" (the k-runs; thesis.md needs 1 and 3),
+#   BTF_PCA_ARGS="" (extra btf-pca options for every run, e.g. "--fit-space srgb"; a run is
+#   reused only with the same options), BTF_EVAL_CAPTURES=OUT (where the captures are: several
+#   OUTs with other BTF_PCA_ARGS can share one set of captures)
+# Beside each table.md, table-equal-bytes.md: for each (k, C) row the longest prefix of btf-pca's
+# stream (components by energy across groups: C chosen per group by one global budget) within
+# that row's bytes (btf-pca's metrics.table_equal_bytes).
 # A capture is reused when its report says ok and its capture.json has this CAP_PX, CAP_SPP and
 # seed; a capture of other settings under OUT is an error (use another OUT), an unfinished one
 # (killed run, no ok report) is done again. Minutes per capture: run it under nice.
@@ -23,6 +30,9 @@ CAP_SPP=${4:-4}
 SETS=${BTF_EVAL_SETS:-woven analytic}
 FABRICS=${BTF_EVAL_FABRICS:-$(for t in configs/fabrics/*.toml; do basename "$t" .toml; done)}
 NOISE_FABRICS=${NOISE_FABRICS:-wool-twill}
+KS=${BTF_EVAL_KS:-1 3 9 81}
+read -r -a PCA_ARGS <<<"${BTF_PCA_ARGS:-}"
+CAPTURES=${BTF_EVAL_CAPTURES:-$OUT}
 BIN=${INLIGHT_BIN:-build/bin}
 TBIN=${INLIGHT_TEST_BIN:-build/tests}
 say() { echo "[btf-eval] $*" >&2; }
@@ -32,6 +42,9 @@ for v in "$SIZE" "$CAP_PX" "$CAP_SPP"; do
 done
 for f in $FABRICS; do
     [ -f "configs/fabrics/$f.toml" ] || die "BTF_EVAL_FABRICS: configs/fabrics/$f.toml not found (run from the repository root)" 2
+done
+for k in $KS; do
+    [[ $k =~ ^[1-9][0-9]*$ ]] || die "BTF_EVAL_KS must hold positive integers, got '$k'" 2
 done
 mkdir -p "$OUT"
 
@@ -45,7 +58,8 @@ mkdir -p "$OUT"
 # model fitted to the input).
 table() {
     local name=$1 btf=$2 ref=${3:-} k run
-    local tab="$OUT/$name/table.md" extra=() head="" rule=""
+    local tab="$OUT/$name/table.md" eqb="$OUT/$name/table-equal-bytes.md" extra=() head="" rule=""
+    local args="${PCA_ARGS[*]}"
     if [ -n "$ref" ]; then
         extra=(--reference "$ref")
         head=" MAE Lab vs seed 2 | RMSE RGB vs seed 2 | RMSE RGB vs noise-free (est.) |"
@@ -55,15 +69,29 @@ table() {
         echo "| k | C | MAE Lab | MAE RGB (8-bit) | RMSE RGB (8-bit) | mean dE2000 | raw : params float32 | raw : stored | PNG input : stored | stored MiB | run time s (C=32) | peak MiB |$head"
         echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |$rule"
     } >"$tab"
-    for k in 1 3 9 81; do
+    {
+        echo "btf-pca options: ${args:-(defaults)}. Each row: the longest prefix of the stream within the bytes of the fixed-C row (k, C); components: total over groups, and per group min-max."
+        echo
+        echo "| k | bytes of C | components total (per group) | MAE Lab | MAE RGB (8-bit) | RMSE RGB (8-bit) | mean dE2000 | raw : stored | stored MiB | fixed C: MAE Lab | fixed C: RMSE RGB |$head"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |$rule"
+    } >"$eqb"
+    for k in $KS; do
         run="$OUT/$name/k${k}"
         if [ -f "$run.json" ] && [ "$run.json" -nt "$btf" ] && { [ -z "$ref" ] || [ "$run.json" -nt "$ref" ]; } && [ -d "$run" ] \
+            && [ "$(cat "$run.args" 2>/dev/null)" = "$args" ] \
             && jq -e --arg r "$ref" '.status == "ok" and (.metrics.reference.path // "") == $r' "$run.json" >/dev/null; then
             say "$name k=$k: reusing $run"
         else
             "$BIN/btf-pca" "$btf" -o "$run" -k "$k" -c 32 --table-components 1,2,4,8,16,32 \
-                --color-samples 65536 "${extra[@]}" -q --report "$run.json"
+                --color-samples 65536 "${extra[@]}" "${PCA_ARGS[@]}" -q --report "$run.json"
+            echo "$args" >"$run.args"
         fi
+        # shellcheck disable=SC2016  # $k, $m and $n are jq variables
+        jq -r --arg k "$k" 'def r2: . * 100 | round / 100;
+            .metrics as $m | ($m.reference.input.rmse_rgb8 // 0) as $n | [$m.table, $m.table_equal_bytes] | transpose[] | . as [$f, $e]
+            | "| \($k) | \($e.components) | \($e.components_total) (\($e.components_min)-\($e.components_max)) | \($e.mae_lab|r2) | \($e.mae_rgb8|r2) | \($e.rmse_rgb8|r2) | \($e.delta_e2000_mean|r2) | 1:\($e.raw_8bit_to_stored*10|round/10) | \($e.stored_bytes/1048576*1000|round/1000) | \($f.mae_lab|r2) | \($f.rmse_rgb8|r2) |"
+            + (if $e.vs_reference then " \($e.vs_reference.mae_lab|r2) | \($e.vs_reference.rmse_rgb8|r2) | \([$e.vs_reference.rmse_rgb8 * $e.vs_reference.rmse_rgb8 - $n * $n / 2, 0] | max | sqrt | r2) |" else "" end)' \
+            "$run.json" >>"$eqb"
         # shellcheck disable=SC2016  # $k, $m and $n are jq variables
         jq -r --arg k "$k" 'def r2: . * 100 | round / 100;
             .metrics as $m | ($m.reference.input.rmse_rgb8 // 0) as $n | $m.table[] | "| \($k) | \(.components) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.delta_e2000_mean|r2) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.input_files_to_stored*10|round/10) | \(.stored_bytes/1048576*1000|round/1000) | \($m.time.total_s*10|round/10) | \($m.peak_rss_mib|round) |"
@@ -94,14 +122,18 @@ thesis() {
         echo "| fabric | k | C | MAE Lab | MAE RGB | RMSE RGB | MAE Lab vs seed 2 | RMSE RGB vs noise-free (est.) | noise: MAE Lab seed 1 vs 2 | noise: RMSE RGB of one capture | raw : stored | raw : params float32 | thesis (wool, Bonn): MAE Lab, MAE RGB, RMSE RGB at ratio |"
         echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
         for name in "$@"; do
-            # shellcheck disable=SC2016  # $f, $k, $c, $th, $k1, $k3, $in, $n are jq variables
+            # shellcheck disable=SC2016  # $f, $k, $c, $th, $k1, $k3, $in, $n, $m, $row, $label, $cs are jq variables
             jq -r -n --arg f "$name" --slurpfile k1 "$OUT/$name/k1.json" --slurpfile k3 "$OUT/$name/k3.json" '
                 def r2: if type == "number" then . * 100 | round / 100 else "-" end;
                 $k1[0].metrics.reference.input as $in | ($in.rmse_rgb8 // null) as $n
                 | [[1, 8, "2.14, 5.86, 7.5 at 1:23"], [3, 8, "2.19, 6.83, 8.68 at 1:70"], [3, 32, "2.22, 5.92, 7.5 at 1:17"]][]
                 | . as [$k, $c, $th]
-                | (if $k == 1 then $k1[0] else $k3[0] end).metrics.table[] | select(.components == $c)
-                | "| \($f) | \($k) | \($c) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.vs_reference.mae_lab|r2) | \(if $n then [.vs_reference.rmse_rgb8 * .vs_reference.rmse_rgb8 - $n * $n / 2, 0] | max | sqrt else null end|r2) | \($in.mae_lab|r2) | \(if $n then $n / (2|sqrt) else null end|r2) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | \($th) |"'
+                | (if $k == 1 then $k1[0] else $k3[0] end).metrics as $m
+                | ([$m.table[] | select(.components == $c) | [., $f, "\($c)"]]
+                   + [$m.table_equal_bytes[] | select(.components == $c)
+                      | [., "\($f), stream at equal bytes", "bytes of \($c): \(.components_total) (\(.components_min)-\(.components_max))"]])[]
+                | . as [$row, $label, $cs] | $row
+                | "| \($label) | \($k) | \($cs) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.vs_reference.mae_lab|r2) | \(if $n then [.vs_reference.rmse_rgb8 * .vs_reference.rmse_rgb8 - $n * $n / 2, 0] | max | sqrt else null end|r2) | \($in.mae_lab|r2) | \(if $n then $n / (2|sqrt) else null end|r2) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | \($th) |"'
         done
     } >"$t"
     say "thesis comparison: $t"
@@ -125,13 +157,14 @@ capture() {
 if [[ " $SETS " == *" woven "* ]]; then
     for name in $FABRICS; do
         toml=configs/fabrics/$name.toml
-        capture "$toml" "$OUT/$name/capture" 1
+        mkdir -p "$OUT/$name"
+        capture "$toml" "$CAPTURES/$name/capture" 1
         ref=""
         if [[ " $NOISE_FABRICS " == *" $name "* ]]; then
-            capture "$toml" "$OUT/$name/capture-seed2" 2
-            ref="$OUT/$name/capture-seed2"
+            capture "$toml" "$CAPTURES/$name/capture-seed2" 2
+            ref="$CAPTURES/$name/capture-seed2"
         fi
-        table "$name" "$OUT/$name/capture" "$ref"
+        table "$name" "$CAPTURES/$name/capture" "$ref"
     done
     # shellcheck disable=SC2086  # FABRICS is a list of names
     thesis $FABRICS

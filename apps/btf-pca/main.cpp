@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     cli.add_option("-c,--components", o.pca.components, "Components per group (with --max-rmse: "
                    "the most a group may keep)")->check(CLI::Range(1, 4096))->capture_default_str();
     cli.add_option("--max-rmse", o.pca.max_rmse, "Error budget: each group keeps the fewest "
-                   "components whose RMS error (linear sRGB, unquantised) is at most this; -1 = off")
+                   "components whose RMS error (unquantised, in --fit-space units) is at most this; -1 = off")
         ->check(app::finite_range_or(0, 1e6, -1))->capture_default_str();
     cli.add_option("--method", method, "auto: Gram matrix up to --gram-max-side, randomized SVD "
                    "above; full-svd is the slow reference")
@@ -43,6 +43,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 100000))->capture_default_str();
     cli.add_option("--format", format, "Component images: 8-bit PNG with scale/offset each, or "
                    "half/float EXR")->check(CLI::IsMember({"png", "exr-half", "exr-float"}))->capture_default_str();
+    std::string fit_space = "linear";
+    cli.add_option("--fit-space", fit_space, "Values the PCA fits: linear radiance (weighted sums of "
+                   "images fold into the components) or srgb-encoded values (the 8-bit codes / 255, "
+                   "perceptually closer; docs/btf-table71.md)")->check(CLI::IsMember({"linear", "srgb"}))->capture_default_str();
     cli.add_option("--light-directions", o.open.light_directions, "Light direction file "
                    "(default: the UBO2003 dome)")->check(CLI::ExistingFile);
     cli.add_option("--view-directions", o.open.view_directions, "View direction file "
@@ -58,7 +62,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"thesis", "delaunay", "nearest"}))->capture_default_str()->needs(ip);
     cli.add_option("--truth", interp.truth, "Interpolation: a capture of the same pairs to compare with")
         ->check(CLI::ExistingDirectory)->needs(ip);
-    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format", "--max-memory-mib", "--stream-views"})
+    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format", "--max-memory-mib", "--stream-views", "--fit-space"})
         ip->excludes(cli.get_option(opt));
     bool linear = false;
     cli.add_flag("--linear-input", linear, "8/16-bit images hold linear values (default: sRGB-encoded)");
@@ -76,6 +80,7 @@ int main(int argc, char** argv) {
     o.open.decode_srgb = !linear;
     o.pca.method = btf::pca_method_from_string(method);
     o.encoding = btf::component_encoding_from_string(format);
+    o.fit_space = btf::fit_space_from_string(fit_space);
     o.pca.seed = common.seed;
     o.max_memory_bytes = uint64_t(max_memory_mib) << 20;
     interp.input = o.input;

@@ -1,6 +1,7 @@
 #include "btf/compressed.h"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "image/color.h"
 
 namespace inlight::btf {
 
@@ -24,6 +26,17 @@ std::string to_string(ComponentEncoding e) { return enum_to_string(kComponentEnc
 ComponentEncoding component_encoding_from_string(const std::string& name) {
     return enum_from_string(kComponentEncodingNames, name, "component format");
 }
+
+constexpr EnumName<FitSpace> kFitSpaceNames[] = {
+    {FitSpace::kLinear, "linear"},
+    {FitSpace::kSrgb, "srgb"},
+};
+
+std::string to_string(FitSpace f) { return enum_to_string(kFitSpaceNames, f); }
+
+FitSpace fit_space_from_string(const std::string& name) { return enum_from_string(kFitSpaceNames, name, "fit space"); }
+
+std::string manifest_color_space(FitSpace f) { return f == FitSpace::kSrgb ? "srgb_encoded" : "linear_srgb"; }
 
 std::string extension_of(ComponentEncoding e) { return e == ComponentEncoding::kPng8 ? "png" : "exr"; }
 
@@ -100,6 +113,10 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
         if (m.at("format").get<std::string>() != "inlight-btf-pca" || m.at("version") != 1)
             throw Error(str(manifest_path, ": unknown format or version"));
         BtfShape& s = b->m_shape;
+        const std::string space = m.value("color_space", std::string("linear_srgb"));
+        if (space == manifest_color_space(FitSpace::kSrgb)) b->m_fit_space = FitSpace::kSrgb;
+        else if (space != manifest_color_space(FitSpace::kLinear))
+            throw Error(str(manifest_path, ": unknown color_space '", space, "' (linear_srgb or srgb_encoded)"));
         s.width = static_cast<int>(integer(m.at("width"), 1, 65536, manifest_path + ": width"));
         s.height = static_cast<int>(integer(m.at("height"), 1, 65536, manifest_path + ": height"));
         for (const auto& d : m.at("lights")) s.lights.push_back(direction_of(d, manifest_path));
@@ -170,6 +187,8 @@ image::Image CompressedBtf::decode(int light, int view, const std::vector<int>& 
     for (int ch = 0; ch < 3; ++ch) {
         Eigen::VectorXf col = group.mean;
         if (c > 0) col.noalias() += group.basis.leftCols(c) * group.weights.row(base + ch).head(c).transpose();
+        if (m_fit_space == FitSpace::kSrgb)
+            for (int64_t p = 0; p < m_shape.pixel_count(); ++p) col[p] = image::srgb_decode(std::clamp(col[p], 0.0f, 1.0f));
         for (int64_t p = 0; p < m_shape.pixel_count(); ++p) img.pixels[static_cast<size_t>(p * 3 + ch)] = col[p];
     }
     return img;
@@ -205,6 +224,20 @@ image::Image CompressedBtf::combine_streamed(const std::vector<ImageTerm>& terms
 }
 
 image::Image CompressedBtf::combine_with(const std::vector<ImageTerm>& terms, const std::vector<int>& per_group) const {
+    if (m_fit_space == FitSpace::kSrgb) {
+        // The sRGB curve sits between the sum over components and the image: decode each term's
+        // image, then sum in double in the terms' order (BtfSource::combine's arithmetic).
+        Eigen::MatrixXd acc = Eigen::MatrixXd::Zero(m_shape.pixel_count(), 3);
+        for (const ImageTerm& t : terms) {
+            const image::Image x = decode(t.light, t.view, per_group);
+            for (int64_t p = 0; p < m_shape.pixel_count(); ++p)
+                for (int ch = 0; ch < 3; ++ch) acc(p, ch) += t.weight[ch] * x.pixels[static_cast<size_t>(p * 3 + ch)];
+        }
+        image::Image img(m_shape.width, m_shape.height, 3);
+        for (int64_t p = 0; p < m_shape.pixel_count(); ++p)
+            for (int ch = 0; ch < 3; ++ch) img.pixels[static_cast<size_t>(p * 3 + ch)] = static_cast<float>(acc(p, ch));
+        return img;
+    }
     const size_t ng = m_groups.size();
     // Per group: the mean's weight and the C x 3 component coefficients, summed in term order.
     std::vector<Eigen::Vector3d> mean_w(ng, Eigen::Vector3d::Zero());

@@ -1,7 +1,10 @@
 // btf/compressed.h: the files of a PCA-compressed BTF (written by btf-pca) and their decoder.
 //
 // A folder holds:
-//   btf-pca.json  the manifest: image size, colour space (linear_srgb), light and view directions
+//   btf-pca.json  the manifest: image size, colour space of the model ("linear_srgb", or
+//                 "srgb_encoded" for a model fitted to sRGB-encoded values, FitSpace::kSrgb:
+//                 the sum below is then an encoded value, decoded with the sRGB curve after the
+//                 sum), light and view directions
 //                 (degrees), and per view group its views, its mean image and component images
 //                 (file, scale, offset, bytes, energy), and where its V sits in weights.bin; then
 //                 "stream": the components [group, component] in order of importance across
@@ -12,7 +15,8 @@
 //   g###-mean.png, g###-c##.png  one grey image (width x height) per column of L = [m | U Sigma]:
 //                 8-bit codes with value = offset + scale * code, or half/float EXR (scale 1,
 //                 offset 0) with --format exr-half / exr-float.
-// A pixel's value for (light, view, channel) is mean[p] + sum_c basis_c[p] * V[column, c].
+// A pixel's value for (light, view, channel) is mean[p] + sum_c basis_c[p] * V[column, c]
+// (for "srgb_encoded": srgb_decode of that sum clamped to [0, 1]).
 #pragma once
 
 #include <memory>
@@ -32,6 +36,23 @@ std::string to_string(ComponentEncoding e);  ///< "png", "exr-half", "exr-float"
 ComponentEncoding component_encoding_from_string(const std::string& name);
 /// The file extension of an encoding ("png" or "exr").
 std::string extension_of(ComponentEncoding e);
+
+/// The values the PCA is fitted to (and the manifest's "color_space").
+enum class FitSpace {
+    /// linear_srgb (default): the model is linear in radiance, so a weighted sum of images
+    /// (angular interpolation, environment shading) folds into C coefficients per group.
+    kLinear,
+    /// sRGB-encoded values in [0, 1] (the 8-bit files' codes / 255, what the thesis' PCA sees):
+    /// squared error weighs dark and bright regions more as they look. The decoder applies the
+    /// sRGB curve per image after the sum, so weighted sums no longer fold (combine decodes
+    /// every image it sums).
+    kSrgb,
+};
+std::string to_string(FitSpace f);            ///< "linear", "srgb"
+/// Inverse of to_string; throws UsageError naming the value otherwise.
+FitSpace fit_space_from_string(const std::string& name);
+/// The manifest's "color_space" of a model fitted in `f`: "linear_srgb" or "srgb_encoded".
+std::string manifest_color_space(FitSpace f);
 
 /// One stored column of L.
 struct StoredImage {
@@ -69,6 +90,7 @@ class CompressedBtf : public BtfSource {
     int group_of_view(int view) const { return m_group_of_view[static_cast<size_t>(view)]; }
     int components(int group) const { return static_cast<int>(m_groups[static_cast<size_t>(group)].basis.cols()); }
     const nlohmann::json& manifest() const { return m_manifest; }
+    FitSpace fit_space() const { return m_fit_space; }
 
   private:
     struct Group {
@@ -82,6 +104,7 @@ class CompressedBtf : public BtfSource {
     image::Image combine_with(const std::vector<ImageTerm>& terms, const std::vector<int>& per_group) const;
 
     BtfShape m_shape;
+    FitSpace m_fit_space = FitSpace::kLinear;
     nlohmann::json m_manifest;
     std::vector<Group> m_groups;
     std::vector<int> m_group_of_view, m_index_in_group;

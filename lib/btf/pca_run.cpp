@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 
 #include "btf/quantize.h"
@@ -59,9 +60,37 @@ void add_color(ColorSums& s, const Eigen::Vector3d& truth, Eigen::Vector3d test)
     ++s.triples;
 }
 
+/// The linear colour of a triple of the model's space: clamped to [0, 1] (what a display shows)
+/// and, for an sRGB-encoded model, decoded (decode is monotone with fixed points 0 and 1, so the
+/// clamp means the same as add_color's clamp of linear values).
+Eigen::Vector3d to_linear(Eigen::Vector3d v, FitSpace space) {
+    if (space == FitSpace::kSrgb)
+        for (int c = 0; c < 3; ++c) v[c] = image::srgb_decode(float(std::clamp(v[c], 0.0, 1.0)));
+    return v;
+}
+
+/// A BTF's images sRGB-encoded (FitSpace::kSrgb): the values the PCA then fits.
+class SrgbEncodedSource : public BtfSource {
+  public:
+    explicit SrgbEncodedSource(const BtfSource& linear) : m_linear(linear) {}
+    const BtfShape& shape() const override { return m_linear.shape(); }
+    image::Image read_image(int light, int view) const override {
+        image::Image img = m_linear.read_image(light, view);
+        for (float& x : img.pixels) x = image::srgb_encode(x);
+        return img;
+    }
+
+  private:
+    const BtfSource& m_linear;
+};
+
 /// What the run keeps of each group after freeing its data.
 struct GroupRecord {
     std::vector<int> views;
+    int64_t columns = 0;
+    /// Display-referred errors of the stored model cut to 0..C components on the group's
+    /// sampled triples, against the input and (with a reference) against the reference.
+    std::vector<ColorSums> color, color_ref;
     std::string method;
     std::vector<double> sse;     // stored model, after 0..C components
     std::vector<double> energy;  // unquantised energy of each component
@@ -158,6 +187,19 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                             "x", shape.height, " (or other directions)"));
     }
     const MemoryPlan plan = plan_memory(shape, o, reference != nullptr);
+    // The values fitted: the images themselves, or sRGB-encoded (the reference too, so that the
+    // measurement below sees both in the model's space).
+    std::unique_ptr<SrgbEncodedSource> encoded_source, encoded_reference;
+    const BtfSource* src = &source;
+    if (o.fit_space == FitSpace::kSrgb) {
+        encoded_source = std::make_unique<SrgbEncodedSource>(source);
+        src = encoded_source.get();
+        if (reference) {
+            encoded_reference = std::make_unique<SrgbEncodedSource>(*reference);
+            reference = encoded_reference.get();
+        }
+    }
+    const FitSpace space = o.fit_space;
     PcaOptions pca_options = o.pca;
     pca_options.stream_views = plan.stream_views;
     const int64_t P = shape.pixel_count();
@@ -181,15 +223,16 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     std::map<std::string, int> methods;
     auto write_file = [&](const std::string& name, const std::string& bytes, const std::string& kind) {
         fs::write_text_atomic(dir + "/" + name, bytes);
-        if (report) report->add_output(dir + "/" + name, kind, kind == "btf_pca_manifest" ? "linear_srgb" : "");
+        if (report) report->add_output(dir + "/" + name, kind, kind == "btf_pca_manifest" ? manifest_color_space(o.fit_space) : "");
     };
 
-    const CompressStats stats = compress_btf(source, pca_options, [&](GroupFit& fit) {
+    const CompressStats stats = compress_btf(*src, pca_options, [&](GroupFit& fit) {
         const GroupPca& pca = fit.pca;
         const int C = pca.components();
         const int64_t N = pca.columns;
         GroupRecord rec;
         rec.views = pca.views;
+        rec.columns = N;
         rec.method = to_string(pca.method);
         ++methods[rec.method];
         auto t0 = Clock::now();
@@ -236,10 +279,10 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         // and centred as fit_group_streamed centres it (the same floats).
         t0 = Clock::now();
         const Eigen::VectorXf dmean = pca.mean - q.mean;
-        const size_t T = table.size(), n_sums = 2 + T + (reference ? 1 + T : 0);
+        const size_t n_sums = 2 + size_t(C + 1) * (reference ? 2 : 1);
         std::vector<double> sums(size_t(C) + 3, 0.0);
-        // Sums: [0] ours with all components, [1] the thesis' packing, [2 + i] ours cut to
-        // table[i]; with a reference: [2 + T] the input against it, [3 + T + i] row i against it.
+        // Sums: [0] the thesis' packing, [1] the input against the reference, [2 + c] ours cut to
+        // c = 0..C components; with a reference: [3 + C + c] ours cut to c against it.
         using Sums = std::vector<ColorSums>;
         Sums cs(n_sums);
         // `blk`: the centred columns [j0, j0 + blk.cols()) of the group; `ref`: the reference's.
@@ -284,7 +327,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                     Sums s(n_sums);
                     for (int64_t k = k_begin + b; k < k_begin + e; ++k) {
                         const int64_t t = k * stride, p = t % P, j = (t / P) * 3, jb = j - j0;
-                        Eigen::Vector3d truth, th3;
+                        Eigen::Vector3d truth, th3;  // the model's space
                         Eigen::Matrix<double, 3, Eigen::Dynamic> prefix(3, C + 1);  // after 0..C components
                         for (int ch = 0; ch < 3; ++ch) {
                             truth[ch] = double(blk(p, jb + ch)) + pca.mean[p];
@@ -293,13 +336,15 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                                 prefix(ch, c + 1) = prefix(ch, c) + double(q.basis(p, c)) * q.weights(j + ch, c);
                             th3[ch] = th.mean[p] + double(th.basis.row(p).dot(th.weights.row(j + ch)));
                         }
-                        add_color(s[0], truth, prefix.col(C));
-                        add_color(s[1], truth, th3);
-                        for (size_t i = 0; i < T; ++i) add_color(s[2 + i], truth, prefix.col(std::min(table[i], C)));
+                        const Eigen::Vector3d truth_lin = to_linear(truth, space);
+                        add_color(s[0], truth_lin, to_linear(th3, space));
+                        for (int c = 0; c <= C; ++c) add_color(s[2 + size_t(c)], truth_lin, to_linear(prefix.col(c), space));
                         if (reference) {
-                            const Eigen::Vector3d r3(ref(p, jb), ref(p, jb + 1), ref(p, jb + 2));
-                            add_color(s[2 + T], r3, truth);
-                            for (size_t i = 0; i < T; ++i) add_color(s[3 + T + i], r3, prefix.col(std::min(table[i], C)));
+                            const Eigen::Vector3d r3 =
+                                to_linear(Eigen::Vector3d(ref(p, jb), ref(p, jb + 1), ref(p, jb + 2)), space);
+                            add_color(s[1], r3, truth_lin);
+                            for (int c = 0; c <= C; ++c)
+                                add_color(s[3 + size_t(C + c)], r3, to_linear(prefix.col(c), space));
                         }
                     }
                     return s;
@@ -321,7 +366,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             for (size_t v0 = 0; v0 < pca.views.size(); v0 += per) {
                 const std::vector<int> part(pca.views.begin() + std::ptrdiff_t(v0),
                                             pca.views.begin() + std::ptrdiff_t(std::min(pca.views.size(), v0 + per)));
-                source.read_group(part, blk);
+                src->read_group(part, blk);
                 parallel::for_chunks(P, rows_per_block(blk.cols()), [&](int64_t b, int64_t e) {
                     for (int64_t j = 0; j < blk.cols(); ++j) blk.col(j).segment(b, e - b) -= pca.mean.segment(b, e - b);
                 });
@@ -333,13 +378,15 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         rec.sse.assign(sums.begin(), sums.begin() + C + 1);
         rec.sae = sums[size_t(C) + 1];
         rec.max_abs = sums[size_t(C) + 2];
-        ours += cs[0];
-        thesis += cs[1];
-        if (reference) ref_input += cs[2 + T];
+        rec.color.assign(cs.begin() + 2, cs.begin() + 3 + C);
+        if (reference) rec.color_ref.assign(cs.begin() + 3 + C, cs.end());
+        ours += rec.color[size_t(C)];
+        thesis += cs[0];
+        if (reference) ref_input += cs[1];
         for (size_t i = 0; i < table.size(); ++i) {
             const int c = std::min(table[i], C);
-            table_sums[i] += cs[2 + i];
-            if (reference) table_ref[i] += cs[3 + T + i];
+            table_sums[i] += rec.color[size_t(c)];
+            if (reference) table_ref[i] += rec.color_ref[size_t(c)];
             table_sse[i] += rec.sse[size_t(c)];
             table_bytes[i] += rec.mean_bytes + uint64_t(N) * c * sizeof(float);
             for (int x = 0; x < c; ++x) table_bytes[i] += rec.component_bytes[size_t(x)];
@@ -361,7 +408,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     });
 
     nlohmann::json manifest = {{"format", "inlight-btf-pca"}, {"version", 1}, {"width", shape.width},
-                               {"height", shape.height}, {"color_space", "linear_srgb"},
+                               {"height", shape.height}, {"color_space", manifest_color_space(o.fit_space)},
                                {"view_group_size", o.pca.view_group_size}, {"component_format", to_string(o.encoding)},
                                {"weights", {{"file", "weights.bin"}, {"dtype", "float32_le"}, {"layout", "per group N x C column-major"}}},
                                {"lights", nlohmann::json::array()}, {"views", nlohmann::json::array()},
@@ -425,7 +472,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     m["pca"] = {{"view_group_size", o.pca.view_group_size}, {"groups", stats.groups},
                 {"components_max", o.pca.components}, {"max_rmse", o.pca.max_rmse},
                 {"components_total", stats.components}, {"components_per_group", per_group},
-                {"methods", methods}, {"component_format", to_string(o.encoding)}};
+                {"methods", methods}, {"component_format", to_string(o.encoding)},
+                {"fit_space", to_string(o.fit_space)}};
     m["time"] = {{"read_s", stats.read_time_s}, {"fit_s", stats.fit_time_s}, {"read_cpu_s", stats.read_cpu_s},
                  {"fit_cpu_s", stats.fit_cpu_s}, {"store_s", store_s},
                  {"measure_s", measure_s}, {"total_s", seconds_since(t_start)}};
@@ -445,6 +493,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     err.update({{"rmse_linear", std::sqrt(total_sse / samples)}, {"mae_linear", total_sae / samples},
                 {"max_abs_linear", max_abs}, {"rmse_linear_unquantised", std::sqrt(unquantised / samples)}});
     m["error"] = err;
+    // The units of rmse_linear, mae_linear, max_abs_linear and the streaming curve: the model's.
+    m["error_space"] = manifest_color_space(o.fit_space);
     m["bytes"] = {{"raw_8bit", raw8}, {"parameters_float32", params32}, {"stored", stored},
                   {"components", components}, {"means", means}, {"weights", weights_bin.size()},
                   {"manifest", manifest_text.size()}, {"input_files", input_stored_bytes}};
@@ -473,6 +523,46 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         rows.push_back(row);
     }
     m["table"] = rows;
+    // Equal bytes: the longest stream prefix within each row's bytes (one global error budget).
+    nlohmann::json equal = nlohmann::json::array();
+    for (size_t i = 0; i < table.size(); ++i) {
+        std::vector<int> per(groups.size(), 0);
+        uint64_t b = 0;
+        for (const auto& g : groups) b += g.mean_bytes;
+        for (const auto& [g, c] : stream) {
+            const GroupRecord& r = groups[size_t(g)];
+            const uint64_t cost = r.component_bytes[size_t(c)] + uint64_t(r.columns) * sizeof(float);
+            if (b + cost > table_bytes[i]) break;
+            b += cost;
+            per[size_t(g)] = std::max(per[size_t(g)], c + 1);
+        }
+        ColorSums cs, cr;
+        double sse = 0;
+        uint64_t params = 0;
+        int64_t total = 0;
+        for (size_t g = 0; g < groups.size(); ++g) {
+            const auto c = size_t(per[g]);
+            cs += groups[g].color[c];
+            if (reference) cr += groups[g].color_ref[c];
+            sse += groups[g].sse[c];
+            params += uint64_t(4) * (uint64_t(P) * (c + 1) + uint64_t(groups[g].columns) * c);
+            total += per[g];
+        }
+        b += manifest_text.size();
+        nlohmann::json row = cs.to_json();
+        row.update({{"components", table[i]}, {"byte_budget", table_bytes[i] + manifest_text.size()},
+                    {"components_total", total}, {"components_per_group", per},
+                    {"components_min", per.empty() ? 0 : *std::min_element(per.begin(), per.end())},
+                    {"components_max", per.empty() ? 0 : *std::max_element(per.begin(), per.end())},
+                    {"rmse_linear", std::sqrt(sse / samples)}, {"stored_bytes", b},
+                    {"parameters_float32_bytes", params},
+                    {"raw_8bit_to_parameters_float32", double(raw8) / double(std::max<uint64_t>(params, 1))},
+                    {"raw_8bit_to_stored", double(raw8) / b},
+                    {"input_files_to_stored", input_stored_bytes ? double(input_stored_bytes) / b : 0.0}});
+        if (reference) row["vs_reference"] = cr.to_json();
+        equal.push_back(row);
+    }
+    m["table_equal_bytes"] = equal;
     if (reference) m["reference"] = {{"path", o.reference}, {"input", ref_input.to_json()}};
     return m;
 }

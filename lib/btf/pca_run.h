@@ -29,10 +29,19 @@ struct PcaRunOptions {
     OpenOptions open;
     PcaOptions pca;
     ComponentEncoding encoding = ComponentEncoding::kPng8;
+    /// The values the PCA is fitted to (btf/compressed.h). With kSrgb the exact error figures
+    /// (rmse_linear, mae_linear, the streaming curve, --max-rmse) are in sRGB-encoded units
+    /// (metrics.error_space says which); the display-referred figures (CIELAB, dE2000, 8-bit)
+    /// decode the model first and mean the same in both spaces.
+    FitSpace fit_space = FitSpace::kLinear;
     int64_t color_samples = int64_t(1) << 20;  ///< colour triples for the CIELAB/8-bit figures
     /// Also measure the stored model cut to each of these component counts (a prefix of every
     /// group's components, as a client holding that many has): the rows of the Table 7.1-style
     /// table ("table" in the metrics). Counts above a group's C use all of its components.
+    /// Beside each row, "table_equal_bytes": the longest prefix of the stream (components by
+    /// energy across groups, as a client receives them) whose bytes (means, the sent components'
+    /// images and their V columns) do not exceed that row's, i.e. C chosen per group by one
+    /// global error budget at the row's byte count; with the components each group then has.
     std::vector<int> table_components;
     /// A second BTF of the same shape (e.g. an independent capture of the same fabric): the
     /// input and every table row are also measured against it on the same colour triples

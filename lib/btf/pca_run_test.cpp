@@ -11,6 +11,7 @@
 #include "btf/quantize.h"
 #include "btf/synthetic.h"
 #include "core/fs.h"
+#include "image/color.h"
 #include "testing/testing.h"
 
 namespace inlight::btf {
@@ -173,6 +174,106 @@ TEST(CompressToFolder, ReferenceMeasuresInputAndRowsAgainstASecondBtf) {
     o.reference = "wide/";
     const std::string err = testing::error_of([&] { compress_to_folder(btf, o, 0, nullptr, &bad); });
     EXPECT_NE(err.find("--reference wide/"), std::string::npos) << err;
+}
+
+/// A BTF whose sRGB-encoded values are a rank-one product a_p b_j (p pixel, j the column of the
+/// whole BTF's layout), a in [0.2, 0.9], b in [0.3, 1]: linear values srgb_decode(a_p b_j).
+/// Mean-centred per pixel within any group it stays of rank one, a (b - mean b)^T, in the
+/// encoded values, but not in the linear ones (the sRGB curve is not a power law).
+class EncodedRankOne : public BtfSource {
+  public:
+    EncodedRankOne() {
+        const AnalyticBtfOptions o = small_btf();
+        m_shape.lights = o.lights;
+        m_shape.views = o.views;
+        m_shape.width = o.width;
+        m_shape.height = o.height;
+    }
+    const BtfShape& shape() const override { return m_shape; }
+    image::Image read_image(int light, int view) const override {
+        image::Image img(m_shape.width, m_shape.height, 3, image::ColorSpace::kLinearSrgb);
+        for (int64_t p = 0; p < m_shape.pixel_count(); ++p)
+            for (int ch = 0; ch < 3; ++ch) {
+                const int64_t j = (int64_t(view) * m_shape.n_lights() + light) * 3 + ch;
+                const double a = 0.2 + 0.7 * double((p * 7) % 13) / 12, b = 0.3 + 0.7 * double((j * 5) % 11) / 10;
+                img.pixels[static_cast<size_t>(p * 3 + ch)] = image::srgb_decode(float(a * b));
+            }
+        return img;
+    }
+
+  private:
+    BtfShape m_shape;
+};
+
+// --fit-space srgb: data of rank one in encoded values is reproduced by one component (float
+// EXR storage, so only float rounding remains), where the linear fit leaves an error; the
+// decoder returns linear values (the manifest says srgb_encoded) and sums images after decoding.
+TEST(CompressToFolder, SrgbFitSpaceReproducesDataOfRankOneInEncodedValues) {
+    // Float32 values <= 1 through a double Gram fit and float storage: ~1e-7 per value; the
+    // sRGB decode's slope is at most 2.4 / 1.055 = 2.3 on [0, 1]: 1e-5 leaves a margin of ~40.
+    constexpr double kFloatRounding = 1e-5;
+    const EncodedRankOne btf;
+    PcaRunOptions o = run_options("btf_pca_srgb_linear", 2, 1);
+    o.encoding = ComponentEncoding::kExrFloat;
+    const nlohmann::json lin = compress_to_folder(btf, o, 0);
+    EXPECT_EQ(lin["error_space"], "linear_srgb");
+    o.output = testing::temp_dir("btf_pca_srgb_encoded");
+    o.fit_space = FitSpace::kSrgb;
+    const nlohmann::json enc = compress_to_folder(btf, o, 0);
+    EXPECT_EQ(enc["error_space"], "srgb_encoded");
+    EXPECT_EQ(enc["pca"]["fit_space"], "srgb");
+    EXPECT_LT(enc["error"]["rmse_linear"].get<double>(), kFloatRounding);
+    EXPECT_GT(lin["error"]["rmse_linear"].get<double>(), 100 * kFloatRounding);  // not of rank one in linear values
+    EXPECT_LT(enc["error"]["mae_lab"].get<double>(), 0.01 * lin["error"]["mae_lab"].get<double>());
+
+    const auto dec = CompressedBtf::open(o.output);
+    EXPECT_EQ(dec->fit_space(), FitSpace::kSrgb);
+    EXPECT_EQ(dec->manifest()["color_space"], "srgb_encoded");
+    EXPECT_LT(rmse_between(*dec, btf, [&](int l, int v) { return dec->read_image(l, v); }), kFloatRounding);
+    // combine = the weighted sum of the decoded (linear) images, not of the encoded model
+    const std::vector<ImageTerm> terms = {{1, 0, Eigen::Vector3d(0.5, 0.25, 1.0)},
+                                          {3, 2, Eigen::Vector3d(0.5, 2.0, 0.0)},
+                                          {7, 4, Eigen::Vector3d(1.0, 1.0, 1.0)}};
+    const image::Image sum = dec->combine(terms), want = btf.combine(terms);
+    ASSERT_EQ(sum.pixels.size(), want.pixels.size());
+    for (size_t i = 0; i < sum.pixels.size(); ++i) ASSERT_NEAR(sum.pixels[i], want.pixels[i], 4 * kFloatRounding) << i;  // 4: the weights' magnitudes sum to <= 3.25 per channel
+
+    EXPECT_EQ(fit_space_from_string("srgb"), FitSpace::kSrgb);
+    EXPECT_NE(testing::error_of([] { fit_space_from_string("log"); }).find("log"), std::string::npos);
+}
+
+// table_equal_bytes: each row is the longest prefix of the stream within the fixed-C row's
+// bytes; the decoder holding that prefix has exactly the row's error, and the next component
+// of the stream would not have fit.
+TEST(CompressToFolder, EqualBytesRowsAreStreamPrefixesWithinTheRowsBytes) {
+    const AnalyticBtf btf(small_btf());
+    PcaRunOptions o = run_options("btf_pca_equal_bytes", 2, 4);
+    o.table_components = {1, 2, 4};
+    const nlohmann::json m = compress_to_folder(btf, o, 0);
+    const auto dec = CompressedBtf::open(o.output);
+    const nlohmann::json& man = dec->manifest();
+    ASSERT_EQ(m["table_equal_bytes"].size(), 3u);
+    for (size_t i = 0; i < 3; ++i) {
+        const auto& row = m["table_equal_bytes"][i];
+        SCOPED_TRACE(i);
+        EXPECT_EQ(row["byte_budget"], m["table"][i]["stored_bytes"]);
+        const int64_t budget = row["byte_budget"], bytes = row["stored_bytes"], n = row["components_total"];
+        EXPECT_LE(bytes, budget);
+        int64_t per_group_sum = 0;
+        for (const auto& c : row["components_per_group"]) per_group_sum += c.get<int64_t>();
+        EXPECT_EQ(per_group_sum, n);
+        if (n < dec->stream_length()) {
+            const int g = man["stream"][size_t(n)][0], c = man["stream"][size_t(n)][1];
+            const auto& gj = man["groups"][size_t(g)];
+            EXPECT_GT(bytes + gj["components"][size_t(c)]["bytes"].get<int64_t>() + 4 * gj["columns"].get<int64_t>(), budget);
+        }
+        const double want = row["rmse_linear"];
+        EXPECT_NEAR(rmse_between(*dec, btf, [&](int l, int v) { return dec->read_image_streamed(l, v, n); }), want,
+                    kRmseRelTol * want);
+    }
+    // The whole model's bytes: the whole stream, the same figures as the row of all components.
+    EXPECT_EQ(m["table_equal_bytes"][2]["components_total"].get<int64_t>(), dec->stream_length());
+    EXPECT_EQ(m["table_equal_bytes"][2]["mae_lab"], m["table"][2]["mae_lab"]);
 }
 
 TEST(CompressedBtf, BadFolderNamesTheFile) {
