@@ -44,6 +44,10 @@ int main(int argc, char** argv) {
     cli.add_option("--format", format, "Component images: 8-bit PNG with scale/offset each, or "
                    "half/float EXR")->check(CLI::IsMember({"png", "exr-half", "exr-float"}))->capture_default_str();
     std::string fit_space = "linear";
+    std::string weights_format = "float32";
+    cli.add_option("--weights-format", weights_format, "How V (weights.bin) is stored: float32, float16, or "
+                   "uint8 with a scale and offset per component")
+        ->check(CLI::IsMember({"float32", "float16", "uint8"}))->capture_default_str();
     cli.add_option("--fit-space", fit_space, "Values the PCA fits: linear radiance (weighted sums of "
                    "images fold into the components) or srgb-encoded values (the 8-bit codes / 255, "
                    "perceptually closer; docs/btf-table71.md)")->check(CLI::IsMember({"linear", "srgb"}))->capture_default_str();
@@ -62,7 +66,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"thesis", "delaunay", "nearest"}))->capture_default_str()->needs(ip);
     cli.add_option("--truth", interp.truth, "Interpolation: a capture of the same pairs to compare with")
         ->check(CLI::ExistingDirectory)->needs(ip);
-    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format", "--max-memory-mib", "--stream-views", "--fit-space"})
+    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format", "--max-memory-mib", "--stream-views", "--fit-space", "--weights-format"})
         ip->excludes(cli.get_option(opt));
     bool linear = false;
     cli.add_flag("--linear-input", linear, "8/16-bit images hold linear values (default: sRGB-encoded)");
@@ -81,6 +85,7 @@ int main(int argc, char** argv) {
     o.pca.method = btf::pca_method_from_string(method);
     o.encoding = btf::component_encoding_from_string(format);
     o.fit_space = btf::fit_space_from_string(fit_space);
+    o.weights_format = btf::weights_format_from_string(weights_format);
     o.pca.seed = common.seed;
     o.max_memory_bytes = uint64_t(max_memory_mib) << 20;
     interp.input = o.input;

@@ -38,6 +38,48 @@ FitSpace fit_space_from_string(const std::string& name) { return enum_from_strin
 
 std::string manifest_color_space(FitSpace f) { return f == FitSpace::kSrgb ? "srgb_encoded" : "linear_srgb"; }
 
+constexpr EnumName<WeightsFormat> kWeightsFormatNames[] = {
+    {WeightsFormat::kFloat32, "float32"},
+    {WeightsFormat::kFloat16, "float16"},
+    {WeightsFormat::kUint8, "uint8"},
+};
+
+std::string to_string(WeightsFormat f) { return enum_to_string(kWeightsFormatNames, f); }
+
+WeightsFormat weights_format_from_string(const std::string& name) {
+    return enum_from_string(kWeightsFormatNames, name, "weights format");
+}
+
+int bytes_per_weight(WeightsFormat f) { return f == WeightsFormat::kFloat32 ? 4 : f == WeightsFormat::kFloat16 ? 2 : 1; }
+
+std::string weights_dtype(WeightsFormat f) {
+    return f == WeightsFormat::kFloat32 ? "float32_le" : f == WeightsFormat::kFloat16 ? "float16_le" : "uint8";
+}
+
+void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std::string& out, float* decoded,
+                           float& scale, float& offset) {
+    scale = 1;
+    offset = 0;
+    if (f == WeightsFormat::kUint8) {
+        const Quantized8 q = quantize8(values, n);
+        scale = q.scale;
+        offset = q.offset;
+        out.append(reinterpret_cast<const char*>(q.codes.data()), q.codes.size());
+        for (int64_t i = 0; i < n; ++i) decoded[i] = q.value(i);
+    } else if (f == WeightsFormat::kFloat16) {
+        for (int64_t i = 0; i < n; ++i) {
+            const Eigen::half h(values[i]);
+            const uint16_t bits = Eigen::half_impl::raw_half_as_uint16(h);
+            out.push_back(char(bits & 0xff));
+            out.push_back(char(bits >> 8));
+            decoded[i] = static_cast<float>(h);
+        }
+    } else {
+        out.append(reinterpret_cast<const char*>(values), size_t(n) * sizeof(float));
+        std::copy(values, values + n, decoded);
+    }
+}
+
 std::string extension_of(ComponentEncoding e) { return e == ComponentEncoding::kPng8 ? "png" : "exr"; }
 
 std::string encode_column(const float* values, int width, int height, ComponentEncoding e,
@@ -124,6 +166,13 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
         if (s.width < 1 || s.height < 1 || s.lights.empty() || s.views.empty())
             throw Error(str(manifest_path, ": empty image or direction set"));
         const std::string weights_path = dir + "/" + m.at("weights").at("file").get<std::string>();
+        const std::string dtype = m.at("weights").value("dtype", std::string("float32_le"));
+        WeightsFormat wf = WeightsFormat::kFloat32;
+        for (WeightsFormat f : {WeightsFormat::kFloat32, WeightsFormat::kFloat16, WeightsFormat::kUint8})
+            if (dtype == weights_dtype(f)) wf = f;
+        if (dtype != weights_dtype(wf))
+            throw Error(str(manifest_path, ": unknown weights dtype '", dtype, "' (float32_le, float16_le or uint8)"));
+        const uint64_t bpw = uint64_t(bytes_per_weight(wf));
         const std::string weights = fs::read_file(weights_path);
         b->m_group_of_view.assign(s.views.size(), -1);
         b->m_index_in_group.assign(s.views.size(), -1);
@@ -150,15 +199,34 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
             const uint64_t offset = static_cast<uint64_t>(integer(
                 gj.at("weights_offset_bytes"), 0, int64_t(weights.size()), manifest_path + ": weights_offset_bytes"));
             const uint64_t room = weights.size() - offset;
-            if (c > 0 && uint64_t(n) > room / sizeof(float) / uint64_t(c))
-                throw Error(str(weights_path, ": ", weights.size(), " bytes, group ", gi, " needs ", n, " x ", c,
-                                " floats from byte ", offset));
-            const uint64_t bytes = uint64_t(n) * uint64_t(c) * sizeof(float);
+            if (c > 0 && uint64_t(n) > room / bpw / uint64_t(c))
+                throw Error(str(weights_path, ": ", weights.size(), " bytes, group ", gi, " needs ", n, " x ", c, " ",
+                                dtype, " values from byte ", offset));
             g.mean = read_column(dir, gj.at("mean"), s);
             g.basis.resize(s.pixel_count(), c);
             for (int i = 0; i < c; ++i) g.basis.col(i) = read_column(dir, comps[static_cast<size_t>(i)], s);
             g.weights.resize(n, c);
-            std::memcpy(g.weights.data(), weights.data() + offset, bytes);
+            const char* w = weights.data() + offset;
+            for (int i = 0; i < c; ++i) {
+                float scale = 1, off = 0;
+                if (wf == WeightsFormat::kUint8) {
+                    const auto& cj = comps[static_cast<size_t>(i)];
+                    scale = cj.at("v_scale").get<float>();
+                    off = cj.at("v_offset").get<float>();
+                }
+                for (int64_t r = 0; r < n; ++r, w += bpw) {
+                    float v;
+                    if (wf == WeightsFormat::kFloat32) {
+                        std::memcpy(&v, w, sizeof v);
+                    } else if (wf == WeightsFormat::kFloat16) {
+                        const uint16_t bits = uint16_t(uint8_t(w[0]) | (uint16_t(uint8_t(w[1])) << 8));
+                        v = static_cast<float>(Eigen::half(Eigen::half_impl::raw_uint16_to_half(bits)));
+                    } else {
+                        v = off + scale * float(uint8_t(w[0]));
+                    }
+                    g.weights(r, i) = v;
+                }
+            }
             if (!g.weights.allFinite() || !g.basis.allFinite() || !g.mean.allFinite())
                 throw Error(str(dir, ": group ", gi, " holds NaN or Inf"));
             b->m_groups.push_back(std::move(g));

@@ -10,8 +10,10 @@
 //                 "stream": the components [group, component] in order of importance across
 //                 groups (energy removed, largest first), the order a server sends them in after
 //                 the manifest, weights.bin and the mean images.
-//   weights.bin   float32 little-endian; per group its V (N x C, column-major), N = 3 * n_lights *
-//                 views with column = (view_in_group * n_lights + light) * 3 + channel.
+//   weights.bin   per group its V (N x C, column-major), N = 3 * n_lights * views with column =
+//                 (view_in_group * n_lights + light) * 3 + channel; "weights"."dtype" says how:
+//                 float32_le (default), float16_le, or uint8 with value = v_offset + v_scale *
+//                 code per component (its manifest entry's "v_scale", "v_offset").
 //   g###-mean.png, g###-c##.png  one grey image (width x height) per column of L = [m | U Sigma]:
 //                 8-bit codes with value = offset + scale * code, or half/float EXR (scale 1,
 //                 offset 0) with --format exr-half / exr-float.
@@ -53,6 +55,21 @@ std::string to_string(FitSpace f);            ///< "linear", "srgb"
 FitSpace fit_space_from_string(const std::string& name);
 /// The manifest's "color_space" of a model fitted in `f`: "linear_srgb" or "srgb_encoded".
 std::string manifest_color_space(FitSpace f);
+
+/// How V is stored in weights.bin (WeightsFormat::kUint8: each column's own offset and scale, as
+/// the components' images).
+enum class WeightsFormat { kFloat32, kFloat16, kUint8 };
+std::string to_string(WeightsFormat f);  ///< "float32", "float16", "uint8"
+/// Inverse of to_string; throws UsageError naming the value otherwise.
+WeightsFormat weights_format_from_string(const std::string& name);
+int bytes_per_weight(WeightsFormat f);          ///< 4, 2, 1
+std::string weights_dtype(WeightsFormat f);     ///< the manifest's dtype: float32_le, float16_le, uint8
+
+/// Appends one column of V (n finite values) to `out` in format `f`, writes the values a decoder
+/// will read to `decoded` and the column's scale and offset (value = offset + scale * code;
+/// 1 and 0 unless kUint8) to `scale` and `offset`.
+void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std::string& out, float* decoded,
+                           float& scale, float& offset);
 
 /// One stored column of L.
 struct StoredImage {

@@ -211,6 +211,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
 
     std::vector<GroupRecord> groups;
     std::string weights_bin;
+    uint64_t weight_values = 0;
+    const uint64_t bpw = uint64_t(bytes_per_weight(o.weights_format));
     ColorSums ours, thesis, ref_input;
     const std::vector<int>& table = o.table_components;
     std::vector<ColorSums> table_sums(table.size()), table_ref(table.size());
@@ -240,7 +242,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         StoredGroup q;
         q.mean.resize(P);
         q.basis.resize(P, C);
-        q.weights = pca.weights;
+        q.weights.resize(N, C);
         StoredImage meta;
         nlohmann::json gj = {{"views", pca.views}, {"columns", N}, {"method", rec.method},
                              {"weights_offset_bytes", weights_bin.size()}, {"components", nlohmann::json::array()}};
@@ -257,8 +259,15 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             write_file(meta.file, bytes, "btf_pca_component");
             gj["components"].push_back({{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset},
                                         {"bytes", bytes.size()}, {"energy", pca.component_energy(c)}});
+            float v_scale = 1, v_offset = 0;
+            encode_weights_column(pca.weights.col(c).data(), N, o.weights_format, weights_bin, q.weights.col(c).data(),
+                                  v_scale, v_offset);
+            if (o.weights_format == WeightsFormat::kUint8) {
+                gj["components"].back()["v_scale"] = v_scale;
+                gj["components"].back()["v_offset"] = v_offset;
+            }
         }
-        weights_bin.append(reinterpret_cast<const char*>(pca.weights.data()), size_t(N) * C * sizeof(float));
+        weight_values += uint64_t(N) * uint64_t(C);
         // The thesis' packing of the same model, for the comparison.
         int overflow = 0;
         std::vector<std::vector<uint8_t>> u_codes;
@@ -388,7 +397,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             table_sums[i] += rec.color[size_t(c)];
             if (reference) table_ref[i] += rec.color_ref[size_t(c)];
             table_sse[i] += rec.sse[size_t(c)];
-            table_bytes[i] += rec.mean_bytes + uint64_t(N) * c * sizeof(float);
+            table_bytes[i] += rec.mean_bytes + uint64_t(N) * uint64_t(c) * bpw;
             for (int x = 0; x < c; ++x) table_bytes[i] += rec.component_bytes[size_t(x)];
             table_params[i] += uint64_t(4) * (uint64_t(P) * (c + 1) + uint64_t(N) * c);
         }
@@ -410,7 +419,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     nlohmann::json manifest = {{"format", "inlight-btf-pca"}, {"version", 1}, {"width", shape.width},
                                {"height", shape.height}, {"color_space", manifest_color_space(o.fit_space)},
                                {"view_group_size", o.pca.view_group_size}, {"component_format", to_string(o.encoding)},
-                               {"weights", {{"file", "weights.bin"}, {"dtype", "float32_le"}, {"layout", "per group N x C column-major"}}},
+                               {"weights", {{"file", "weights.bin"}, {"dtype", weights_dtype(o.weights_format)}, {"layout", "per group N x C column-major"}}},
                                {"lights", nlohmann::json::array()}, {"views", nlohmann::json::array()},
                                {"groups", nlohmann::json::array()}, {"stream", nlohmann::json::array()}};
     for (const auto& d : shape.lights) manifest["lights"].push_back({d.theta_deg, d.phi_deg});
@@ -463,7 +472,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         per_group.push_back(static_cast<int>(g.energy.size()));
     }
     const uint64_t raw8 = static_cast<uint64_t>(samples);
-    const uint64_t params32 = uint64_t(4) * (uint64_t(P) * (stats.components + stats.groups) + weights_bin.size() / 4);
+    const uint64_t params32 = uint64_t(4) * (uint64_t(P) * (stats.components + stats.groups) + weight_values);
     const uint64_t stored = manifest_text.size() + weights_bin.size() + means + components;
     const uint64_t thesis_stored = means + thesis_u_bytes + thesis_v_bytes;
     nlohmann::json m;
@@ -473,7 +482,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                 {"components_max", o.pca.components}, {"max_rmse", o.pca.max_rmse},
                 {"components_total", stats.components}, {"components_per_group", per_group},
                 {"methods", methods}, {"component_format", to_string(o.encoding)},
-                {"fit_space", to_string(o.fit_space)}};
+                {"fit_space", to_string(o.fit_space)}, {"weights_format", to_string(o.weights_format)}};
     m["time"] = {{"read_s", stats.read_time_s}, {"fit_s", stats.fit_time_s}, {"read_cpu_s", stats.read_cpu_s},
                  {"fit_cpu_s", stats.fit_cpu_s}, {"store_s", store_s},
                  {"measure_s", measure_s}, {"total_s", seconds_since(t_start)}};
@@ -531,20 +540,20 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         for (const auto& g : groups) b += g.mean_bytes;
         for (const auto& [g, c] : stream) {
             const GroupRecord& r = groups[size_t(g)];
-            const uint64_t cost = r.component_bytes[size_t(c)] + uint64_t(r.columns) * sizeof(float);
+            const uint64_t cost = r.component_bytes[size_t(c)] + uint64_t(r.columns) * bpw;
             if (b + cost > table_bytes[i]) break;
             b += cost;
             per[size_t(g)] = std::max(per[size_t(g)], c + 1);
         }
         ColorSums cs, cr;
-        double sse = 0;
+        double row_sse = 0;
         uint64_t params = 0;
         int64_t total = 0;
         for (size_t g = 0; g < groups.size(); ++g) {
             const auto c = size_t(per[g]);
             cs += groups[g].color[c];
             if (reference) cr += groups[g].color_ref[c];
-            sse += groups[g].sse[c];
+            row_sse += groups[g].sse[c];
             params += uint64_t(4) * (uint64_t(P) * (c + 1) + uint64_t(groups[g].columns) * c);
             total += per[g];
         }
@@ -554,7 +563,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                     {"components_total", total}, {"components_per_group", per},
                     {"components_min", per.empty() ? 0 : *std::min_element(per.begin(), per.end())},
                     {"components_max", per.empty() ? 0 : *std::max_element(per.begin(), per.end())},
-                    {"rmse_linear", std::sqrt(sse / samples)}, {"stored_bytes", b},
+                    {"rmse_linear", std::sqrt(row_sse / samples)}, {"stored_bytes", b},
                     {"parameters_float32_bytes", params},
                     {"raw_8bit_to_parameters_float32", double(raw8) / double(std::max<uint64_t>(params, 1))},
                     {"raw_8bit_to_stored", double(raw8) / b},

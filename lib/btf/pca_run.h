@@ -34,6 +34,8 @@ struct PcaRunOptions {
     /// (metrics.error_space says which); the display-referred figures (CIELAB, dE2000, 8-bit)
     /// decode the model first and mean the same in both spaces.
     FitSpace fit_space = FitSpace::kLinear;
+    /// How V is stored (weights.bin); the errors are measured with the stored V.
+    WeightsFormat weights_format = WeightsFormat::kFloat32;
     int64_t color_samples = int64_t(1) << 20;  ///< colour triples for the CIELAB/8-bit figures
     /// Also measure the stored model cut to each of these component counts (a prefix of every
     /// group's components, as a client holding that many has): the rows of the Table 7.1-style

@@ -13,7 +13,7 @@ DIRS=(--light-directions "$WORK/lights.txt" --view-directions "$WORK/views.txt")
 "$MK" "$WORK/btf" 24 16 4 1.0 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf"
 
 expect_exit 0 "--help" -- "$PCA" --help
-for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views; do
+for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views --fit-space --weights-format; do
     grep -q -- "$opt" "$WORK/stdout" || fail "--help lacks $opt"
 done
 
@@ -33,6 +33,19 @@ expect_true "streaming curve: 9 points, bytes rising, error falling to the final
     $m.streaming | (.rmse_linear | length) == 9 and (.bytes_sent | . == sort) and
     .rmse_linear[0] > .rmse_linear[8] and ((.rmse_linear[8] - $m.error.rmse_linear) | fabs) < 1e-9' "$WORK/r.json"
 expect_true "streaming.tsv has a header and 9 rows" -- test "$(grep -vc '^#' "$WORK/out/streaming.tsv")" -eq 9
+
+# --fit-space srgb and --weights-format uint8: the manifest says how to decode; V takes one byte
+# per value; the equal-bytes rows stay within their fixed-C row's bytes.
+expect_exit 0 "srgb fit, 8-bit V" -- "$PCA" "$WORK/btf" -o "$WORK/srgb" -k 3 -c 4 --fit-space srgb --weights-format uint8 \
+    --table-components 1,2,4 "${DIRS[@]}" --report "$WORK/s.json"
+expect_true "manifest: srgb_encoded, uint8 V with v_scale and v_offset" -- jq -e '.color_space == "srgb_encoded" and
+    .weights.dtype == "uint8" and (.groups[0].components[0] | has("v_scale") and has("v_offset"))' "$WORK/srgb/btf-pca.json"
+expect_true "weights.bin size = (3 + 2 views) * 24 * 4 components * 1 byte" -- test "$(stat -c %s "$WORK/srgb/weights.bin")" -eq 480
+expect_true "report: fit space, error space, equal-bytes rows within budget" -- jq -e '.metrics |
+    .pca.fit_space == "srgb" and .pca.weights_format == "uint8" and .error_space == "srgb_encoded" and
+    (.table_equal_bytes | length) == 3 and all(.table_equal_bytes[]; .stored_bytes <= .byte_budget)' "$WORK/s.json"
+expect_exit 2 "--fit-space log" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-space log "${DIRS[@]}"
+expect_stderr "--fit-space" "names the option"
 
 # An error budget: a rank-4 BTF needs at most 4 components above the 8-bit noise.
 expect_exit 0 "error budget" -- "$PCA" "$WORK/btf" -o "$WORK/budget" -k 5 -c 16 --max-rmse 0.01 "${DIRS[@]}" --report "$WORK/b.json"
