@@ -122,7 +122,7 @@ thesis() {
         echo "| fabric | k | C | MAE Lab | MAE RGB | RMSE RGB | MAE Lab vs seed 2 | RMSE RGB vs noise-free (est.) | noise: MAE Lab seed 1 vs 2 | noise: RMSE RGB of one capture | raw : stored | raw : params float32 | thesis (wool, Bonn): MAE Lab, MAE RGB, RMSE RGB at ratio |"
         echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
         for name in "$@"; do
-            # shellcheck disable=SC2016  # $f, $k, $c, $th, $k1, $k3, $in, $n, $m, $row, $label, $cs are jq variables
+            # shellcheck disable=SC2016  # $f, $k, $c, $th, $k1, $k3, $in, $n, $m, $row, $lab, $cs are jq variables
             jq -r -n --arg f "$name" --slurpfile k1 "$OUT/$name/k1.json" --slurpfile k3 "$OUT/$name/k3.json" '
                 def r2: if type == "number" then . * 100 | round / 100 else "-" end;
                 $k1[0].metrics.reference.input as $in | ($in.rmse_rgb8 // null) as $n
@@ -132,8 +132,8 @@ thesis() {
                 | ([$m.table[] | select(.components == $c) | [., $f, "\($c)"]]
                    + [$m.table_equal_bytes[] | select(.components == $c)
                       | [., "\($f), stream at equal bytes", "bytes of \($c): \(.components_total) (\(.components_min)-\(.components_max))"]])[]
-                | . as [$row, $label, $cs] | $row
-                | "| \($label) | \($k) | \($cs) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.vs_reference.mae_lab|r2) | \(if $n then [.vs_reference.rmse_rgb8 * .vs_reference.rmse_rgb8 - $n * $n / 2, 0] | max | sqrt else null end|r2) | \($in.mae_lab|r2) | \(if $n then $n / (2|sqrt) else null end|r2) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | \($th) |"'
+                | . as [$row, $lab, $cs] | $row
+                | "| \($lab) | \($k) | \($cs) | \(.mae_lab|r2) | \(.mae_rgb8|r2) | \(.rmse_rgb8|r2) | \(.vs_reference.mae_lab|r2) | \(if $n then [.vs_reference.rmse_rgb8 * .vs_reference.rmse_rgb8 - $n * $n / 2, 0] | max | sqrt else null end|r2) | \($in.mae_lab|r2) | \(if $n then $n / (2|sqrt) else null end|r2) | 1:\(.raw_8bit_to_stored*10|round/10) | 1:\(.raw_8bit_to_parameters_float32*10|round/10) | \($th) |"'
         done
     } >"$t"
     say "thesis comparison: $t"

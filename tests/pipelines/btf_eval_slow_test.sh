@@ -4,7 +4,9 @@
 # pipelines/btf-eval.sh on one woven fabric at 4 x 4 px: the CAP_SPP option reaches both captures
 # (seeds 1 and 2), the table gets the seed-2 columns and thesis.md the thesis' rows beside ours
 # with the noise floor; a rerun reuses what is finished, refuses captures of other settings under
-# the same OUT and redoes an unfinished one; bad options are usage errors.
+# the same OUT and redoes an unfinished one; other BTF_PCA_ARGS redo the runs, BTF_EVAL_KS picks
+# them; table-equal-bytes.md and thesis.md carry the stream cut at each row's bytes; bad options
+# are usage errors.
 HERE=$(cd "$(dirname "$0")" && pwd)
 # shellcheck source=tests/cli/lib.sh
 source "$HERE/../cli/lib.sh"
@@ -40,6 +42,19 @@ rm "$W/capture-seed2.json"  # as after a killed run: the folder without an ok re
 expect_exit 0 "a rerun after an unfinished seed-2 capture" -- pipelines/btf-eval.sh "$E" 8 4 2
 expect_stderr "capture-seed2: no finished capture" "captures seed 2 again"
 expect_true "seed 2 captured again with 2 spp" -- jq -e '.status == "ok" and .metrics.capture.spp == 2' "$W/capture-seed2.json"
+
+rows=$(grep -c '^| [0-9]' "$W/table-equal-bytes.md")
+expect_true "table-equal-bytes.md: 24 rows, got $rows" -- test "$rows" -eq 24
+expect_true "thesis.md: the three rows again at equal bytes" -- \
+    test "$(grep -c '^| wool-twill, stream at equal bytes | [13] | bytes of \(8\|32\): ' "$E/thesis.md")" -eq 3
+# Other btf-pca options: the runs are not reused; BTF_EVAL_KS picks the k-runs.
+expect_exit 0 "k = 1 again with 8-bit V" -- env BTF_EVAL_KS=1 BTF_PCA_ARGS="--weights-format uint8" pipelines/btf-eval.sh "$E" 8 4 2
+# shellcheck disable=SC2016  # $k3 is a jq variable
+expect_true "k1 redone with uint8 V, k3 untouched" -- jq -e --slurpfile k3 "$W/k3.json" \
+    '.metrics.pca.weights_format == "uint8" and $k3[0].metrics.pca.weights_format == "float32"' "$W/k1.json"
+expect_true "only the k = 1 row block" -- test "$(grep -c '^| [0-9]' "$W/table.md")" -eq 6
+expect_exit 2 "BTF_EVAL_KS=0" -- env BTF_EVAL_KS=0 pipelines/btf-eval.sh "$E" 8 4 2
+expect_stderr "BTF_EVAL_KS must hold positive integers, got '0'" "names the variable"
 
 expect_exit 2 "CAP_SPP 0" -- pipelines/btf-eval.sh "$E" 8 4 0
 expect_stderr "CAP_SPP must be positive integers, got '0'" "names the option"
