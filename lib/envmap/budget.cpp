@@ -379,7 +379,30 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
             for (Eigen::Index i = 0; i < nf; ++i)
                 fit_weights[i] = 1 / std::pow(std::max(std::abs(y[i]), floor), 2);
     }
-    // Per band count b - 1: the fitted light sets for 1 .. max_k lights.
+    // The metric fit (ShFit::kMetric) of a candidate of b bands: its coefficients and fluxes
+    // fitted to the metric at the fit normals, then its lights' geometry refitted with the
+    // coefficients free (kept if the metric there is lower: `refit` says so). Returns the
+    // metric there.
+    const auto fit_to_metric = [&](std::vector<DirectionalLight>& set, Eigen::MatrixXd& coeffs,
+                                   int b, bool& refit_kept) {
+        refit_kept = false;
+        double v = fit_sh_to_metric(coeffs, b, set, fit_set, e_fit, options.metric);
+        if (set.empty()) return v;
+        LightFitResult g = fit_lights_free_sh(set, b, fit_set, e_fit, fit_weights);
+        Eigen::MatrixXd refit = coeffs;
+        const double vg = fit_sh_to_metric(refit, b, g.lights, fit_set, e_fit, options.metric);
+        if (vg < v) {
+            v = vg;
+            set = std::move(g.lights);
+            coeffs = std::move(refit);
+            refit_kept = true;
+        }
+        return v;
+    };
+    // Per band count b - 1: the fitted light sets for 1 .. max_k lights. With the metric fit,
+    // every start of the light fit is refined to the metric and the starts are compared by the
+    // metric on the fit normals: the metric fit lands in different minima from different
+    // starts, and the least projection RMS is not the least metric (docs/budget.md).
     std::vector<std::vector<LightSetFit>> fitted(static_cast<size_t>(options.max_bands));
     if (fit && max_k > 0) {
         for (int b = 1; b <= options.max_bands; ++b) {
@@ -395,7 +418,14 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
                 }
                 continue;
             }
-            f = fit_light_sets(lights, max_k, b, map, fit_set, e_fit);
+            LightSetRefine refine;
+            if (sh_fit)
+                refine = [&fit_to_metric, b](std::vector<DirectionalLight>& set,
+                                             Eigen::MatrixXd& coeffs) {
+                    bool refit_kept;
+                    return fit_to_metric(set, coeffs, b, refit_kept);
+                };
+            f = fit_light_sets(lights, max_k, b, map, fit_set, e_fit, {}, refine);
         }
     }
 
@@ -420,21 +450,13 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
                 r.coeffs = r.coeffs_unwindowed = f.coeffs;
             }
             if (sh_fit) {
-                // proj[0] also starts the light fits above: those are done by now.
-                double v = fit_sh_to_metric(r.coeffs, b, c.light_set, fit_set, e_fit, options.metric);
-                if (k > 0) {
-                    // The lights' geometry refitted with the coefficients free, from the lights
-                    // above; kept if the metric on the fit normals is lower.
-                    LightFitResult g = fit_lights_free_sh(c.light_set, b, fit_set, e_fit, fit_weights);
-                    Eigen::MatrixXd coeffs = r.coeffs;
-                    const double vg = fit_sh_to_metric(coeffs, b, g.lights, fit_set, e_fit, options.metric);
-                    if (vg < v) {
-                        v = vg;
-                        c.light_set = std::move(g.lights);
-                        r.coeffs = coeffs;
-                        c.lights_fitted = true;
-                    }
-                }
+                // proj[0] also starts the light fits above: those are done by now. The fitted
+                // sets were refined the same way (this starts from their result, so it ends no
+                // higher on the fit normals); the regions as found and the reused fits of
+                // A_l = 0 bands are refined here first.
+                bool refit_kept;
+                fit_to_metric(c.light_set, r.coeffs, b, refit_kept);
+                c.lights_fitted = c.lights_fitted || refit_kept;
                 r.coeffs_unwindowed = r.coeffs;
                 c.sh_fitted = true;
             }

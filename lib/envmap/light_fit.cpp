@@ -357,7 +357,8 @@ std::vector<LightSetFit> fit_light_sets(const std::vector<DirectionalLight>& reg
                                         const Eigen::MatrixXd& map_coeffs,
                                         const std::vector<Eigen::Vector3d>& normals,
                                         const Eigen::MatrixXd& e_ref,
-                                        const LightFitOptions& options) {
+                                        const LightFitOptions& options,
+                                        const LightSetRefine& refine) {
     const int nr = static_cast<int>(regions.size());
     if (max_lights < 0 || max_lights > nr)
         throw UsageError(str("fit_light_sets: ", max_lights, " lights from ", nr, " regions"));
@@ -380,19 +381,22 @@ std::vector<LightSetFit> fit_light_sets(const std::vector<DirectionalLight>& reg
             starts.emplace_back(std::move(set), std::move(idx));
         }
         std::vector<LightFitResult> fits(starts.size());
+        std::vector<double> score(starts.size());
         parallel::for_chunks(static_cast<int64_t>(starts.size()), 1, [&](int64_t b, int64_t e) {
-            for (int64_t s = b; s < e; ++s)
-                fits[static_cast<size_t>(s)] = fit_lights(starts[static_cast<size_t>(s)].first,
-                                                          sh_bands, map_coeffs, normals, e_ref,
-                                                          options);
+            for (int64_t s = b; s < e; ++s) {
+                const auto is = static_cast<size_t>(s);
+                fits[is] = fit_lights(starts[is].first, sh_bands, map_coeffs, normals, e_ref, options);
+                score[is] = refine ? refine(fits[is].lights, fits[is].coeffs) : fits[is].rms_fitted;
+            }
         });
         size_t best = 0;
         for (size_t s = 1; s < fits.size(); ++s)
-            if (fits[s].rms_fitted < fits[best].rms_fitted) best = s;
+            if (score[s] < score[best]) best = s;
         LightSetFit r;
         r.lights = std::move(fits[best].lights);
         r.coeffs = std::move(fits[best].coeffs);
         r.rms_fitted = fits[best].rms_fitted;
+        r.score = score[best];
         r.regions = starts[best].second;
         r.starts = static_cast<int>(starts.size());
         out.push_back(std::move(r));

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "envmap/lights.h"
@@ -68,11 +69,21 @@ struct LightSetFit {
     std::vector<DirectionalLight> lights;  ///< fitted
     Eigen::MatrixXd coeffs;                ///< count(sh_bands) x 3: SH_b(map) - sum of caps
     double rms_fitted = 0;                 ///< luminance RMS on the fit normals
+    /// The value the starts were compared by: rms_fitted, or the refinement's (LightSetRefine).
+    double score = 0;
     std::vector<int> regions;  ///< the indices into `regions` the lights started from, in order
     int starts = 0;            ///< starts tried for this light count
 };
 
-/// Lights for k = 1 .. max_lights (element k - 1), each the best, by the fit-set RMS, of
+/// Optional refinement of every start's fit: replaces the lights and the coefficients
+/// (count(sh_bands) x 3) in place and returns the value by which the starts are compared (lower
+/// is better), e.g. the budget's metric after fitting the SH to it (budget.h, ShFit::kMetric).
+/// Called concurrently on different starts: it must not share mutable state.
+using LightSetRefine =
+    std::function<double(std::vector<DirectionalLight>& lights, Eigen::MatrixXd& coeffs)>;
+
+/// Lights for k = 1 .. max_lights (element k - 1), each the best, by the fit-set RMS (or by
+/// `refine`'s value after refining every start's fit, when given), of
 /// several starts fitted by fit_lights:
 ///   - the k strongest regions as extracted (`regions` is strongest first);
 ///   - the best k - 1 lights, fitted, plus any one region not among them (every region for
@@ -87,7 +98,8 @@ std::vector<LightSetFit> fit_light_sets(const std::vector<DirectionalLight>& reg
                                         const Eigen::MatrixXd& map_coeffs,
                                         const std::vector<Eigen::Vector3d>& normals,
                                         const Eigen::MatrixXd& e_ref,
-                                        const LightFitOptions& options = {});
+                                        const LightFitOptions& options = {},
+                                        const LightSetRefine& refine = {});
 
 /// The fit normals: `count` Fibonacci normals turned by a fixed rotation off the validation set
 /// (validate.h), so no fit normal is a validation normal.

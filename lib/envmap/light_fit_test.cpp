@@ -264,5 +264,34 @@ TEST(FitLightSets, OneLightStartsFromTheRegionTheBandsCannotCarryNotTheStrongest
     EXPECT_THROW(fit_light_sets(regions, 3, 3, map, normals, e_ref), UsageError);
 }
 
+
+TEST(FitLightSets, RefinementDecidesAmongTheStartsAndIsKept) {
+    const TwoCapScene scene(256, 128);
+    ProjectOptions po;
+    po.sh_bands = 3;
+    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
+    const auto normals = fit_normals(256);
+    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    const std::vector<DirectionalLight> regions = {scene.wide, scene.small};
+    // By the fit RMS one light starts from the small cap (test above); a refinement whose value
+    // prefers the wider fitted light picks the other start, and what it did to the lights and
+    // the coefficients is what comes out.
+    const LightSetRefine prefer_wide = [](std::vector<DirectionalLight>& lights,
+                                          Eigen::MatrixXd& coeffs) {
+        coeffs.setZero();
+        for (auto& l : lights) l.flux_is_lower_bound = true;  // a mark: the refined set
+        return -lights[0].angular_radius;
+    };
+    const std::vector<LightSetFit> plain = fit_light_sets(regions, 1, 3, map, normals, e_ref);
+    const std::vector<LightSetFit> refined =
+        fit_light_sets(regions, 1, 3, map, normals, e_ref, {}, prefer_wide);
+    ASSERT_EQ(plain[0].regions, std::vector<int>{1});
+    EXPECT_EQ(plain[0].score, plain[0].rms_fitted);  // unrefined: the starts compared by RMS
+    EXPECT_EQ(refined[0].regions, std::vector<int>{0});
+    EXPECT_TRUE(refined[0].lights[0].flux_is_lower_bound);
+    EXPECT_TRUE(refined[0].coeffs.isZero(0));
+    EXPECT_EQ(refined[0].score, -refined[0].lights[0].angular_radius);
+}
+
 }  // namespace
 }  // namespace inlight::envmap
