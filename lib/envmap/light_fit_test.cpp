@@ -72,6 +72,20 @@ TEST(CapZonalFactors, SeriesAndClosedFormAgreeAtTheirJoinAndAPointIsOne) {
 
 // A band-limited sky (l <= 2) and a uniform cap, the cap's pixels weighted by their covered
 // fraction (8 x 8 sub-samples), so the map is the cap to a 64th of a boundary pixel.
+/// What a light fit takes from a map: its SH to `bands` bands and the brute-force irradiance
+/// at `count` fit normals.
+struct FitInputs {
+    Eigen::MatrixXd map;
+    std::vector<Eigen::Vector3d> normals;
+    Eigen::MatrixXd e_ref;
+    FitInputs(const Environment& env, int bands, int count) : normals(fit_normals(count)) {
+        ProjectOptions po;
+        po.sh_bands = bands;
+        map = project(env, po).coeffs;
+        e_ref = brute_force_irradiance(env, normals);
+    }
+};
+
 struct CapScene {
     Eigen::Vector3d direction = Eigen::Vector3d(0.35, 0.55, 0.6).normalized();
     double alpha = 8 * kPi / 180;
@@ -109,11 +123,8 @@ struct CapScene {
 TEST(FitLights, RecoverACapFromAPoorStart) {
     const CapScene scene(512, 256);
     const double pitch = kPi / 256;  // a pixel's angular size at the equator
-    ProjectOptions po;
-    po.sh_bands = 3;
-    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
-    const auto normals = fit_normals(256);
-    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    const FitInputs in(scene.env, 3, 256);
+    const auto& [map, normals, e_ref] = in;
     // The true light's misfit: the brute force's pixel quadrature and the cap's rasterisation.
     LightFitOptions none;
     none.max_iterations = 0;
@@ -180,11 +191,8 @@ TEST(FitLightsFreeSh, RecoversALightOverAnyLowBandFieldInEitherWeighting) {
 
 TEST(FitLights, NeverEndsAboveItsStart) {
     const CapScene scene(256, 128);
-    ProjectOptions po;
-    po.sh_bands = 5;
-    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
-    const auto normals = fit_normals(128);
-    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    const FitInputs in(scene.env, 5, 128);
+    const auto& [map, normals, e_ref] = in;
     for (int b : {1, 3, 5}) {
         const LightFitResult f = fit_lights({scene.truth()}, b, map, normals, e_ref);
         EXPECT_LE(f.rms_fitted, f.rms_start * (1 + 1e-12)) << b << " bands";
@@ -234,11 +242,8 @@ struct TwoCapScene {
 TEST(FitLightSets, OneLightStartsFromTheRegionTheBandsCannotCarryNotTheStrongest) {
     const TwoCapScene scene(512, 256);
     ASSERT_GT(luminance_flux(scene.wide), 1.3 * luminance_flux(scene.small));  // wide is stronger
-    ProjectOptions po;
-    po.sh_bands = 3;
-    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
-    const auto normals = fit_normals(256);
-    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    const FitInputs in(scene.env, 3, 256);
+    const auto& [map, normals, e_ref] = in;
     // The regions as an extraction orders them: strongest first.
     const std::vector<DirectionalLight> regions = {scene.wide, scene.small};
     const std::vector<LightSetFit> sets = fit_light_sets(regions, 2, 3, map, normals, e_ref);
@@ -264,14 +269,10 @@ TEST(FitLightSets, OneLightStartsFromTheRegionTheBandsCannotCarryNotTheStrongest
     EXPECT_THROW(fit_light_sets(regions, 3, 3, map, normals, e_ref), UsageError);
 }
 
-
 TEST(FitLightSets, RefinementDecidesAmongTheStartsAndIsKept) {
     const TwoCapScene scene(256, 128);
-    ProjectOptions po;
-    po.sh_bands = 3;
-    const Eigen::MatrixXd map = project(scene.env, po).coeffs;
-    const auto normals = fit_normals(256);
-    const Eigen::MatrixXd e_ref = brute_force_irradiance(scene.env, normals);
+    const FitInputs in(scene.env, 3, 256);
+    const auto& [map, normals, e_ref] = in;
     const std::vector<DirectionalLight> regions = {scene.wide, scene.small};
     // By the fit RMS one light starts from the small cap (test above); a refinement whose value
     // prefers the wider fitted light picks the other start, and what it did to the lights and
