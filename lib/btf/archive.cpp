@@ -6,6 +6,7 @@
 #include <cctype>
 
 #include "core/error.h"
+#include "core/fs.h"
 
 namespace inlight::btf {
 
@@ -34,6 +35,7 @@ bool is_zip_path(const std::string& path) {
 std::unique_ptr<ZipArchive> ZipArchive::open(const std::string& path) {
     std::unique_ptr<ZipArchive> a(new ZipArchive());
     a->m_name = path;
+    fs::check_input_file(path);
     int code = 0;
     a->m_zip = zip_open(path.c_str(), ZIP_RDONLY, &code);
     if (!a->m_zip) throw Error(str(path, ": cannot open as a zip archive: ", error_text(code)));

@@ -8,6 +8,7 @@
 
 #include "core/conventions.h"
 #include "core/error.h"
+#include "core/fs.h"
 
 namespace inlight::btf {
 
@@ -61,6 +62,7 @@ Direction direction_from_numbers(const double* v, int count, const std::string& 
 /// Calls fn(numbers, where) for every non-blank, non-comment line of a text file.
 template <typename Fn>
 void for_each_line(const std::string& path, Fn fn) {
+    fs::check_input_file(path);
     std::ifstream in(path);
     if (!in) throw Error(str(path, ": cannot open direction file"));
     std::string line;

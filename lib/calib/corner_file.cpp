@@ -65,8 +65,7 @@ void check_yaml_layout(const std::string& path) {
 }
 
 cv::FileStorage open_read(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw Error(str(path, ": no such file"));
+    fs::check_input_file(path);
     check_yaml_layout(path);
     cv::FileStorage fs;
     try {

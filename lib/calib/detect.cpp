@@ -116,6 +116,7 @@ Detector detector_from_string(const std::string& name) {
 
 GrayImage load_gray(const std::string& path) {
     // EXIF orientation is ignored: calibration refers to the sensor's own pixel grid.
+    fs::check_input_file(path);  // cv::imread of a FIFO or /dev/zero never returns
     cv::Mat m;
     try {
         m = cv::imread(path,

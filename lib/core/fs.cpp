@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <atomic>
 #include <cctype>
 #include <filesystem>
@@ -94,7 +96,30 @@ void write_text_atomic(const std::string& path, const std::string& content, Comm
         commit);
 }
 
+std::string special_file_kind(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return "";
+    if (S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)) return "";
+    if (S_ISFIFO(st.st_mode)) return "a FIFO (named pipe)";
+    if (S_ISCHR(st.st_mode)) return "a character device";
+    if (S_ISBLK(st.st_mode)) return "a block device";
+    if (S_ISSOCK(st.st_mode)) return "a socket";
+    return "not a regular file";
+}
+
+void check_input_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) {
+        throw Error(str(path, ": cannot open: ", std::strerror(errno)));
+    }
+    if (S_ISDIR(st.st_mode)) throw Error(str(path, ": is a folder, not a file"));
+    if (!S_ISREG(st.st_mode)) {
+        throw Error(str(path, ": is ", special_file_kind(path), ", not a regular file"));
+    }
+}
+
 std::string read_file(const std::string& path) {
+    check_input_file(path);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(str(path, ": cannot open for reading"));
     std::ostringstream ss;
@@ -109,6 +134,15 @@ std::string extension(const std::string& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return ext;
+}
+
+void check_output_stem(const std::string& stem, const std::string& what) {
+    const stdfs::path p(stem);
+    const std::string name = p.filename().string();
+    if (name.empty() || name == "." || name == "..") {
+        throw UsageError(str(what, " '", stem, "': names a folder, not a file stem (the outputs "
+                             "are STEM.ext; give e.g. out/satin)"));
+    }
 }
 
 void declare_input(const std::string& path, const std::string& what) {
@@ -146,6 +180,7 @@ void OutputTransaction::add_input(const std::string& path, const std::string& wh
     std::lock_guard<std::mutex> lock(m_mutex);
     for (const auto* list : {&m_outputs, &m_reserved}) {
         if (const Entry* o = find_same(*list, path)) {
+            if (list == &m_reserved) m_reserved_clash = "it is an input of the run";
             throw UsageError(str("output ", shown(o->path, o->what), " is the input ",
                                  shown(path, what), ": the run would overwrite its input"));
         }
@@ -167,6 +202,7 @@ void OutputTransaction::add_output(const std::string& path, const std::string& w
     }
     for (const auto* list : {&m_outputs, &m_reserved}) {
         if (const Entry* o = find_same(*list, path)) {
+            if (list == &m_reserved) m_reserved_clash = "it is also an output of the run";
             throw UsageError(str("outputs ", shown(o->path, o->what), " and ", shown(path, what),
                                  " are the same file: one would overwrite the other"));
         }
@@ -210,6 +246,7 @@ std::string OutputTransaction::stage(const std::string& path) {
                              ": the run would overwrite its input"));
     }
     if (const Entry* r = find_same(m_reserved, path)) {
+        m_reserved_clash = "it is also an output of the run";
         throw UsageError(str("output '", path, "' is the file of ", shown(r->path, r->what)));
     }
     const std::string key = resolved(path).string();
@@ -309,6 +346,11 @@ void OutputTransaction::rollback() noexcept {
     // Deepest first; a directory that is not empty (someone else wrote there) stays.
     for (auto it = m_created_dirs.rbegin(); it != m_created_dirs.rend(); ++it) stdfs::remove(*it, ec);
     m_created_dirs.clear();
+}
+
+std::string OutputTransaction::reserved_clash() const {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_reserved_clash;
 }
 
 size_t OutputTransaction::staged_count() const {

@@ -35,7 +35,16 @@ void write_atomic(const std::string& path, const std::function<void(const std::s
 void write_text_atomic(const std::string& path, const std::string& content,
                        Commit commit = Commit::kWithRun);
 
-/// Reads a whole file. Throws Error naming the file if it cannot be read.
+/// Checks that `path` is a file a reader can read to its end: it exists and is a regular file
+/// (after symlinks). A folder, a FIFO, a device (/dev/zero, /dev/stdin), or a socket throws Error
+/// naming the path and what it is: reading /dev/zero or a FIFO never ends, and was a hang.
+void check_input_file(const std::string& path);
+
+/// What kind of thing `path` is when it exists but is not a regular file or a folder ("a FIFO",
+/// "a character device", ...), or "" (a regular file, a folder, or nothing at all).
+std::string special_file_kind(const std::string& path);
+
+/// Reads a whole file (check_input_file first). Throws Error naming the file if it cannot be read.
 std::string read_file(const std::string& path);
 
 /// The file name's extension in lower case without the dot ("EXR" -> "exr"), or "".
@@ -44,6 +53,11 @@ std::string extension(const std::string& path);
 /// Whether two paths name the same file: the same path once symlinks, "." and ".." are resolved,
 /// or (when both exist) the same device and inode (hard links).
 bool same_file(const std::string& a, const std::string& b);
+
+/// Checks an output stem (a tool's -o to which it appends ".bin", "_stderr.exr", ...): throws
+/// UsageError naming `what` if it has no file name ("", "out/", "out/.", ".."), as
+/// such a stem wrote hidden files like "out/.bin".
+void check_output_stem(const std::string& stem, const std::string& what);
 
 /// Declares an input of the current run (no-op outside one). Throws UsageError naming both if it
 /// is the same file as a declared output. Report::add_input calls this for every input.
@@ -74,6 +88,10 @@ class OutputTransaction {
     void reserve(const std::string& path, const std::string& what);
     /// Whether `path` is the same file as a declared input.
     bool is_input(const std::string& path) const;
+    /// Why an input or output of the run was refused because it is the file of a reserved path
+    /// (the --report file), e.g. "it is an input of the run", or "": the report must then not be
+    /// written there either.
+    std::string reserved_clash() const;
 
     /// Stages a write of `path`: checks it, creates its parent directories (remembered for
     /// rollback) and returns the temporary path to write. The caller writes it, then either
@@ -108,6 +126,7 @@ class OutputTransaction {
     std::map<std::pair<uint64_t, uint64_t>, std::string> m_staged_by_inode;
     std::vector<std::string> m_created_dirs;  ///< deepest last
     bool m_done = false;
+    std::string m_reserved_clash;
 };
 
 }  // namespace inlight::fs

@@ -8,6 +8,7 @@
 
 #include "core/check.h"
 #include "core/error.h"
+#include "core/fs.h"
 
 namespace inlight {
 namespace {
@@ -50,6 +51,7 @@ std::string sha256_hex(const void* data, size_t size) {
 }
 
 std::string sha256_file(const std::string& path) {
+    fs::check_input_file(path);  // a FIFO or /dev/zero would be hashed forever
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(str(path, ": cannot open for hashing"));
     Sha256 h;

@@ -4,6 +4,7 @@
 
 #include "core/conventions.h"
 #include "core/error.h"
+#include "core/fs.h"
 #include "core/number.h"
 
 namespace inlight::app {
@@ -24,6 +25,19 @@ CLI::Validator number_check(const std::string& rule, std::function<bool(double)>
             return std::string();
         },
         rule);
+}
+
+/// A parser's message without the option name it starts with ("--seed: '-1' is outside ...",
+/// "--board '0': expected ..."): CLI11 puts the option's name in front of a validator's message,
+/// which read "--seed: --seed: ...".
+std::string without_option_name(const std::string& message) {
+    if (message.rfind("--", 0) != 0) return message;
+    const size_t end = message.find_first_of(": ");
+    if (end == std::string::npos) return message;
+    size_t rest = end;
+    if (message.compare(rest, 2, ": ") == 0) rest += 2;
+    else if (message[rest] == ' ') rest += 1;
+    return rest < message.size() ? message.substr(rest) : message;
 }
 
 }  // namespace
@@ -58,11 +72,22 @@ CLI::Validator parses_with(std::function<void(const std::string&)> parse, const 
             try {
                 parse(input);
             } catch (const Error& e) {
-                return e.what();
+                return without_option_name(e.what());
             }
             return std::string();
         },
         type);
+}
+
+CLI::Validator not_special_file() {
+    CLI::Validator v(
+        [](std::string& input) -> std::string {
+            const std::string kind = fs::special_file_kind(input);
+            if (kind.empty()) return std::string();
+            return str("'", input, "' is ", kind, ", not a regular file");
+        },
+        "");
+    return v;
 }
 
 CLI::Validator rotation() {

@@ -25,6 +25,10 @@ CLI::Validator finite_non_negative();
 /// "thetaphi:9x32") are checked during parsing, before any work. `type` is shown in --help.
 CLI::Validator parses_with(std::function<void(const std::string&)> parse, const std::string& type);
 
+/// An existing path that is not a FIFO, device or socket (app::parse adds it to every option
+/// checked with CLI::ExistingFile or CLI::ExistingPath: reading /dev/zero or a FIFO never ends).
+CLI::Validator not_special_file();
+
 /// A rotation in core/conventions.h parse_rotation syntax ("none", "y-up", "z=90,x=-30");
 /// rejects NaN, Inf and angles outside [-360, 360].
 CLI::Validator rotation();

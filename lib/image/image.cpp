@@ -122,6 +122,18 @@ Format format_for(const std::string& path) {
                     "' (use .exr, .hdr, .png, .jpg, .jpeg, .tif or .tiff)"));
 }
 
+}  // namespace
+
+void check_writable_name(const std::string& path, const std::string& what) {
+    try {
+        format_for(path);
+    } catch (const Error& e) {
+        throw UsageError(str(what, ": ", e.what()));
+    }
+}
+
+namespace {
+
 // Quantises encoded values in [0, 1] to integers with round-to-nearest; NaN -> 0.
 template <typename T>
 std::vector<T> quantise(const std::vector<float>& v, double max_code) {
@@ -156,6 +168,7 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& name, OIIO::Imag
         std::unique_ptr<OIIO::Filesystem::IOFile> file;
         OIIO::Filesystem::IOProxy* source = memory;
         if (!source) {
+            fs::check_input_file(name);  // a FIFO or /dev/zero: a decoder would read forever
             file =
                 std::make_unique<OIIO::Filesystem::IOFile>(name, OIIO::Filesystem::IOProxy::Read);
             source = file.get();
