@@ -1,14 +1,18 @@
 #include "core/app.h"
 
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
 #include <limits>
+#include <new>
+#include <stdexcept>
 
 #include "core/fs.h"
 #include "core/log.h"
+#include "core/memory.h"
 #include "core/number.h"
 #include "core/parallel.h"
 #include "core/toml.h"
@@ -44,8 +48,19 @@ class TomlConfig : public CLI::Config {
     }
 
     std::vector<CLI::ConfigItem> from_config(std::istream& in) const override {
-        const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
         const std::string source = m_source.empty() ? "--config" : m_source;
+        // A FIFO or /dev/zero would be read forever; a config file is a few lines.
+        if (!m_source.empty()) {
+            if (const std::string kind = fs::special_file_kind(m_source); !kind.empty())
+                throw CLI::ConfigError(str(source, ": is ", kind, ", not a regular file"));
+        }
+        std::string text(kMaxConfigBytes + 1, '\0');
+        in.read(text.data(), static_cast<std::streamsize>(text.size()));
+        text.resize(static_cast<size_t>(in.gcount()));
+        if (text.size() > kMaxConfigBytes) {
+            throw CLI::ConfigError(str(source, ": larger than ", kMaxConfigBytes >> 20,
+                                       " MiB: not a --config file of options"));
+        }
         toml::Document doc;
         try {
             doc = toml::parse(text, source);
@@ -87,6 +102,8 @@ class TomlConfig : public CLI::Config {
     }
 
   private:
+    static constexpr size_t kMaxConfigBytes = size_t(1) << 20;
+
     /// A TOML value as the command-line word CLI11 converts (integers without a decimal point,
     /// floats round-tripping, nan and inf spelled so the finite() checks reject them by name).
     static std::string scalar(const toml::Value& v, const std::string& where,
@@ -192,13 +209,65 @@ bool write_report(const Report& report, const std::string& path, const std::stri
     return true;
 }
 
+/// The `report` key of the --config file named in argv, or "": a run the parser rejects (for a
+/// bad value in that very file) still writes the report the file asks for.
+std::string report_in_config(int argc, char** argv) {
+    const std::string config = option_value_in(argc, argv, "--config");
+    std::error_code ec;
+    if (config.empty() || !std::filesystem::is_regular_file(config, ec) ||
+        std::filesystem::file_size(config, ec) > (size_t(1) << 20))
+        return "";
+    try {
+        const toml::Document doc = toml::parse(fs::read_file(config), config);
+        const auto it = doc.root.values.find("report");
+        if (it == doc.root.values.end()) return "";
+        if (const auto* s = std::get_if<std::string>(&it->second.data)) return *s;
+    } catch (const std::exception&) {  // the parser's own error is the one reported
+    }
+    return "";
+}
+
+/// Throws Error unless a file can be created at `path` (its folder is created if missing, as
+/// the report's writer does): found before a run's outputs are committed.
+void check_report_writable(const std::string& path) {
+    namespace stdfs = std::filesystem;
+    std::error_code ec;
+    const stdfs::path parent = stdfs::path(path).parent_path();
+    if (!parent.empty()) {
+        stdfs::create_directories(parent, ec);
+        if (ec) {
+            throw Error(str("--report '", path, "': cannot create its folder: ", ec.message(),
+                            "; no output was written"));
+        }
+    }
+    const std::string tmp = fs::temp_sibling(path);
+    std::ofstream out(tmp, std::ios::binary);
+    out << "{}\n";
+    out.close();
+    const bool ok = static_cast<bool>(out);
+    stdfs::remove(tmp, ec);
+    if (!ok) throw Error(str("--report '", path, "': cannot be written there; no output was written"));
+}
+
 }  // namespace
 
 std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip) {
     // Safety net: every floating-point option rejects NaN and Inf, whether or not the tool gave
     // it one of the finite checks of core/validators.h (CLI11's Range lets NaN through).
+    // Likewise every option checked to be an existing file or path refuses a FIFO, a device
+    // or a socket (CLI::ExistingFile lets /dev/zero through, and reading it never ends).
     for (CLI::Option* opt : app.get_options()) {
-        if (opt->get_type_name().rfind("FLOAT", 0) == 0) opt->check(finite());
+        const std::string type = opt->get_type_name();
+        if (type.rfind("FLOAT", 0) == 0) opt->check(finite());
+        if (opt->check_name("--output") || type.find(":FILE") != std::string::npos ||
+            type.find(":DIR") != std::string::npos ||
+            type.find(":PATH(existing)") != std::string::npos) {
+            opt->check(CLI::Validator(
+                [](std::string& s) { return s.empty() ? std::string("an empty path") : ""; }, ""));
+        }
+        if (type.find(":FILE") != std::string::npos ||
+            type.find(":PATH(existing)") != std::string::npos)
+            opt->check(not_special_file());
     }
     if (auto config = std::dynamic_pointer_cast<TomlConfig>(app.get_config_formatter())) {
         config->set_source(option_value_in(argc, argv, "--config"));
@@ -208,7 +277,8 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip) {
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e) == 0 ? kExitOk : kExitUsage;
         // A run rejected by the parser still gets the report it asked for.
-        const std::string report_path = option_value_in(argc, argv, "--report");
+        std::string report_path = option_value_in(argc, argv, "--report");
+        if (report_path.empty()) report_path = report_in_config(argc, argv);
         if (code != kExitOk && !report_path.empty()) {
             Report report(tool_name(app));
             report.set_argv(argc, argv);
@@ -268,7 +338,9 @@ int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, 
 
     int code = kExitOk;
     std::string status = "ok";
-    bool report_is_input = false;
+    // Why the report is not written, or "": it would overwrite an input or an output of the run,
+    // or its path cannot take a file at all.
+    std::string no_report;
     auto fail = [&](int exit_code, const std::string& prefix, const std::exception& e) {
         code = exit_code;
         status = exit_code == kExitQualityGate ? "quality_gate_failed" : "failed";
@@ -281,7 +353,12 @@ int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, 
         fs::OutputTransaction outputs;
         try {
             if (!common.report_path.empty() && common.report_path != "-") {
-                outputs.reserve(common.report_path, "--report");
+                try {
+                    outputs.reserve(common.report_path, "--report");
+                } catch (const UsageError&) {
+                    no_report = "its path cannot take the report";
+                    throw;
+                }
             }
             // The config file is an input like any other: hashed in the report, never
             // overwritten.
@@ -293,11 +370,27 @@ int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, 
             fail(kExitQualityGate, ": quality gate failed: ", e);
         } catch (const UsageError& e) {
             fail(kExitUsage, ": error: ", e);
+        } catch (const std::bad_alloc&) {
+            // An input or option asked for more memory than there is (a size read from a file,
+            // an image or render size): "std::bad_alloc" alone names neither.
+            fail(kExitRuntime, ": error: ",
+                 Error(str("out of memory (std::bad_alloc, peak resident ", peak_rss_bytes() >> 20,
+                           " MiB of ", physical_memory_bytes() >> 20, " MiB): an input or option "
+                           "asks for more memory than this machine has; see the sizes in the "
+                           "options (--width-px, --height-px, ...) and the input files' dimensions")));
+        } catch (const std::length_error& e) {
+            fail(kExitRuntime, ": error: ",
+                 Error(str("a size asked by an input or option is too large to allocate (",
+                           e.what(), ")")));
         } catch (const std::exception& e) {
             fail(kExitRuntime, ": error: ", e);
         }
         if (code == kExitOk || code == kExitQualityGate) {
             try {
+                // The report is written after the outputs are in place: a report that cannot be
+                // written must fail the run before they are, not leave them behind a failed run.
+                if (no_report.empty() && !common.report_path.empty() && common.report_path != "-")
+                    check_report_writable(common.report_path);
                 outputs.commit();
             } catch (const std::exception& e) {
                 fail(kExitRuntime, ": error: ", e);
@@ -307,13 +400,16 @@ int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, 
             outputs.rollback();
             report.clear_outputs();
         }
-        report_is_input = !common.report_path.empty() && outputs.is_input(common.report_path);
+        if (!common.report_path.empty() && common.report_path != "-") {
+            if (outputs.is_input(common.report_path)) no_report = "it is an input of the run";
+            else if (no_report.empty()) no_report = outputs.reserved_clash();
+        }
     }
 
     if (!common.report_path.empty()) {
-        if (report_is_input) {  // never overwrite an input, not even with the report
-            log::error(str(tool, ": error: --report '", common.report_path,
-                           "' is an input of the run: report not written"));
+        if (!no_report.empty()) {  // never overwrite an input or an output, not even with the report
+            log::error(str(tool, ": error: --report '", common.report_path, "': ", no_report,
+                           ": report not written"));
         } else if (!write_report(report, common.report_path, status, code, argc, argv) &&
                    code == kExitOk) {
             code = kExitRuntime;

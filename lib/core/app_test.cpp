@@ -116,10 +116,39 @@ TEST(App, AnOutputOntoTheReportOrAnInputIsAUsageError) {
                        }),
               app::kExitUsage);
     EXPECT_EQ(fs::read_file(dir + "/in.txt"), "input");
+    // The report is not written onto the output either: a failed run's report under an
+    // output's name would look like that output to make or Snakemake.
+    stdfs::remove(dir + "/r.json");
     EXPECT_EQ(run_with(dir, [&](Report&) { fs::declare_output(dir + "/r.json", "-o"); }),
               app::kExitUsage);
+    EXPECT_FALSE(stdfs::exists(dir + "/r.json"));
+}
+
+TEST(App, AReportThatCannotBeWrittenFailsTheRunBeforeItsOutputsAppear) {
+    // /proc takes no new file, not even from root: the report's failure was found only after
+    // the outputs had been committed, so a failed run left them behind.
+    const std::string dir = testing::temp_dir("app_report_unwritable");
+    CLI::App cli{"t", "tool-x"};
+    app::CommonArgs common;
+    common.report_path = "/proc/inlight_app_test_report.json";
+    Args args({"tool-x"});
+    ::testing::internal::CaptureStderr();
+    const int code = app::run("tool-x", cli, common, args.argc(), args.argv.data(), [&](Report& r) {
+        fs::write_text_atomic(dir + "/out.json", "a");
+        r.add_output(dir + "/out.json", "x");
+    });
+    const std::string err = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(code, app::kExitRuntime);
+    EXPECT_FALSE(stdfs::exists(dir + "/out.json"));
+    EXPECT_NE(err.find("--report '/proc/inlight_app_test_report.json': cannot be written"),
+              std::string::npos) << err;
+}
+
+TEST(App, OutOfMemoryIsNamedNotJustStdBadAlloc) {
+    const std::string dir = testing::temp_dir("app_bad_alloc");
+    EXPECT_EQ(run_with(dir, [](Report&) { throw std::bad_alloc(); }), app::kExitRuntime);
     const auto report = nlohmann::json::parse(fs::read_file(dir + "/r.json"));
-    EXPECT_NE(report["error"].get<std::string>().find("(--report) and"), std::string::npos)
+    EXPECT_EQ(report["error"].get<std::string>().rfind("out of memory (std::bad_alloc", 0), 0u)
         << report["error"];
 }
 
