@@ -7,6 +7,7 @@
 #include "core/app.h"
 #include "core/conventions.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 #include "core/log.h"
 #include "core/parallel.h"
 #include "core/sha256.h"
@@ -169,7 +170,7 @@ nlohmann::json process(const Args& a, const envmap::BudgetSetup* budget, const s
         for (const auto& l : lights) doc["lights"].push_back(envmap::to_json(l));
     }
     const std::string stem = output_stem(a, input);
-    fs::write_text_atomic(stem + ".json", doc.dump(2) + "\n");
+    fs::write_text_atomic(stem + ".json", dump_finite(doc, 2, stem + ".json"));
     sh::write_binary(stem + ".bin", set);
     report.add_output(stem + ".json", "sh_coefficients", set.color_space);
     report.add_output(stem + ".bin", "sh_coefficients_binary", set.color_space);

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 #include "image/image.h"
 
 namespace inlight::brdf {
@@ -178,7 +179,7 @@ nlohmann::json to_json(const Table& t, const nlohmann::json& metadata) {
 }
 
 void write_json(const std::string& path, const Table& t, const nlohmann::json& metadata) {
-    fs::write_text_atomic(path, to_json(t, metadata).dump(1) + "\n");
+    fs::write_text_atomic(path, dump_finite(to_json(t, metadata), 1, path));
 }
 
 Eigen::Vector2i texture_size(const Table& t) {

@@ -14,6 +14,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 #include "core/log.h"
 #include "core/memory.h"
 #include "core/parallel.h"
@@ -426,7 +427,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     for (const auto& d : shape.views) manifest["views"].push_back({d.theta_deg, d.phi_deg});
     for (const auto& g : groups) manifest["groups"].push_back(g.manifest);
     for (const auto& [g, c] : stream) manifest["stream"].push_back({g, c});
-    const std::string manifest_text = manifest.dump(1) + "\n";
+    const std::string manifest_text = dump_finite(manifest, 1, "btf-pca.json");
     write_file("weights.bin", weights_bin, "btf_pca_weights");
     write_file("btf-pca.json", manifest_text, "btf_pca_manifest");
 

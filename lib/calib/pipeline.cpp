@@ -13,6 +13,7 @@
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 #include "core/log.h"
 #include "core/number.h"
 #include "core/parallel.h"
@@ -381,7 +382,7 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
         report.add_output(ip, "corners");
         report.add_output(op, "corners");
         const std::string cj = (out / "calibration.json").string();
-        fs::write_text_atomic(cj, j.dump(2) + "\n");
+        fs::write_text_atomic(cj, dump_finite(j, 2, cj));
         report.add_output(cj, "calibration");
     }
 

@@ -10,6 +10,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 
 namespace inlight::calib {
 
@@ -301,7 +302,7 @@ void write_response(const std::string& path, const ResponseFit& fit, double lamb
     for (const auto& curve : fit.curve.log_exposure)
         g.push_back(std::vector<double>(curve.begin(), curve.end()));
     j["g"] = g;
-    fs::write_text_atomic(path, j.dump(1) + "\n");
+    fs::write_text_atomic(path, dump_finite(j, 1, path));
 }
 
 ResponseCurve read_response(const std::string& path) {

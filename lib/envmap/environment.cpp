@@ -203,6 +203,14 @@ Environment environment_from_image(image::Image radiance, const std::string& pat
     check_layout(env);
     InputStats stats = scan_pixels(env.radiance, options.nonfinite, path);
     if (options.intensity != 1.0) {
+        // A scale that takes a value past the float range made every coefficient NaN or Inf.
+        const double peak =
+            std::max(std::abs(stats.min_value), std::abs(stats.max_value)) * options.intensity;
+        if (!(peak <= std::numeric_limits<float>::max())) {
+            throw Error(str(path, ": --intensity ", options.intensity, " takes its largest value (",
+                            std::max(std::abs(stats.min_value), std::abs(stats.max_value)),
+                            ") past the float range (", std::numeric_limits<float>::max(), ")"));
+        }
         for (float& v : env.radiance.pixels) v = static_cast<float>(v * options.intensity);
         stats.min_value *= options.intensity;
         stats.max_value *= options.intensity;

@@ -13,6 +13,7 @@
 #include "core/enum_names.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 #include "sh/sh.h"
 
 namespace inlight::gles {
@@ -1279,7 +1280,7 @@ std::vector<std::pair<std::string, std::string>> export_files(const Export& e) {
     std::vector<std::pair<std::string, std::string>> files;
     files.emplace_back(e.name + ".vert", e.vertex_source);
     files.emplace_back(e.name + ".frag", e.fragment_source);
-    files.emplace_back(e.name + ".json", e.manifest.dump(2) + "\n");
+    files.emplace_back(e.name + ".json", dump_finite(e.manifest, 2, e.name + ".json"));
     if (e.table_layout == TableLayout::kRgba8Texture) {
         files.emplace_back(e.name + ".brdf.bin",
                            std::string(e.table_bytes.begin(), e.table_bytes.end()));

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 #include "core/log.h"
 #include "core/validators.h"
 #include "btf/compressed.h"
@@ -181,7 +182,7 @@ void run_capture(const CaptureArgs& a, const std::string& fabric, const std::str
         {"views", jobs.size()},
         {"images", r.images}};
     const std::string meta_path = out_dir + "/capture.json";
-    fs::write_text_atomic(meta_path, meta.dump(2) + "\n");
+    fs::write_text_atomic(meta_path, dump_finite(meta, 2, meta_path));
     report.add_output(out_dir, "btf_folder", a.format == "png" ? "srgb" : "linear_srgb");
     report.add_output(meta_path, "btf_capture_metadata", "");
     auto& m = report.metrics();

@@ -1,0 +1,48 @@
+#include "core/json_out.h"
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace inlight {
+namespace {
+
+bool find_non_finite(const nlohmann::json& j, std::string& pointer) {
+    if (j.is_number_float()) return !std::isfinite(j.get<double>());
+    if (j.is_array()) {
+        for (size_t i = 0; i < j.size(); ++i) {
+            if (find_non_finite(j[i], pointer)) {
+                pointer = "/" + std::to_string(i) + pointer;
+                return true;
+            }
+        }
+    } else if (j.is_object()) {
+        for (auto it = j.begin(); it != j.end(); ++it) {
+            if (find_non_finite(it.value(), pointer)) {
+                pointer = "/" + it.key() + pointer;
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
+std::string first_non_finite(const nlohmann::json& j) {
+    std::string pointer;
+    if (!find_non_finite(j, pointer)) return "";
+    return pointer.empty() ? "/" : pointer;
+}
+
+std::string dump_finite(const nlohmann::json& j, int indent, const std::string& path) {
+    const std::string at = first_non_finite(j);
+    if (!at.empty()) {
+        throw Error(str(path, ": the result holds a non-finite number (NaN or Inf) at ", at,
+                        ": an overflow or NaN upstream, e.g. a scale option or input values too "
+                        "large; no output was written"));
+    }
+    return j.dump(indent) + "\n";
+}
+
+}  // namespace inlight
