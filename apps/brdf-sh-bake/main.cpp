@@ -72,6 +72,7 @@ int main(int argc, char** argv) {
     if (auto code = app::parse(cli, argc, argv)) return *code;
 
     return app::run("brdf-sh-bake", cli, common, argc, argv, [&](Report& report) {
+        fs::check_output_stem(output, "-o");
         report.add_input(material_path);
         for (const char* suffix : {".bin", ".json", ".glsl", "_texture.exr"})
             fs::declare_output(output + suffix, "-o");

@@ -205,6 +205,8 @@ int main(int argc, char** argv) {
             return;
         }
         if (a.stderr_output.empty()) a.stderr_output = default_stderr_path(a.output);
+        image::check_writable_name(a.output, "-o");
+        image::check_writable_name(a.stderr_output, "--stderr-output");
         report.add_input(a.scene);
         fs::declare_output(a.output, "-o");
         fs::declare_output(a.stderr_output, "--stderr-output");

@@ -107,6 +107,10 @@ struct WriteOptions {
 /// a warning); PNG takes 1-4; JPEG 1 or 3 and at most 65500 pixels per side.
 void write_image(const std::string& path, const Image& img, const WriteOptions& options = {});
 
+/// Throws UsageError naming `what` unless write_image can write a file named `path` (its
+/// extension names a format it writes): for checking an output before any work.
+void check_writable_name(const std::string& path, const std::string& what);
+
 /// The bytes write_image would write for a file named `name` (its extension picks the format:
 /// PNG, EXR, JPEG, TIFF), in memory, so a caller can count or store them itself. Throws Error
 /// naming `name` on failure.

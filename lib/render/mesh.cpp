@@ -7,12 +7,16 @@
 #include <sstream>
 #include <tuple>
 
+#include <Eigen/Geometry>
+
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/number.h"
 
 namespace inlight::render {
 namespace {
+
+constexpr double kMaxCoordinate = 1e9;  ///< |x|, |y|, |z| of a vertex, as the scene's sizes
 
 void check_mesh(const TriangleMesh& mesh, const std::string& source) {
     if (mesh.triangles.empty()) throw Error(str(source, ": the mesh has no triangles"));
@@ -25,8 +29,27 @@ void check_mesh(const TriangleMesh& mesh, const std::string& source) {
             }
         }
     }
-    for (const auto& p : mesh.positions) {
-        if (!p.allFinite()) throw Error(str(source, ": non-finite vertex position"));
+    // Embree holds vertices as float: a coordinate past the float range (1e39) was infinite
+    // there and its triangles vanished without a word. Scene sizes are bounded by 1e9 elsewhere.
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+        const Eigen::Vector3d& p = mesh.positions[i];
+        if (!p.allFinite()) throw Error(str(source, ": vertex ", i + 1, ": non-finite position"));
+        if (p.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+            throw Error(str(source, ": vertex ", i + 1, ": coordinate ", p.cwiseAbs().maxCoeff(),
+                            " is outside [-", kMaxCoordinate, ", ", kMaxCoordinate, "]"));
+        }
+    }
+    // A mesh whose triangles all have zero area renders as nothing at all.
+    size_t degenerate = 0;
+    for (const auto& t : mesh.triangles) {
+        const Eigen::Vector3d& a = mesh.positions[static_cast<size_t>(t[0])];
+        const Eigen::Vector3d e1 = mesh.positions[static_cast<size_t>(t[1])] - a;
+        const Eigen::Vector3d e2 = mesh.positions[static_cast<size_t>(t[2])] - a;
+        if (!(e1.cross(e2).norm() > 0)) ++degenerate;
+    }
+    if (degenerate == mesh.triangles.size()) {
+        throw Error(str(source, ": all ", degenerate, " triangles have zero area (the mesh would "
+                                "render as nothing)"));
     }
 }
 
@@ -85,7 +108,11 @@ TriangleMesh load_ply(const std::string& path) {
         std::string word;
         ls >> word;
         if (word == "format") {
-            ls >> format;
+            std::string version;
+            ls >> format >> version;
+            if (version != "1.0") {
+                throw Error(str(path, ": PLY format version '", version, "' is not supported (1.0)"));
+            }
         } else if (word == "element") {
             PlyElement e;
             std::string count;
@@ -110,6 +137,8 @@ TriangleMesh load_ply(const std::string& path) {
                 p.type = t;
                 ls >> p.name;
             }
+            ply_type_size(p.type, path);  // an unknown type is an error in ascii files too
+            if (!p.count_type.empty()) ply_type_size(p.count_type, path);
             elements.back().props.push_back(p);
         } else if (word == "end_header") {
             end_header = true;
@@ -125,6 +154,15 @@ TriangleMesh load_ply(const std::string& path) {
     if (format != "ascii" && format != "binary_little_endian") {
         throw Error(str(path, ": PLY format '", format,
                         "' is not supported (ascii or binary_little_endian)"));
+    }
+    for (const PlyElement& e : elements) {
+        if (e.name != "vertex") continue;
+        for (const char* axis : {"x", "y", "z"}) {
+            if (std::none_of(e.props.begin(), e.props.end(),
+                             [axis](const PlyProperty& p) { return p.name == axis && p.count_type.empty(); })) {
+                throw Error(str(path, ": PLY element 'vertex' has no property '", axis, "'"));
+            }
+        }
     }
     size_t offset = static_cast<size_t>(header.tellg());
     std::istringstream ascii(format == "ascii" ? data.substr(offset) : std::string());

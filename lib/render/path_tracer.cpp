@@ -10,6 +10,7 @@
 #include "core/check.h"
 #include "core/enum_names.h"
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/parallel.h"
 #include "core/progress.h"
 
@@ -298,6 +299,22 @@ RenderResult render(const Scene& scene, const RenderOptions& options,
 
     INLIGHT_CHECK(options.sampler == SamplerKind::kIndependent ||
                   (options.scramble_groups >= 2 && options.scramble_groups <= 16));
+    {
+        // The per-pixel state below, before any of it is allocated: a 16384 x 16384 camera asked
+        // ~60 GB, which was zeroed page by page until the kernel killed the process.
+        const int groups = options.sampler == SamplerKind::kSobol ? options.scramble_groups : 1;
+        const double per_pixel = sizeof(Welford) + (groups > 1 ? groups * 4 * sizeof(double) : 0) +
+                                 2 * 3 * sizeof(float) + 1 + (options.adaptive ? 8 : 0);
+        const double need = per_pixel * static_cast<double>(pixels);
+        const double have = static_cast<double>(physical_memory_bytes());
+        if (have > 0 && need > have) {
+            throw Error(str("render: a ", w, "x", h, " image needs about ",
+                            std::ceil(need / (1 << 30)), " GiB for its per-pixel sums (",
+                            per_pixel, " bytes a pixel), more than this machine's ",
+                            std::floor(have / (1 << 30)), " GiB: lower the camera's width_px and "
+                            "height_px (or --width-px, --height-px)"));
+        }
+    }
     // Adaptive: spp is the mean budget and one pixel may take up to adaptive_max_factor x spp.
     const int64_t cap =
         options.adaptive ? static_cast<int64_t>(options.spp) * options.adaptive_max_factor
