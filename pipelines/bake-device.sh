@@ -11,8 +11,9 @@ set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 usage_unless $# 2 - "DEVICE_DIR OUT [ID]"
 DEVICE=$(abs_dir "$1")
-OUT=$(out_dir "$2")
 ID=${3:-$(basename "$DEVICE")}
+check_id "$ID"
+OUT=$(out_dir "$2")
 BIN=$(tool_bin)
 W="$OUT/work/devices/$ID"
 say() { echo "[bake-device $ID] $*" >&2; }

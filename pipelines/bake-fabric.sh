@@ -15,17 +15,18 @@ set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 usage_unless $# 2 4 "FABRIC_DIR OUT [ID [BTF_DIR]]"
 FABRIC=$(abs_dir "$1")
-OUT=$(out_dir "$2")
 ID=${3:-$(basename "$FABRIC")}
-BIN=$(tool_bin)
-W="$OUT/work/fabrics/$ID"
-say() { echo "[bake-fabric $ID] $*" >&2; }
+check_id "$ID"
 for f in fabric.toml material.toml; do
     if [ ! -f "$FABRIC/$f" ]; then
         echo "bake-fabric: $FABRIC/$f not found (a fabric folder needs fabric.toml and material.toml)" >&2
         exit 2
     fi
 done
+OUT=$(out_dir "$2")
+BIN=$(tool_bin)
+W="$OUT/work/fabrics/$ID"
+say() { echo "[bake-fabric $ID] $*" >&2; }
 BRDF_CONFIG="$ROOT/configs/brdf-sh-bake.toml"
 [ -f "$FABRIC/brdf-sh-bake.toml" ] && BRDF_CONFIG="$FABRIC/brdf-sh-bake.toml"
 PCA_CONFIG="$ROOT/configs/btf-pca.toml"

@@ -32,3 +32,13 @@ out_dir() { mkdir -p "$1" && abs_dir "$1"; }
 
 # tool_bin: the absolute folder of the inlight binaries, ${INLIGHT_BIN:-ROOT/build/bin}.
 tool_bin() { abs_dir "${INLIGHT_BIN:-$ROOT/build/bin}"; }
+
+# check_id ID: exits 2 with a message unless ID is a bundle id (1-64 characters of a-z, 0-9,
+# '_', '-', starting with a letter or digit; lib/bundle/manifest.h): found before any step runs,
+# not by `bundle pack` after all of them (an ID from a folder named "My Fabric" failed at the end).
+check_id() {
+    if ! [[ $1 =~ ^[a-z0-9][a-z0-9_-]{0,63}$ ]]; then
+        echo "$(basename "$0"): id '$1': expected 1-64 characters of a-z, 0-9, '_', '-', starting with a letter or digit (give ID, or rename the folder)" >&2
+        exit 2
+    fi
+}
