@@ -52,6 +52,21 @@ PY
 bad 1 "huge_window.exr: .*more than its .* chunks\|huge_window.exr: header claims 8192x8192x3" \
     "EXR data window larger than its bytes can decode to" -- "$EP" "$WORK/huge_window.exr" -o "$OUT/l_sh.json"
 
+# Files that never end: a FIFO or /dev/zero where a file is expected was read forever (a hang,
+# or memory until the kernel stepped in). Named on the command line: a usage error; named in a
+# file or read by a loader: a data error. (timeout: a regression fails instead of hanging.)
+mkfifo "$WORK/fifo.exr" "$WORK/fifo.yml"
+bad 2 "fifo.exr' is a FIFO" "FIFO as an input image" -- timeout 60 "$EP" "$WORK/fifo.exr" -o "$OUT/f_sh.json"
+bad 2 "/dev/zero' is a character device" "/dev/zero as render's scene" -- timeout 60 "$R" /dev/zero -o "$OUT/z.exr"
+bad 2 "/dev/zero' is a character device" "/dev/zero as a material" -- timeout 60 "$BAKE" --material /dev/zero -o "$OUT/z"
+bad 2 "/dev/zero: is a character device" "/dev/zero as --config" -- \
+    timeout 60 "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config /dev/zero
+bad 1 "fifo.yml: is a FIFO" "FIFO as a corner file" -- \
+    timeout 60 "$CAL" geometry --image-points "$WORK/fifo.yml" --board 3x2 -o "$OUT/cal"
+printf '[environment]\npath = "/dev/zero"\n[camera]\nwidth_px = 8\nheight_px = 8\n[material.m]\nspecular = "lambert"\n[[object]]\nmaterial = "m"\nshape = "sphere"\n' > "$WORK/zero_env.toml"
+bad 1 "/dev/zero: is a character device" "scene whose environment map is /dev/zero" -- \
+    timeout 60 "$R" "$WORK/zero_env.toml" -o "$OUT/z.exr"
+
 # --config: a TOML syntax error names file, line and column; a binary file says it is binary.
 printf 'sh-bands = 3\nvalidate = = true\n' > "$WORK/syntax.toml"
 bad 2 "syntax.toml:2:[0-9]*: TOML syntax error" "TOML syntax error in --config" -- \
@@ -102,6 +117,16 @@ bad_mesh inf.ply "${PLY_HEAD}0 0 0\n1 0 inf\n0 1 0\n3 0 1 2\n" "inf.ply" "PLY ve
 bad_mesh short.ply 'ply\nformat binary_little_endian 1.0\nelement vertex 1000000\nproperty float x\nend_header\nxx' \
     "short.ply" "binary PLY shorter than its header says"
 bad_mesh ok.obj 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' "ok.obj.toml:.*rotation" "mesh rotation x=nan" "x=nan"
+# Meshes that rendered as nothing with exit 0: a coordinate past float's range (Embree's
+# vertices are float), triangles all of zero area, a PLY vertex without z (read as 0), and
+# unknown types or versions read as "no triangles".
+bad_mesh far.obj 'v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n' "far.obj: vertex 2: coordinate 1e+39 is outside" "OBJ vertex past float's range"
+bad_mesh flat.obj 'v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n' "flat.obj: all 1 triangles have zero area" "OBJ whose triangles have no area"
+bad_mesh noz.ply 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0\n1 0\n0 1\n3 0 1 2\n' \
+    "noz.ply: PLY element 'vertex' has no property 'z'" "PLY vertex without z"
+bad_mesh quat.ply 'ply\nformat ascii 1.0\nelement vertex 1\nproperty quaternion x\nend_header\n1\n' \
+    "quat.ply: unknown PLY property type 'quaternion'" "PLY property of an unknown type"
+bad_mesh v2.ply 'ply\nformat ascii 2.0\nelement vertex 0\nend_header\n' "v2.ply: PLY format version '2.0'" "PLY of another version"
 
 # Corner files (calibrate geometry --image-points): NaN, a missing node, not YAML at all.
 corners() {  # corners FILE FIRST_VALUE

@@ -41,6 +41,10 @@ bad 2 "outlier-factor.*nan" "calibrate --outlier-factor nan" -- "$CAL" geometry 
 bad 2 "device-from-camera" "calibrate --device-from-camera z=nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --device-from-camera z=nan
 bad 2 "exposure-s.*inf" "calibrate response --exposure-s inf" -- "$CAL" response --images "$WORK/env.exr" "$WORK/env.exr" --exposure-s 0.01 inf -o "$OUT/resp.json"
 
+# Finite but overflowing: --intensity 1e308 wrote coefficients of null (NaN as JSON), exit 0.
+bad 1 "env.exr: --intensity 1e+308 takes its largest value .* past the float range" "--intensity 1e308 (overflow)" -- \
+    "$EP" "${ENV[@]}" --intensity 1e308
+
 # bundle pack --property: a number JSON cannot hold was stored as the string "nan" (exit 0).
 "$TBIN/inlight_make_test_image" "$WORK/alb.png" 16 16 0.5
 PACK=("$BIN/bundle" pack --kind fabric --id f --file albedo="$WORK/alb.png" --file thumbnail="$WORK/alb.png" --file material="$MAT" -o "$OUT")
@@ -57,10 +61,29 @@ bad 2 "max-rel-error" "max-rel-error = -inf in --config" -- "$R" "$FURNACE" -o "
 bad 2 "board.*100000x100000" "--board 100000x100000" -- "$CAL" geometry "$WORK" --board 100000x100000 -o "$OUT/cal"
 bad 2 "downscale.*0x0" "--downscale 0x0" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --downscale 0x0
 bad 2 "seed" "--seed -1" -- "$EP" "${ENV[@]}" --seed -1
+# A parser's message is not prefixed twice with the option ("--seed: --seed: ...").
+bad 2 "^--seed: -1 is outside" "--seed -1 named once" -- "$EP" "${ENV[@]}" --seed -1
+bad 2 "^--board: 'nan': expected COLSxROWS" "--board nan named once" -- "$CAL" geometry "$WORK" --board nan -o "$OUT/cal"
+# A render size this machine cannot hold (16384 x 16384: ~57 GiB of per-pixel sums) is refused
+# before anything is allocated; it was zeroed page by page until the kernel killed the process.
+if [ "$(awk '/MemTotal/ {print int($2 / 1048576)}' /proc/meminfo)" -lt 50 ]; then
+    bad 1 "16384x16384 image needs about .* GiB .* more than this machine's" "render 16384x16384 (memory)" -- \
+        "$R" "$FURNACE" -o "$OUT/f.exr" --width-px 16384 --height-px 16384 --spp 1
+else
+    echo "note: render 16384x16384 not tried: this machine has 50 GiB or more, the size fits"
+fi
 bad 2 "rt-grid" "render --rt-grid hex:4 (rejected before any path tracing)" -- "$R" "$FURNACE" -o "$OUT/f.exr" --compare --rt-grid hex:4
 
 # Reports: a run the parser rejects still writes its report, status failed, the error in it.
 bad 2 "intensity" "report of a parse failure" -- "$EP" "${ENV[@]}" --intensity nan --report "$WORK/r.json"
 expect_true "report written: failed, exit 2, error names the option" -- \
     jq -e '.status == "failed" and .exit_code == 2 and (.error | test("intensity"))' "$WORK/r.json"
+# ... also when --report comes from the --config file that holds the bad value.
+printf 'report = "%s"\nintensity = nan\n' "$WORK/cr.json" > "$WORK/report_nan.toml"
+bad 2 "intensity" "report of a parse failure, --report in --config" -- "$EP" "${ENV[@]}" --config "$WORK/report_nan.toml"
+expect_true "report from --config written: failed, exit 2" -- \
+    jq -e '.status == "failed" and .exit_code == 2 and (.error | test("intensity"))' "$WORK/cr.json"
+# Empty paths: -o '' wrote ".bin", ".json" into the working folder (brdf-sh-bake).
+bad 2 "output.*an empty path" "brdf-sh-bake -o ''" -- "$BAKE" --material "$MAT" -o ""
+bad 2 "output.*an empty path" "render -o ''" -- "$R" "$FURNACE" -o ""
 finish

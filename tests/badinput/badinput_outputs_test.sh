@@ -43,6 +43,32 @@ mkdir -p "$WORK/d1" "$WORK/d2"
 "$MK" "$WORK/d2/sky.exr" 32 16 2
 bad 2 "sky" "two inputs of one stem into one output folder" -- "$EP" "$WORK/d1/sky.exr" "$WORK/d2/sky.exr" -o "$OUT"
 
+# --report on an output of the run: the report was written there after the usage error (a
+# failed run's report under the output's name; make would take the step as done).
+bad 2 "report.*also an output of the run: report not written" "--report equal to -o" -- \
+    "$EP" "$WORK/d1/sky.exr" -o "$OUT/sky.json" --report "$OUT/sky.json"
+bad 2 "report.*also an output of the run: report not written" "--report equal to the .bin beside -o" -- \
+    "$EP" "$WORK/d1/sky.exr" -o "$OUT/sky.json" --report "$OUT/sky.bin"
+# A report that cannot be written (/proc takes no new files, not even from root) failed the run
+# only after its outputs were in place.
+bad 1 "report.*cannot be written" "--report where no file can be made" -- \
+    "$EP" "$WORK/d1/sky.exr" -o "$OUT/sky.json" --report /proc/inlight_report.json
+# brdf-sh-bake's -o is a stem: a folder wrote the hidden files OUT/.bin, OUT/.json, ...
+bad 2 "\-o '.*out/': names a folder, not a file stem" "brdf-sh-bake -o naming a folder" -- \
+    "$BIN/brdf-sh-bake" --material "$SRC/configs/materials/satin-ggx.toml" -o "$OUT/" --grid report5x5 --samples 64
+# render's -o without an image extension failed only after path tracing.
+bad 2 "\-o: .*unsupported extension" "render -o without an image extension" -- \
+    "$BIN/render" "$WORK/scene.toml" -o "$OUT/picture" --spp 1
+expect_true "refused before the render stage" -- bash -c "! grep -q 'render done' '$WORK/stderr'"
+
+# Pipelines: an id that is not a bundle id (from a folder named "My Fabric") failed at `bundle
+# pack`, after every step had run and written its work folder; now before any step, OUT untouched.
+mkdir -p "$WORK/My Fabric"
+bad 2 "id 'My Fabric': expected 1-64 characters" "bake-fabric of a folder whose name is no bundle id" -- \
+    env INLIGHT_BIN="$BIN" "$SRC/pipelines/bake-fabric.sh" "$WORK/My Fabric" "$OUT/bake"
+bad 2 "id 'a/../b': expected" "bake-device with an id holding a path" -- \
+    env INLIGHT_BIN="$BIN" "$SRC/pipelines/bake-device.sh" "$WORK/d1" "$OUT/bake" "a/../b"
+
 # Partial results: the second input is bad; the first one's results must not stay.
 "$MK" "$WORK/good.exr" 32 16 1
 "$MK" "$WORK/wrong_aspect.exr" 32 15 1
