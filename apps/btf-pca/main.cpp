@@ -44,6 +44,10 @@ int main(int argc, char** argv) {
     cli.add_option("--format", format, "Component images: 8-bit PNG with scale/offset each, or "
                    "half/float EXR")->check(CLI::IsMember({"png", "exr-half", "exr-float"}))->capture_default_str();
     std::string fit_space = "linear";
+    cli.add_option("--quant-noise", o.quant_noise, "png: quantise each group's components with one step "
+                   "chosen so that rounding adds about this fraction of the group's residual error energy "
+                   "(small components then use few codes and fewer bytes); 0 = each on 256 levels")
+        ->check(app::finite_range_or(0, 10, 0))->capture_default_str();
     std::string weights_format = "float32";
     cli.add_option("--weights-format", weights_format, "How V (weights.bin) is stored: float32, float16, or "
                    "uint8 with a scale and offset per component")
@@ -66,7 +70,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"thesis", "delaunay", "nearest"}))->capture_default_str()->needs(ip);
     cli.add_option("--truth", interp.truth, "Interpolation: a capture of the same pairs to compare with")
         ->check(CLI::ExistingDirectory)->needs(ip);
-    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format", "--max-memory-mib", "--stream-views", "--fit-space", "--weights-format"})
+    for (const char* opt : {"-k", "-c", "--max-rmse", "--method", "--format", "--max-memory-mib", "--stream-views", "--fit-space", "--weights-format", "--quant-noise"})
         ip->excludes(cli.get_option(opt));
     bool linear = false;
     cli.add_flag("--linear-input", linear, "8/16-bit images hold linear values (default: sRGB-encoded)");

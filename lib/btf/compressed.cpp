@@ -83,13 +83,13 @@ void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std:
 std::string extension_of(ComponentEncoding e) { return e == ComponentEncoding::kPng8 ? "png" : "exr"; }
 
 std::string encode_column(const float* values, int width, int height, ComponentEncoding e,
-                          const std::string& file, StoredImage& meta, float* decoded) {
+                          const std::string& file, StoredImage& meta, float* decoded, float min_step) {
     const int64_t n = int64_t(width) * height;
     image::Image img(width, height, 1, image::ColorSpace::kData);
     image::WriteOptions wo;
     meta.file = file;
     if (e == ComponentEncoding::kPng8) {
-        const Quantized8 q = quantize8(values, n);
+        const Quantized8 q = quantize8(values, n, min_step);
         meta.scale = q.scale * 255.0f;  // stored value = code / 255
         meta.offset = q.offset;
         for (int64_t i = 0; i < n; ++i) {

@@ -81,8 +81,9 @@ struct StoredImage {
 
 /// Encodes one column of P = width * height values (finite) as an image file's bytes named
 /// `file`; fills `meta` (not `bytes`) and writes the values a decoder will read to `decoded`.
+/// kPng8: codes of step range / 255, or `min_step` when larger (quantize8).
 std::string encode_column(const float* values, int width, int height, ComponentEncoding e,
-                          const std::string& file, StoredImage& meta, float* decoded);
+                          const std::string& file, StoredImage& meta, float* decoded, float min_step = 0);
 
 /// A compressed BTF read back: every group's mean, basis and V in memory (float).
 class CompressedBtf : public BtfSource {

@@ -252,9 +252,13 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         rec.mean_bytes = bytes.size();
         write_file(meta.file, bytes, "btf_pca_mean");
         gj["mean"] = {{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset}, {"bytes", bytes.size()}};
+        // One quantisation step for the group's components (PcaRunOptions::quant_noise).
+        const float step = o.quant_noise > 0 && C > 0
+                               ? float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) / (double(C) * double(P))))
+                               : 0.0f;
         for (int c = 0; c < C; ++c) {
             bytes = encode_column(pca.basis.col(c).data(), shape.width, shape.height, o.encoding,
-                                  group_file(fit.index, c, ext), meta, q.basis.col(c).data());
+                                  group_file(fit.index, c, ext), meta, q.basis.col(c).data(), step);
             rec.component_bytes.push_back(bytes.size());
             rec.energy.push_back(pca.component_energy(c));
             write_file(meta.file, bytes, "btf_pca_component");
@@ -483,7 +487,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                 {"components_max", o.pca.components}, {"max_rmse", o.pca.max_rmse},
                 {"components_total", stats.components}, {"components_per_group", per_group},
                 {"methods", methods}, {"component_format", to_string(o.encoding)},
-                {"fit_space", to_string(o.fit_space)}, {"weights_format", to_string(o.weights_format)}};
+                {"fit_space", to_string(o.fit_space)}, {"weights_format", to_string(o.weights_format)},
+                {"quant_noise", o.quant_noise}};
     m["time"] = {{"read_s", stats.read_time_s}, {"fit_s", stats.fit_time_s}, {"read_cpu_s", stats.read_cpu_s},
                  {"fit_cpu_s", stats.fit_cpu_s}, {"store_s", store_s},
                  {"measure_s", measure_s}, {"total_s", seconds_since(t_start)}};

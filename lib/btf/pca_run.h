@@ -34,6 +34,13 @@ struct PcaRunOptions {
     /// (metrics.error_space says which); the display-referred figures (CIELAB, dE2000, 8-bit)
     /// decode the model first and mean the same in both spaces.
     FitSpace fit_space = FitSpace::kLinear;
+    /// Quantisation of the component images (kPng8) by one step per group instead of each
+    /// column's range / 255: step^2 = 12 F E / (C P), E the group's unquantised residual energy
+    /// after its C components, so the rounding of its C columns (P values each, a V column of
+    /// unit norm) adds about F E to the error; a column whose range / 255 is larger keeps that.
+    /// Small components then use few codes, which PNG stores in fewer bytes. 0 = off (every
+    /// column on 256 levels). The mean image keeps its own range / 255.
+    double quant_noise = 0;
     /// How V is stored (weights.bin); the errors are measured with the stored V.
     WeightsFormat weights_format = WeightsFormat::kFloat32;
     int64_t color_samples = int64_t(1) << 20;  ///< colour triples for the CIELAB/8-bit figures

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <algorithm>
 
 #include "btf/compressed.h"
 #include "btf/quantize.h"
@@ -323,6 +324,73 @@ TEST(CompressToFolder, WeightsFormatsDecodeToTheReportedErrorWithinTheirStep) {
     }
     EXPECT_EQ(weights_format_from_string("uint8"), WeightsFormat::kUint8);
     EXPECT_NE(testing::error_of([] { weights_format_from_string("int4"); }).find("int4"), std::string::npos);
+}
+
+TEST(Quantize8, MinStepLeavesSmallColumnsOnFewerCodes) {
+    const float v[] = {0.0f, 0.1f, 0.25f, 0.3f};
+    const Quantized8 q = quantize8(v, 4, 0.1f);
+    EXPECT_FLOAT_EQ(q.scale, 0.1f);  // range / 255 = 0.0012 < 0.1
+    EXPECT_EQ(q.codes.back(), 3);
+    for (int i = 0; i < 4; ++i) EXPECT_LE(std::abs(q.value(i) - v[i]), 0.5f * q.scale * (1 + 1e-5f));
+    EXPECT_FLOAT_EQ(quantize8(v, 4, 1e-6f).scale, 0.3f / 255);  // the range's step when larger
+}
+
+// --quant-noise F: one step per group, step^2 = 12 F E / (C P). The residual is orthogonal to
+// the span of V and to 1 (V's columns are), so the stored model's squared error is exactly
+// E + sum_c ||e_c||^2 + N ||d||^2 (e_c the rounding of component c, d the mean's), checked
+// against the unquantised components of the same Gram fit (float EXR); each value lies within
+// half its column's step, and sum_c ||e_c||^2 is near its design value F E.
+TEST(CompressToFolder, QuantNoiseRoundsComponentsWithOneStepPerGroup) {
+    constexpr double kF = 0.1;
+    const AnalyticBtf btf(small_btf());
+    const int P = 20 * 14, N = 3 * 8 * 5, C = 3;
+    PcaRunOptions o = run_options("btf_pca_quant_exact", 5, C);  // one group
+    o.encoding = ComponentEncoding::kExrFloat;
+    const nlohmann::json exact = compress_to_folder(btf, o, 0);
+    const std::string exact_dir = o.output;
+    o.output = testing::temp_dir("btf_pca_quant_noise");
+    o.encoding = ComponentEncoding::kPng8;
+    o.quant_noise = kF;
+    const nlohmann::json m = compress_to_folder(btf, o, 0);
+    const double samples = double(P) * N;
+    const double E = std::pow(exact["error"]["rmse_linear_unquantised"].get<double>(), 2) * samples;
+    const double step = std::sqrt(12 * kF * E / (C * P));
+    const nlohmann::json man = nlohmann::json::parse(fs::read_file(o.output + "/btf-pca.json"));
+    auto column = [](const std::string& path, float scale, float offset) {
+        const image::Image img = image::read_image(path, {false});
+        std::vector<double> out;
+        for (float x : img.pixels) out.push_back(offset + double(scale) * x);
+        return out;
+    };
+    double rounding = 0, comp_rounding = 0;
+    for (int c = -1; c < C; ++c) {
+        const auto& meta = c < 0 ? man["groups"][0]["mean"] : man["groups"][0]["components"][size_t(c)];
+        const std::string name = meta["file"];
+        const std::vector<double> want = column(exact_dir + "/" + name.substr(0, name.size() - 3) + "exr", 1, 0);
+        const std::vector<double> got = column(o.output + "/" + name, meta["scale"], meta["offset"]);
+        const auto [lo, hi] = std::minmax_element(want.begin(), want.end());
+        const double col_step = meta["scale"].get<double>() / 255;
+        // float32 offset + scale * code: relative 1e-5 of the step covers its rounding
+        EXPECT_NEAR(col_step, c < 0 ? (*hi - *lo) / 255 : std::max((*hi - *lo) / 255, step), 1e-5 * col_step) << c;
+        double e2 = 0;
+        for (size_t i = 0; i < want.size(); ++i) {
+            ASSERT_LE(std::abs(got[i] - want[i]), 0.5 * col_step * (1 + 1e-4)) << c << " " << i;
+            e2 += std::pow(got[i] - want[i], 2);
+        }
+        rounding += c < 0 ? N * e2 : e2;  // the mean enters every column, component c through a unit-norm V column
+        if (c >= 0) comp_rounding += e2;
+        if (c == C - 1) {
+            EXPECT_GT(col_step, 1.5 * (*hi - *lo) / 255) << "the smallest component is not on fewer codes";
+        }
+    }
+    const double sse = std::pow(m["error"]["rmse_linear"].get<double>(), 2) * samples;
+    EXPECT_NEAR(sse, E + rounding, kRmseRelTol * sse);
+    // Design value F E: uniform rounding over P C = 840 values has a relative spread of
+    // 0.894 / sqrt(840) = 3%, and columns of range / 255 above the step round finer (less), so
+    // 0.3x-1.3x of F E.
+    EXPECT_GT(comp_rounding, 0.3 * kF * E);
+    EXPECT_LT(comp_rounding, 1.3 * kF * E);
+    EXPECT_EQ(m["pca"]["quant_noise"], kF);
 }
 
 TEST(CompressedBtf, BadFolderNamesTheFile) {

@@ -7,7 +7,8 @@
 
 namespace inlight::btf {
 
-Quantized8 quantize8(const float* values, int64_t n) {
+Quantized8 quantize8(const float* values, int64_t n, float min_step) {
+    INLIGHT_CHECK(min_step >= 0 && std::isfinite(min_step)) << min_step;
     Quantized8 q;
     q.codes.resize(static_cast<size_t>(n));
     if (n == 0) return q;
@@ -19,6 +20,7 @@ Quantized8 quantize8(const float* values, int64_t n) {
     }
     q.offset = lo;
     q.scale = (hi - lo) / 255.0f;
+    if (q.scale > 0) q.scale = std::max(q.scale, min_step);
     for (int64_t i = 0; i < n; ++i) {
         const float code = q.scale > 0 ? (values[i] - lo) / q.scale : 0.0f;
         q.codes[static_cast<size_t>(i)] = static_cast<uint8_t>(std::clamp(std::lround(code), 0L, 255L));

@@ -26,8 +26,10 @@ struct Quantized8 {
     float value(int64_t i) const { return offset + scale * codes[static_cast<size_t>(i)]; }
 };
 
-/// Quantises n values (finite; checked) with the column's own range.
-Quantized8 quantize8(const float* values, int64_t n);
+/// Quantises n values (finite; checked) with the column's own range: scale = range / 255, or
+/// `min_step` when that is larger (a column of small range then uses fewer than 256 codes, which
+/// PNG stores in fewer bytes). min_step >= 0 (checked).
+Quantized8 quantize8(const float* values, int64_t n, float min_step = 0);
 
 /// A group's model as a decoder sees it: mean, basis (U Sigma) and weights (V) after storage.
 struct StoredGroup {
