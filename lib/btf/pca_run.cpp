@@ -167,6 +167,27 @@ MemoryPlan plan_memory(const BtfShape& shape, const PcaRunOptions& o, bool refer
                          m.budget_source, ")"));
 }
 
+/// The bytes of the manifest a run keeping per_group[g] components of group g writes: the full
+/// manifest with each group's later components and their stream entries dropped and the weights
+/// offsets recomputed (the same text, the fit being the same).
+uint64_t cut_manifest_bytes(const nlohmann::json& full, const std::vector<int>& per_group,
+                            const std::vector<GroupRecord>& groups, uint64_t bytes_per_weight) {
+    nlohmann::json m = full;
+    uint64_t offset = 0;
+    for (size_t g = 0; g < groups.size(); ++g) {
+        nlohmann::json& gj = m["groups"][g];
+        nlohmann::json& comps = gj["components"];
+        comps.erase(comps.begin() + per_group[g], comps.end());
+        gj["weights_offset_bytes"] = offset;
+        offset += uint64_t(groups[g].columns) * uint64_t(per_group[g]) * bytes_per_weight;
+    }
+    nlohmann::json stream = nlohmann::json::array();
+    for (const auto& e : m["stream"])
+        if (e[1].get<int>() < per_group[e[0].get<size_t>()]) stream.push_back(e);
+    m["stream"] = stream;
+    return m.dump(1).size() + 1;
+}
+
 }  // namespace
 
 nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& o,
@@ -527,9 +548,12 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     m["streaming"] = curve;
     nlohmann::json rows = nlohmann::json::array();
     for (size_t i = 0; i < table.size(); ++i) {
-        const uint64_t b = table_bytes[i] + manifest_text.size();
+        std::vector<int> per;
+        for (const auto& g : groups) per.push_back(std::min(table[i], int(g.energy.size())));
+        const uint64_t manifest_i = cut_manifest_bytes(manifest, per, groups, bpw);
+        const uint64_t b = table_bytes[i] + manifest_i;
         nlohmann::json row = table_sums[i].to_json();
-        row.update({{"components", table[i]}, {"rmse_linear", std::sqrt(table_sse[i] / samples)},
+        row.update({{"components", table[i]}, {"rmse_linear", std::sqrt(table_sse[i] / samples)}, {"manifest_bytes", manifest_i},
                     {"stored_bytes", b}, {"parameters_float32_bytes", table_params[i]},
                     {"raw_8bit_to_parameters_float32", double(raw8) / table_params[i]},
                     {"raw_8bit_to_stored", double(raw8) / b},
@@ -563,9 +587,10 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             params += uint64_t(4) * (uint64_t(P) * (c + 1) + uint64_t(groups[g].columns) * c);
             total += per[g];
         }
-        b += manifest_text.size();
+        const uint64_t manifest_i = cut_manifest_bytes(manifest, per, groups, bpw);
+        b += manifest_i;
         nlohmann::json row = cs.to_json();
-        row.update({{"components", table[i]}, {"byte_budget", table_bytes[i] + manifest_text.size()},
+        row.update({{"components", table[i]}, {"byte_budget", table_bytes[i]}, {"manifest_bytes", manifest_i},
                     {"components_total", total}, {"components_per_group", per},
                     {"components_min", per.empty() ? 0 : *std::min_element(per.begin(), per.end())},
                     {"components_max", per.empty() ? 0 : *std::max_element(per.begin(), per.end())},

@@ -47,10 +47,13 @@ struct PcaRunOptions {
     /// Also measure the stored model cut to each of these component counts (a prefix of every
     /// group's components, as a client holding that many has): the rows of the Table 7.1-style
     /// table ("table" in the metrics). Counts above a group's C use all of its components.
+    /// A row's bytes are those of the files a run with that C writes: the means, its components'
+    /// images, their V and the manifest listing only them ("manifest_bytes").
     /// Beside each row, "table_equal_bytes": the longest prefix of the stream (components by
-    /// energy across groups, as a client receives them) whose bytes (means, the sent components'
-    /// images and their V columns) do not exceed that row's, i.e. C chosen per group by one
-    /// global error budget at the row's byte count; with the components each group then has.
+    /// energy across groups, as a client receives them) whose bytes without the manifest (means,
+    /// the sent components' images and their V columns) do not exceed that row's ("byte_budget"),
+    /// i.e. C chosen per group by one global error budget at the row's byte count; with the
+    /// components each group then has and the manifest of that model.
     std::vector<int> table_components;
     /// A second BTF of the same shape (e.g. an independent capture of the same fabric): the
     /// input and every table row are also measured against it on the same colour triples
