@@ -419,13 +419,17 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
                 continue;
             }
             LightSetRefine refine;
+            LightFitOptions fit_options;
+            // The split starts were measured with the metric fit (docs/budget.md); the
+            // projection's candidates keep the starts their trade-off was measured with.
+            fit_options.split_starts = sh_fit;
             if (sh_fit)
                 refine = [&fit_to_metric, b](std::vector<DirectionalLight>& set,
                                              Eigen::MatrixXd& coeffs) {
                     bool refit_kept;
                     return fit_to_metric(set, coeffs, b, refit_kept);
                 };
-            f = fit_light_sets(lights, max_k, b, map, fit_set, e_fit, {}, refine);
+            f = fit_light_sets(lights, max_k, b, map, fit_set, e_fit, fit_options, refine);
         }
     }
 

@@ -139,6 +139,18 @@ int levenberg_marquardt(State& g, int np, const Residual& residual, const Move& 
 
 }  // namespace
 
+std::pair<DirectionalLight, DirectionalLight> split_light(const DirectionalLight& light, int axis) {
+    const Eigen::Vector3d t1 = light.direction.unitOrthogonal();
+    const Eigen::Vector3d t = axis == 0 ? t1 : Eigen::Vector3d(light.direction.cross(t1));
+    const double offset = std::max(light.angular_radius, kMinSplitRadius) / 2;
+    std::pair<DirectionalLight, DirectionalLight> out{light, light};
+    out.first.direction = (light.direction + std::tan(offset) * t).normalized();
+    out.second.direction = (light.direction - std::tan(offset) * t).normalized();
+    out.first.angular_radius = out.second.angular_radius = light.angular_radius / 2;
+    out.first.flux = out.second.flux = light.flux / 2;
+    return out;
+}
+
 std::vector<double> cap_zonal_factors(int sh_bands, double alpha) {
     if (sh_bands < 1) throw UsageError("cap_zonal_factors: sh_bands must be >= 1");
     std::vector<double> k(static_cast<size_t>(sh_bands), 1.0);
@@ -372,6 +384,17 @@ std::vector<LightSetFit> fit_light_sets(const std::vector<DirectionalLight>& reg
             starts.emplace_back(std::vector<DirectionalLight>(regions.begin(), regions.begin() + k),
                                 strongest);
         const LightSetFit* prev = k > 1 ? &out.back() : nullptr;
+        if (prev && options.split_starts)
+            for (int j = 0; j < k - 1; ++j)
+                for (int axis = 0; axis < 2; ++axis) {
+                    std::vector<DirectionalLight> set = prev->lights;
+                    const auto [a, c] = split_light(prev->lights[static_cast<size_t>(j)], axis);
+                    set[static_cast<size_t>(j)] = a;
+                    set.push_back(c);
+                    std::vector<int> idx = prev->regions;
+                    idx.push_back(idx[static_cast<size_t>(j)]);
+                    starts.emplace_back(std::move(set), std::move(idx));
+                }
         for (int j = 0; j < nr; ++j) {
             std::vector<DirectionalLight> set = prev ? prev->lights : std::vector<DirectionalLight>{};
             std::vector<int> idx = prev ? prev->regions : std::vector<int>{};

@@ -20,8 +20,10 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <utility>
 #include <vector>
 
+#include "core/conventions.h"
 #include "envmap/lights.h"
 
 namespace inlight::envmap {
@@ -35,7 +37,19 @@ Eigen::MatrixXd cap_coefficients(const DirectionalLight& light, int sh_bands);
 struct LightFitOptions {
     int max_iterations = 60;
     double max_radius_deg = 30;  ///< the fitted cap's radius stays in [0, this]
+    /// fit_light_sets: also start k lights from the best k - 1 with one of them split in two
+    /// (split_light, both axes): an extended source (a skylight, a window) may be carried
+    /// better by two caps than by one and a weaker region.
+    bool split_starts = false;
 };
+
+/// Radii below this split as if this wide (a point light's halves still move apart).
+inline constexpr double kMinSplitRadius = 2 * kPi / 180;
+
+/// A light split in two along a tangent axis of its direction (axis 0: d.unitOrthogonal(),
+/// 1: d x that): halves of its flux, each half its radius, their centres max(alpha,
+/// kMinSplitRadius) / 2 either side of d.
+std::pair<DirectionalLight, DirectionalLight> split_light(const DirectionalLight& light, int axis);
 
 struct LightFitResult {
     std::vector<DirectionalLight> lights;  ///< fitted (the fit-set description fields kept)
@@ -87,7 +101,9 @@ using LightSetRefine =
 /// several starts fitted by fit_lights:
 ///   - the k strongest regions as extracted (`regions` is strongest first);
 ///   - the best k - 1 lights, fitted, plus any one region not among them (every region for
-///     k = 1): a greedy search over the regions.
+///     k = 1): a greedy search over the regions;
+///   - with options.split_starts, the best k - 1 lights with one of them split in two (each
+///     light, both axes; its region index appears twice in `regions`).
 /// So the k-th light can start from a weaker region that carries what the bands leave (a
 /// region's flux says how bright it is, not how much of it b bands miss), and adding a region
 /// to a fitted set starts the fit next to the k - 1 optimum rather than from raw regions.

@@ -102,28 +102,35 @@ if have_shared_data probes-latlong/uffizi.hdr; then
         jq -e '.metrics.environments[0].budget | .met and .chosen.lights == 3 and .chosen.sh_bands == 3
           and .chosen.cost.operations == 108 and .chosen.error <= 0.01' "$WORK/uffizi_mr_r.json"
 fi
-# grace in mean-rel (--sh-fit metric, --max-lights 4): four fitted lights over 3 bands (126
-# operations, within the 129 of 5 bands of pure SH) meet 1% at the validation normals. The
-# starts of the light fit are compared by the metric after the metric fit, so the result does not
-# hang on which minimum one start's fit lands in: with the projection RMS choosing the start, the
-# same candidate measured 1.06% with --budget-max-bands 3 and 0.52% with 5 (the projection's
-# band count moves the fit's start by rounding only); now 0.50% with both. Tolerance 0.1 points
-# between the two: a fifth of the margin to 1%, ten times the spread measured over fit-normal
-# counts 400-1024 that land in the same minimum (docs/budget.md, "Where the fit starts").
+# grace in mean-rel (--sh-fit metric, --max-lights 4), at the validation normals: three fitted
+# lights over 3 bands meet 1% (108 operations, under the 129 of 5 bands of pure SH), two of them
+# split from the zenith skylight's light (its region index twice), and four over 3 bands too
+# (126). Before (docs/budget.md, "Where the fit starts"): 3 + 3 at 1.44-1.54% and 4 + 3 at
+# 1.06% or 0.52% depending only on --budget-max-bands (the projection's band count moves the
+# fit's start by rounding: the starts compared by the projection RMS, no split). Now both band
+# counts give 0.73% and 0.50%; tolerance 0.1 points between them: a quarter of the margin to 1%,
+# 25 times the spread measured over fit-normal counts 512-1024 (which land in the same minimum).
 if have_shared_data probes-latlong/grace.hdr; then
     GRACE="$INLIGHT_SHARED_DIR/data/probes-latlong/grace.hdr"
     for bands in 3 5; do
-        expect_exit 0 "grace mean-rel, --budget-max-bands $bands: met with 4 lights" -- "$EP" "$GRACE" \
+        expect_exit 0 "grace mean-rel, --budget-max-bands $bands: met" -- "$EP" "$GRACE" \
             -o "$WORK/grace_mr$bands.json" --max-error 0.01 --error-metric mean-rel --sh-fit metric \
             --max-lights 4 --budget-max-bands "$bands" --report "$WORK/grace_mr${bands}_r.json" -q
-        expect_true "grace mean-rel, --budget-max-bands $bands: 4 lights + 3 bands (126 operations <= 129) within 1%" -- \
-            jq -e '.metrics.environments[0].budget | .met and .sh_fit == "metric"
-              and .chosen.cost.operations <= 129 and ([.candidates[] | select(.lights == 4 and .sh_bands == 3)
-              | .cost.operations == 126 and .irradiance.mean_rel <= 0.01] | all)' "$WORK/grace_mr${bands}_r.json"
+        expect_true "grace mean-rel, --budget-max-bands $bands: 3 lights + 3 bands (108 operations), one split, within 1%" -- \
+            jq -e '.metrics.environments[0].budget | .met and .sh_fit == "metric" and .chosen.lights == 3
+              and .chosen.sh_bands == 3 and .chosen.cost.operations == 108 and .chosen.error <= 0.01
+              and ([.candidates[] | select(.lights == 3 and .sh_bands == 3) | .start_regions
+                    | (unique | length) < length] | all)' "$WORK/grace_mr${bands}_r.json"
+        expect_true "grace mean-rel, --budget-max-bands $bands: 4 lights + 3 bands (126 operations) within 1%" -- \
+            jq -e '[.metrics.environments[0].budget.candidates[] | select(.lights == 4 and .sh_bands == 3)
+              | .cost.operations == 126 and .irradiance.mean_rel <= 0.01] | all and length == 1' \
+            "$WORK/grace_mr${bands}_r.json"
     done
-    expect_true "grace mean-rel: 4 + 3 agrees within 0.1 points whatever the largest band count" -- \
-        jq -e -n --slurpfile a "$WORK/grace_mr3_r.json" --slurpfile b "$WORK/grace_mr5_r.json" '
-          [$a[0], $b[0] | .metrics.environments[0].budget.candidates[] | select(.lights == 4 and .sh_bands == 3)
-           | .irradiance.mean_rel] | (.[0] - .[1]) | fabs <= 0.001'
+    for k in 3 4; do
+        expect_true "grace mean-rel: $k + 3 agrees within 0.1 points whatever the largest band count" -- \
+            jq -e -n --argjson k "$k" --slurpfile a "$WORK/grace_mr3_r.json" --slurpfile b "$WORK/grace_mr5_r.json" '
+              [$a[0], $b[0] | .metrics.environments[0].budget.candidates[]
+               | select(.lights == $k and .sh_bands == 3) | .irradiance.mean_rel] | (.[0] - .[1]) | fabs <= 0.001'
+    done
 fi
 finish
