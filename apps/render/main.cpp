@@ -1,6 +1,7 @@
 // render: the ground-truth path tracer. Renders a scene file to a float EXR (linear_srgb) and
 // its per-pixel standard error, progressively, deterministically for a seed and any --threads.
 #include <filesystem>
+#include <memory>
 
 #include "core/app.h"
 #include "core/fs.h"
@@ -228,6 +229,17 @@ int main(int argc, char** argv) {
             scene = std::make_unique<render::Scene>(std::move(desc));
             for (const auto& f : scene->files()) report.add_input(f);
         }
+        // The reference image is read before the render: a wrong size or a bad file was found
+        // only after path tracing, and an -o naming it was not caught as an input.
+        std::unique_ptr<render::ConvergenceReference> file_ref;
+        if (!a.convergence_ref_image.empty()) {
+            const std::filesystem::path p(a.convergence_ref_image);
+            const std::string se = (p.parent_path() / (p.stem().string() + "_stderr.exr")).string();
+            report.add_input(a.convergence_ref_image);
+            if (std::filesystem::exists(se)) report.add_input(se);
+            file_ref = std::make_unique<render::ConvergenceReference>(
+                render::file_reference(*scene, a.convergence_ref_image));
+        }
         // Every GLES variant is built now on tables of the baked shape, so one that does not fit
         // is refused before the render and the bakes.
         gles::SceneExportOptions gles_export;
@@ -269,7 +281,7 @@ int main(int argc, char** argv) {
                 a.convergence_ref_irradiance ? render::irradiance_reference(*scene)
                 : a.convergence_ref_image.empty()
                     ? render::render_reference(*scene, opt, a.convergence_ref_spp)
-                    : render::file_reference(*scene, a.convergence_ref_image);
+                    : std::move(*file_ref);
             const auto c = render::convergence_study(*scene, opt, ref, spps);
             m["convergence"] = render::to_json(c);
             log::info(str("render: error ~ spp^", c.slope, " (expected -0.5)"));

@@ -38,8 +38,9 @@ void reject_tables(const toml::Document& doc) {
 
 void read_material_keys(const toml::Reader& r, Material& m) {
     if (r.has("specular")) {
+        const std::string name = r.get_string("specular", "");  // its own errors name the key
         try {
-            m.specular = model_from_string(r.get_string("specular", ""));
+            m.specular = model_from_string(name);
         } catch (const Error& e) {  // rethrown as Error: a bad file is a runtime error (exit 1)
             throw Error(str(r.where("specular"), e.what()));
         }

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
 
@@ -254,6 +255,13 @@ FrameRadiance radiance_from_frame(const image::Image& codes, const ResponseCurve
         const double omega = solid_angle_sr ? solid_angle_sr->pixels[i] : 1.0;
         for (int c = 0; c < channels; ++c) {
             const double l = curve.radiance(c, code_at(codes, i, c), exposure_s);
+            // A curve or exposure that takes radiance past the float range was blamed on the
+            // frame's pixels ("pixel is Inf; pass --nonfinite zero").
+            if (!(std::abs(l) <= std::numeric_limits<float>::max())) {
+                throw Error(str("the response curve gives radiance ", l, " for code ",
+                                code_at(codes, i, c), " at an exposure of ", exposure_s,
+                                " s: past the float range (check the curve and --exposure-s)"));
+            }
             f.radiance.pixels[i * static_cast<size_t>(channels) + static_cast<size_t>(c)] =
                 static_cast<float>(l);
             (sat ? f.clipped_light_lower_bound : f.unclipped_light)[static_cast<size_t>(c)] +=
@@ -305,6 +313,10 @@ void write_response(const std::string& path, const ResponseFit& fit, double lamb
     fs::write_text_atomic(path, dump_finite(j, 1, path));
 }
 
+namespace {
+constexpr double kMaxLogExposure = 80;  ///< |g| of a response curve (e^80 ~ 5.5e34)
+}  // namespace
+
 ResponseCurve read_response(const std::string& path) {
     nlohmann::json j;
     try {
@@ -328,6 +340,14 @@ ResponseCurve read_response(const std::string& path) {
             }
             std::array<double, kCodes> a{};
             std::copy(v.begin(), v.end(), a.begin());
+            // g is ln(exposure): a value past +-kMaxLogExposure is no camera's (e^80 ~ 5e34).
+            for (size_t k = 0; k < v.size(); ++k) {
+                if (!(std::abs(v[k]) <= kMaxLogExposure)) {
+                    throw Error(str(path, ": curve ", curve.log_exposure.size(), ", code ", k, ": g = ",
+                                    v[k], " is outside [-", kMaxLogExposure, ", ", kMaxLogExposure,
+                                    "] (ln exposure)"));
+                }
+            }
             curve.log_exposure.push_back(a);
         }
     } catch (const nlohmann::json::exception& e) {

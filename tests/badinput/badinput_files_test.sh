@@ -84,6 +84,9 @@ bad 1 "empty.toml: specular: required key is missing" "empty material file" -- \
 printf 'alpha = 0.3\nf0 = 0.04\n' > "$WORK/nospec.toml"
 bad 1 "nospec.toml: specular: required key is missing" "material file without specular" -- \
     "$BAKE" --material "$WORK/nospec.toml" -o "$OUT/m"
+printf 'specular = 3\n' > "$WORK/mtype.toml"
+bad 1 "error: [^ ]*mtype.toml:1: specular: expected a string, got a number" "material specular of the wrong type (file named once)" -- \
+    "$BAKE" --material "$WORK/mtype.toml" -o "$OUT/m"
 printf 'specular = "ggx"\nalpha = 0.3 0.4\n' > "$WORK/msyntax.toml"
 bad 1 "msyntax.toml:2:[0-9]*: TOML syntax error" "material syntax error" -- \
     "$BAKE" --material "$WORK/msyntax.toml" -o "$OUT/m"
@@ -161,6 +164,15 @@ bad 1 "format.json.*inlight_response" "response file of another format" -- \
 printf '{"format": "inlight_response", "channels": ["r", "g", "b"], "g": [[0, 1], [0, 1], [0, 1]]}' > "$WORK/short.json"
 bad 1 "short.json.*256" "response curves of 2 values" -- \
     "$EP" "$WORK/frame.png" -o "$OUT/r_sh.json" --response "$WORK/short.json" --exposure-s 0.01
+
+# A curve past any camera's range (g = 1e308, ln exposure) or an exposure that takes radiance
+# past float: blamed on the frame ("pixel (x=0, y=0) is Inf; pass --nonfinite zero").
+python3 -c "print('{\"format\": \"inlight_response\", \"channels\": [\"r\", \"g\", \"b\"], \"g\": [' + ','.join(['[' + ','.join(['1e308'] * 256) + ']'] * 3) + ']}')" > "$WORK/huge_g.json"
+bad 1 "huge_g.json: curve 0, code 0: g = 1e+308 is outside" "response curve past any camera's range" -- \
+    "$EP" "$WORK/frame.png" -o "$OUT/r_sh.json" --response "$WORK/huge_g.json" --exposure-s 0.01
+python3 -c "print('{\"format\": \"inlight_response\", \"channels\": [\"r\", \"g\", \"b\"], \"g\": [' + ','.join(['[' + ','.join([str(i / 255) for i in range(256)]) + ']'] * 3) + ']}')" > "$WORK/ok_g.json"
+bad 1 "past the float range (check the curve and --exposure-s)" "--exposure-s 1e-300 (radiance past float)" -- \
+    "$EP" "$WORK/frame.png" -o "$OUT/r_sh.json" --response "$WORK/ok_g.json" --exposure-s 1e-300
 
 # Bundle manifests (bundle verify): not JSON, traversal.
 mkdir -p "$WORK/bundle1" "$WORK/bundle2"

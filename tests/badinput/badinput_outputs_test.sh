@@ -35,6 +35,18 @@ bad 2 "(--export-gles) needs the folder .*scene.toml', which is an existing file
     "$BIN/render" "$WORK/scene.toml" -o "$OUT/g.exr" --spp 1 --export-gles "$WORK/scene.toml"
 same_file "$WORK/scene.toml" "$WORK/scene_orig.toml" "the scene file is untouched"
 
+# render's --convergence-ref-image: -o naming it was not caught as an input, and a reference of
+# the wrong size was found only after path tracing.
+"$MK" "$WORK/ref.exr" 8 8 1
+cp "$WORK/ref.exr" "$WORK/ref_orig.exr"
+bad 2 "ref.exr.*is the input" "render -o naming its --convergence-ref-image" -- \
+    "$BIN/render" "$WORK/scene.toml" -o "$WORK/ref.exr" --spp 4 --convergence-ref-image "$WORK/ref.exr"
+same_file "$WORK/ref.exr" "$WORK/ref_orig.exr" "the reference image is untouched"
+"$MK" "$WORK/ref_small.exr" 4 4 1
+bad 1 "ref_small.exr: reference is 4x4" "render --convergence-ref-image of another size" -- \
+    "$BIN/render" "$WORK/scene.toml" -o "$OUT/r.exr" --spp 4 --convergence-ref-image "$WORK/ref_small.exr"
+expect_true "refused before the render stage" -- bash -c "! grep -q 'render done' '$WORK/stderr'"
+
 # Two outputs of one run on one path.
 bad 2 "stderr-output" "render --stderr-output equal to -o" -- \
     "$BIN/render" "$WORK/scene.toml" -o "$OUT/x.exr" --stderr-output "$OUT/x.exr" --spp 1
