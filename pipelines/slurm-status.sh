@@ -3,6 +3,10 @@
 # from `scontrol show job`, as Snakemake wants it: running | success | failed.
 #   pipelines/slurm-status.sh JOBID
 set -euo pipefail
+if [ $# -ne 1 ] || [ -z "$1" ]; then  # was "$1: unbound variable"
+    echo "usage: slurm-status.sh JOBID" >&2
+    exit 2
+fi
 if ! info=$(scontrol show job "$1" 2>/dev/null); then
     # Forgotten by the controller (MinJobAge passed) or never known: say so, and let Snakemake
     # treat it as failed (it then checks the job's outputs and reruns it if they are missing).

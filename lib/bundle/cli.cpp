@@ -51,7 +51,14 @@ void add_pack_options(CLI::App& app, PackToolOptions& o) {
         ->required()
         ->check(CLI::IsMember({"fabric", "device"}));
     app.add_option("--id", o.id, "Bundle id: folder name and catalogue key ([a-z0-9_-])")
-        ->required();
+        ->required()
+        ->check(CLI::Validator(  // before any work: a bad id failed after the folders were made
+            [](std::string& id) {
+                return is_valid_id(id) ? std::string()
+                                       : str("'", id, "': expected 1-64 characters of a-z, 0-9, "
+                                                      "'_', '-', starting with a letter or digit");
+            },
+            "ID"));
     app.add_option("--name", o.name, "Human-readable name (default: the id)");
     app.add_option("--file", o.files,
                    "ROLE=SOURCE[@PATH_IN_BUNDLE][#STREAM_INDEX], repeatable (roles: "

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/fs.h"
 #include "image/image.h"
 #include "image/normal_map.h"
 
@@ -44,6 +45,13 @@ void write_fabric_maps(const FabricMapsOptions& o, const std::string& out_dir, R
     if (o.blur_px < 0 || o.max_size_px < 1 || o.thumbnail_px < 1) {
         throw UsageError("--blur-px must be >= 0, --max-size-px and --thumbnail-px >= 1");
     }
+    // The outputs are named before any work: -o naming a file (or an input) was found only
+    // when the first image could not be written.
+    const std::filesystem::path dir(out_dir);
+    const std::string albedo_path = (dir / "albedo.png").string();
+    const std::string normal_path = (dir / "normal.png").string();
+    const std::string thumb_path = (dir / "thumbnail.png").string();
+    for (const std::string& p : {albedo_path, normal_path, thumb_path}) fs::declare_output(p, "-o");
     report.add_input(o.albedo_texture);
     image::Image albedo = rgb(image::read_image(o.albedo_texture));
     for (float v : albedo.pixels) {
@@ -70,10 +78,6 @@ void write_fabric_maps(const FabricMapsOptions& o, const std::string& out_dir, R
         albedo, std::max(1, static_cast<int>(std::lround(albedo.width * ts))),
         std::max(1, static_cast<int>(std::lround(albedo.height * ts))));
 
-    const std::filesystem::path dir(out_dir);
-    const std::string albedo_path = (dir / "albedo.png").string();
-    const std::string normal_path = (dir / "normal.png").string();
-    const std::string thumb_path = (dir / "thumbnail.png").string();
     for (const std::string& p : {albedo_path, normal_path, thumb_path}) {
         for (const std::string& in : {o.albedo_texture, o.normal_texture}) {
             std::error_code ec;

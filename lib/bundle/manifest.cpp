@@ -144,6 +144,11 @@ constexpr EnumName<Kind> kKindNames[] = {
     {Kind::kDevice, "device"},
 };
 
+bool is_valid_id(const std::string& id) {
+    return !id.empty() && id.size() <= 64 && id[0] != '-' && id[0] != '_' &&
+           std::all_of(id.begin(), id.end(), is_id_char);
+}
+
 std::string to_string(Kind kind) { return enum_to_string(kKindNames, kind); }
 
 Kind kind_from_string(const std::string& name) {
@@ -249,8 +254,7 @@ Manifest manifest_from_json(const nlohmann::json& json, const std::string& sourc
     m.version = static_cast<int>(version.get<int64_t>());
     m.kind = kind_from_string(top.string("kind"));
     m.id = top.string("id");
-    if (m.id.empty() || m.id.size() > 64 || m.id[0] == '-' || m.id[0] == '_' ||
-        !std::all_of(m.id.begin(), m.id.end(), is_id_char)) {
+    if (!is_valid_id(m.id)) {
         throw Error(str(source, ": id '", m.id,
                         "': expected 1-64 characters of a-z, 0-9, '_', '-', starting with a "
                         "letter or digit"));

@@ -28,6 +28,10 @@ inline constexpr const char* kManifestName = "manifest.json";
 enum class Kind { kFabric, kDevice };
 
 /// "fabric" | "device".
+/// Whether `id` is a bundle id: 1-64 characters of a-z, 0-9, '_', '-', starting with a letter
+/// or digit (the folder name and the catalogue key).
+bool is_valid_id(const std::string& id);
+
 std::string to_string(Kind kind);
 /// Inverse of to_string; throws Error naming the accepted names.
 Kind kind_from_string(const std::string& name);

@@ -203,6 +203,13 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     co.pinhole_k3 = !o.fix_k3;
     co.outlier_factor = o.outlier_factor;
     co.outlier_min_px = o.outlier_min_px;
+    // OpenCV's detectors assert on a pattern of 2 rows or columns ("Both width and height of the
+    // pattern should have bigger than 2"): said before any image is read, naming the option.
+    if (from_images && (board.cols < 3 || board.rows < 3)) {
+        throw UsageError(str("--board ", board.cols, "x", board.rows, ": finding a chessboard in "
+                             "images needs at least 3x3 inner corners (2 rows or columns only "
+                             "suit corner files)"));
+    }
     DetectOptions dopt;
     dopt.board = board;
     dopt.detector = detector_from_string(o.detector);

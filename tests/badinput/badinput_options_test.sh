@@ -59,6 +59,10 @@ bad 2 "max-rel-error" "max-rel-error = -inf in --config" -- "$R" "$FURNACE" -o "
 
 # Unclear messages: sizes that cannot be allocated or are empty, and a negative seed.
 bad 2 "board.*100000x100000" "--board 100000x100000" -- "$CAL" geometry "$WORK" --board 100000x100000 -o "$OUT/cal"
+# A 3x2 board suits corner files, but OpenCV's detectors assert on it ("Both width and height of
+# the pattern should have bigger than 2", a raw OpenCV error).
+bad 2 "board 3x2: finding a chessboard in images needs at least 3x3" "--board 3x2 with images" -- \
+    "$CAL" geometry "$WORK/env.exr" --board 3x2 -o "$OUT/cal"
 bad 2 "downscale.*0x0" "--downscale 0x0" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --downscale 0x0
 bad 2 "seed" "--seed -1" -- "$EP" "${ENV[@]}" --seed -1
 # A parser's message is not prefixed twice with the option ("--seed: --seed: ...").

@@ -100,6 +100,14 @@ printf 'specular = "lambert"\n' > "$WORK/m.toml"
 "$BIN/bundle" pack --kind fabric --id f --file albedo="$WORK/alb.png" --file thumbnail="$WORK/thumb.png" \
     --file material="$WORK/m.toml" -o "$WORK/bundles" >/dev/null 2>&1 || fail "bundle pack (set-up)"
 cp "$WORK/bundles/fabrics/f/alb.png" "$WORK/alb_packed.png"
+# bundle pack --id that is no bundle id: found after the bundle root's folders were made (exit 1,
+# $OUT/b/fabrics left behind); bundle fabric-maps -o naming a file: found when writing.
+bad 2 "id: '../x': expected 1-64 characters" "bundle pack --id ../x" -- \
+    "$BIN/bundle" pack --kind fabric --id ../x --file albedo="$WORK/alb.png" --file thumbnail="$WORK/thumb.png" \
+    --file material="$WORK/m.toml" -o "$OUT/b"
+bad 2 "needs the folder .*alb.png', which is an existing file" "bundle fabric-maps -o naming a file" -- \
+    "$BIN/bundle" fabric-maps --albedo-texture "$WORK/alb.png" -o "$WORK/alb.png"
+
 bad 2 "alb.png" "bundle index -o naming a bundle's file" -- "$BIN/bundle" index "$WORK/bundles" -o "$WORK/bundles/fabrics/f/alb.png"
 same_file "$WORK/bundles/fabrics/f/alb.png" "$WORK/alb_packed.png" "the bundle's file is untouched"
 bad 2 "lies inside the bundle folder" "bundle pack of a file inside the bundle it replaces" -- \
