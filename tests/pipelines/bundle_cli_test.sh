@@ -26,7 +26,9 @@ expect_stderr "'sparkle' is not a fabric role" "names the role"
 expect_exit 1 "pack: missing source" -- "$B" pack --kind fabric --id w "${files[@]}" --file "brdf_sh_table=$WORK/nope.bin" -o "$WORK/b"
 expect_stderr "nope.bin: not found" "names the file"
 expect_true "failed packs leave nothing" -- test ! -e "$WORK/b/fabrics/w"
-expect_exit 1 "pack: bad id" -- "$B" pack --kind fabric --id "../w" "${files[@]}" -o "$WORK/b"
+expect_exit 2 "pack: bad id (a usage error, found by the parser)" -- "$B" pack --kind fabric --id "../w" "${files[@]}" -o "$WORK/b"
+expect_stderr "--id: '../w'" "names the option and the id"
+expect_true "a refused id makes no folder" -- test ! -e "$WORK/b/w"
 expect_exit 0 "pack" -- "$B" pack --kind fabric --id w --name "Weave" "${files[@]}" \
     --property sh_bands=3 --property note=plain -o "$WORK/b" --report "$WORK/pack.json"
 expect_true "manifest properties typed (3 is a number, plain a string)" -- \
