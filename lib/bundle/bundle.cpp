@@ -13,6 +13,7 @@
 #include "bundle/contents.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_out.h"
 #include "core/report.h"
 #include "core/sha256.h"
 #include "image/image.h"
@@ -128,7 +129,8 @@ Manifest write_bundle(const std::string& dest, const PackRequest& request) {
         const nlohmann::json j = to_json(m);
         m = manifest_from_json(j, str(dest, "/", kManifestName));
         // Inside the private folder committed below: visible now, not with the run's outputs.
-        fs::write_text_atomic((tmp / kManifestName).string(), j.dump(2) + "\n", fs::Commit::kNow);
+        fs::write_text_atomic((tmp / kManifestName).string(),
+                             dump_finite(j, 2, str(dest, "/", kManifestName)), fs::Commit::kNow);
         read_bundle(tmp.string());
         commit_folder(tmp, dest_path);
     } catch (const stdfs::filesystem_error& e) {

@@ -7,6 +7,18 @@
 namespace inlight {
 namespace {
 
+/// One reference token of a JSON pointer (RFC 6901, section 3): "~" is written "~0" and "/" is
+/// written "~1", so a key holding either still names one member.
+std::string pointer_token(const std::string& key) {
+    std::string t;
+    for (char c : key) {
+        if (c == '~') t += "~0";
+        else if (c == '/') t += "~1";
+        else t += c;
+    }
+    return t;
+}
+
 bool find_non_finite(const nlohmann::json& j, std::string& pointer) {
     if (j.is_number_float()) return !std::isfinite(j.get<double>());
     if (j.is_array()) {
@@ -19,7 +31,7 @@ bool find_non_finite(const nlohmann::json& j, std::string& pointer) {
     } else if (j.is_object()) {
         for (auto it = j.begin(); it != j.end(); ++it) {
             if (find_non_finite(it.value(), pointer)) {
-                pointer = "/" + it.key() + pointer;
+                pointer = "/" + pointer_token(it.key()) + pointer;
                 return true;
             }
         }

@@ -9,8 +9,8 @@
 
 namespace inlight {
 
-/// The JSON pointer of the first NaN or Inf number in `j` ("/coefficients/0/2"), or "" if every
-/// number is finite.
+/// The JSON pointer (RFC 6901: "~" and "/" in keys escaped as "~0" and "~1") of the first NaN or
+/// Inf number in `j` ("/coefficients/0/2"), "/" for `j` itself, or "" if every number is finite.
 std::string first_non_finite(const nlohmann::json& j);
 
 /// j.dump(indent) + "\n", after checking that every number in it is finite. Throws Error

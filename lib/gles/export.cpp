@@ -1272,7 +1272,7 @@ std::vector<std::string> write_exports(const std::string& dir, const std::vector
                                      {"gl_limits_needed", e.manifest["gl_limits_needed"]}});
     }
     paths.push_back(dir + "/index.json");
-    fs::write_text_atomic(paths.back(), index.dump(2) + "\n");
+    fs::write_text_atomic(paths.back(), dump_finite(index, 2, paths.back()));
     return paths;
 }
 
