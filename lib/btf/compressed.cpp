@@ -50,11 +50,28 @@ WeightsFormat weights_format_from_string(const std::string& name) {
     return enum_from_string(kWeightsFormatNames, name, "weights format");
 }
 
-int bytes_per_weight(WeightsFormat f) { return f == WeightsFormat::kFloat32 ? 4 : f == WeightsFormat::kFloat16 ? 2 : 1; }
-
-std::string weights_dtype(WeightsFormat f) {
-    return f == WeightsFormat::kFloat32 ? "float32_le" : f == WeightsFormat::kFloat16 ? "float16_le" : "uint8";
+namespace {
+/// What each weights format stores: bytes per weight and the manifest's dtype, one row per format.
+struct WeightsLayout {
+    WeightsFormat format;
+    int bytes;
+    const char* dtype;
+};
+constexpr WeightsLayout kWeightsLayouts[] = {
+    {WeightsFormat::kFloat32, 4, "float32_le"},
+    {WeightsFormat::kFloat16, 2, "float16_le"},
+    {WeightsFormat::kUint8, 1, "uint8"},
+};
+const WeightsLayout& layout_of(WeightsFormat f) {
+    for (const auto& l : kWeightsLayouts)
+        if (l.format == f) return l;
+    throw Error(str("weights format ", int(f), ": no such format"));
 }
+}  // namespace
+
+int bytes_per_weight(WeightsFormat f) { return layout_of(f).bytes; }
+
+std::string weights_dtype(WeightsFormat f) { return layout_of(f).dtype; }
 
 void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std::string& out, float* decoded,
                            float& scale, float& offset) {
@@ -69,7 +86,7 @@ void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std:
     } else if (f == WeightsFormat::kFloat16) {
         for (int64_t i = 0; i < n; ++i) {
             const Eigen::half h(values[i]);
-            const uint16_t bits = Eigen::half_impl::raw_half_as_uint16(h);
+            const auto bits = Eigen::numext::bit_cast<uint16_t>(h);
             out.push_back(char(bits & 0xff));
             out.push_back(char(bits >> 8));
             decoded[i] = static_cast<float>(h);
@@ -167,11 +184,12 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
             throw Error(str(manifest_path, ": empty image or direction set"));
         const std::string weights_path = dir + "/" + m.at("weights").at("file").get<std::string>();
         const std::string dtype = m.at("weights").value("dtype", std::string("float32_le"));
-        WeightsFormat wf = WeightsFormat::kFloat32;
-        for (WeightsFormat f : {WeightsFormat::kFloat32, WeightsFormat::kFloat16, WeightsFormat::kUint8})
-            if (dtype == weights_dtype(f)) wf = f;
-        if (dtype != weights_dtype(wf))
+        const WeightsLayout* layout = nullptr;
+        for (const auto& l : kWeightsLayouts)
+            if (dtype == l.dtype) layout = &l;
+        if (!layout)
             throw Error(str(manifest_path, ": unknown weights dtype '", dtype, "' (float32_le, float16_le or uint8)"));
+        const WeightsFormat wf = layout->format;
         const uint64_t bpw = uint64_t(bytes_per_weight(wf));
         const std::string weights = fs::read_file(weights_path);
         b->m_group_of_view.assign(s.views.size(), -1);
@@ -220,7 +238,7 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
                         std::memcpy(&v, w, sizeof v);
                     } else if (wf == WeightsFormat::kFloat16) {
                         const uint16_t bits = uint16_t(uint8_t(w[0]) | (uint16_t(uint8_t(w[1])) << 8));
-                        v = static_cast<float>(Eigen::half(Eigen::half_impl::raw_uint16_to_half(bits)));
+                        v = static_cast<float>(Eigen::numext::bit_cast<Eigen::half>(bits));
                     } else {
                         v = off + scale * float(uint8_t(w[0]));
                     }

@@ -257,7 +257,9 @@ TEST(ViewGroups, NeighboursOnTheDome) {
     EXPECT_EQ(g2.size(), 41u);
     EXPECT_EQ(std::count_if(g2.begin(), g2.end(), [](const auto& g) { return g.size() == 1; }), 1);
     for (const auto& g : g2) {
-        if (g.size() == 2) EXPECT_LT(angle_between_deg(dome[g[0]], dome[g[1]]), 16.2);
+        if (g.size() == 2) {
+            EXPECT_LT(angle_between_deg(dome[g[0]], dome[g[1]]), 16.2);
+        }
     }
 }
 
