@@ -1,5 +1,6 @@
 #include "calib/corner_file.h"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <opencv2/core.hpp>
@@ -59,6 +60,16 @@ void check_yaml_layout(const std::string& path) {
         if (document_start && c != 0) {
             throw Error(str(path, ":", line_no,
                             ": the top-level collection must start at column 1 (it is indented)"));
+        }
+        // A line at column 1 starts a key of the top-level map: OpenCV writes keys that start
+        // with a letter or '_'. "--a:" over an indented sequence and an empty key made OpenCV
+        // 4.6's parser throw std::length_error through a frame that cannot pass it on:
+        // std::terminate (fuzz/regressions/corners). A top-level sequence ("- 1") is refused here
+        // too; OpenCV asserted on some of those.
+        const unsigned char key_start = static_cast<unsigned char>(line[c]);
+        if (c == 0 && !std::isalpha(key_start) && key_start != '_') {
+            throw Error(str(path, ":", line_no, ": a top-level key must start with a letter or '_', not '",
+                            line.substr(0, 1), "' (the file must be a map of named nodes, as OpenCV writes)"));
         }
         document_start = false;
     }

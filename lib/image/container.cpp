@@ -60,7 +60,10 @@ double exr_samples_per_byte(int compression) {
 }
 
 struct ExrPart {
-    int compression = -1;
+    // OpenEXR reads a header without a compression attribute as ZIP, its Header's default (a
+    // 323-byte file of 3997697 x 1 pixels and no such attribute was bounded as "unknown", 2^16
+    // samples per byte, and OpenEXR and OpenImageIO then asked for 4 GB: fuzz/regressions/image).
+    int compression = 3;
     int64_t width = 0, height = 0;
     int64_t tile_x = 0, tile_y = 0;
     int64_t chunk_count = -1;

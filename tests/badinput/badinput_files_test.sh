@@ -42,6 +42,12 @@ bad 1 "lying_attr.exr: EXR attribute 'inlight:color_space' claims 1920139275 byt
 printf '\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR\0\0\0\x04\0\0\0\x02\x08\x02\0\0\0\xfa\x04\x8e\xa6\x69\x6d\x1f\x54tEXtxx' > "$WORK/lying_chunk.png"
 bad 1 "lying_chunk.png: PNG chunk 'tEXt' at byte 33 claims 1768759124 bytes" \
     "PNG chunk longer than the file" -- "$EP" "$WORK/lying_chunk.png" -o "$OUT/l_sh.json"
+# 3997697 x 1 half pixels in 323 bytes and no compression attribute (fuzz/regressions/image):
+# OpenEXR reads it as ZIP, so its bytes decode to ~80 K samples, not the 8 M it claims; bounded
+# as an unknown compression it passed, and OpenEXR and OpenImageIO asked for 4 GB.
+tail -c +2 "$SRC/fuzz/regressions/image/exr_wide_row_oiio_chunk_4gb" > "$WORK/wide_row.exr"
+bad 1 "wide_row.exr: header claims 3997697x1x2, more than the file's bytes can decode to" \
+    "EXR without a compression attribute" -- "$EP" "$WORK/wide_row.exr" -o "$OUT/w_sh.json"
 python3 - "$WORK/env.exr" "$WORK/huge_window.exr" <<'PY'
 import struct, sys
 data = bytearray(open(sys.argv[1], "rb").read())
@@ -71,6 +77,10 @@ bad 1 "/dev/zero: is a character device" "scene whose environment map is /dev/ze
 printf 'sh-bands = 3\nvalidate = = true\n' > "$WORK/syntax.toml"
 bad 2 "syntax.toml:2:[0-9]*: TOML syntax error" "TOML syntax error in --config" -- \
     "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config "$WORK/syntax.toml"
+# A table header whose key starts with '`': toml++ 3.3 asserted on it in a debug build.
+printf '[\x60x\x60]\nsh-bands = 3\n' > "$WORK/backtick.toml"
+bad 2 "backtick.toml:1:2: TOML syntax error.*bare key" "TOML table header with a backtick" -- \
+    "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config "$WORK/backtick.toml"
 cp "$WORK/env.exr" "$WORK/binary.toml"
 bad 2 "binary.toml.*binary" "binary file as --config" -- "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config "$WORK/binary.toml"
 printf 'sh-bandz = 3\n' > "$WORK/typo.toml"
@@ -147,8 +157,12 @@ printf '%%YAML:1.0\n   - 1\nimage_0: [ 1, 2 ]\n' > "$WORK/indented.yml"
 bad 1 "indented.yml:2: the top-level collection must start at column 1" "indented YAML top level" -- \
     "$CAL" geometry --image-points "$WORK/indented.yml" --board 3x2 -o "$OUT/cal"
 printf '%%YAML:1.0\n- 1\n- 2\n' > "$WORK/sequence.yml"
-bad 1 "sequence.yml: the top level is not a map" "YAML top level a sequence" -- \
+bad 1 "sequence.yml:2: a top-level key must start with a letter" "YAML top level a sequence" -- \
     "$CAL" geometry --image-points "$WORK/sequence.yml" --board 3x2 -o "$OUT/cal"
+# "--a:" over an indented sequence and an empty key: OpenCV 4.6 called std::terminate.
+printf '%%YAML:1.0\n--a:\n   - 1\n  :\n' > "$WORK/dashkey.yml"
+bad 1 "dashkey.yml:2: a top-level key must start with a letter" "YAML key starting with --" -- \
+    "$CAL" geometry --image-points "$WORK/dashkey.yml" --board 3x2 -o "$OUT/cal"
 cp "$WORK/env.exr" "$WORK/binary.yml"
 bad 1 "binary.yml" "binary file as corner file" -- \
     "$CAL" geometry --image-points "$WORK/binary.yml" --board 3x2 -o "$OUT/cal"
