@@ -68,6 +68,8 @@ struct ExrPart {
     int64_t tile_x = 0, tile_y = 0;
     int64_t chunk_count = -1;
     bool tiled = false;
+    int channels = 0;              // entries of the channel list
+    double samples_per_pixel = 0;  // sum over channels of 1 / (x sampling * y sampling)
 };
 
 double check_exr(const Reader& r, uint32_t flags) {
@@ -133,6 +135,19 @@ double check_exr(const Reader& r, uint32_t flags) {
                 part.tile_x = le32(&v[0]);
                 part.tile_y = le32(&v[4]);
             }
+            if (attr == "channels" && type == "chlist") {  // name, type, pLinear, 3, xs, ys
+                const auto v = r.bytes(value_at, static_cast<size_t>(size));
+                for (size_t at = 0; at < v.size() && v[at] != 0;) {
+                    const auto end = std::find(v.begin() + static_cast<long>(at), v.end(), 0);
+                    const size_t fields = static_cast<size_t>(end - v.begin()) + 1;
+                    if (fields + 16 > v.size())
+                        throw Error(str(r.name, ": EXR channel list is cut off"));
+                    const int32_t xs = le32s(&v[fields + 8]), ys = le32s(&v[fields + 12]);
+                    part.samples_per_pixel += 1.0 / (std::max(xs, 1) * double(std::max(ys, 1)));
+                    ++part.channels;
+                    at = fields + 16;
+                }
+            }
             if (attr == "chunkCount" && type == "int") part.chunk_count = le32s(value(4).data());
             if (attr == "type" && type == "string") {
                 const auto v = r.bytes(value_at, static_cast<size_t>(size));
@@ -195,7 +210,21 @@ double check_exr(const Reader& r, uint32_t flags) {
                         " bytes) does not fit in the ", r.file_size - pos,
                         " bytes after the header"));
     }
-    return double(r.file_size - pos - 8 * chunks) * samples_per_byte;
+    // What the data windows claim, against what the bytes can decode to: refused here, before
+    // OpenEXR opens the file, because its open already sizes line buffers by the width (a 205-byte
+    // file claiming 7501926 x 1 pixels reserved gigabytes and took seconds under ASan).
+    const double max_samples = double(r.file_size - pos - 8 * chunks) * samples_per_byte;
+    double claimed = 0;
+    for (const ExrPart& p : parts)
+        if (p.width > 0 && p.height > 0) claimed += double(p.width) * double(p.height) * p.samples_per_pixel;
+    if (claimed > max_samples) {
+        const ExrPart& p = parts.front();
+        throw Error(str(r.name, ": header claims ", p.width, "x", p.height, "x", p.channels,
+                        parts.size() > 1 ? " (first of the parts)" : "",
+                        ", more than the file's bytes can decode to (at most ",
+                        static_cast<uint64_t>(max_samples), " samples)"));
+    }
+    return max_samples;
 }
 
 void check_png(const Reader& r) {

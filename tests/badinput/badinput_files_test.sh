@@ -46,7 +46,7 @@ bad 1 "lying_chunk.png: PNG chunk 'tEXt' at byte 33 claims 1768759124 bytes" \
 # OpenEXR reads it as ZIP, so its bytes decode to ~80 K samples, not the 8 M it claims; bounded
 # as an unknown compression it passed, and OpenEXR and OpenImageIO asked for 4 GB.
 tail -c +2 "$SRC/fuzz/regressions/image/exr_wide_row_oiio_chunk_4gb" > "$WORK/wide_row.exr"
-bad 1 "wide_row.exr: header claims 3997697x1x2, more than the file's bytes can decode to" \
+bad 1 "wide_row.exr: header claims 3997697x1x[0-9]*, more than the file's bytes can decode to" \
     "EXR without a compression attribute" -- "$EP" "$WORK/wide_row.exr" -o "$OUT/w_sh.json"
 python3 - "$WORK/env.exr" "$WORK/huge_window.exr" <<'PY'
 import struct, sys
