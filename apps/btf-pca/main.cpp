@@ -53,8 +53,16 @@ int main(int argc, char** argv) {
                    "uint8 with a scale and offset per component")
         ->check(CLI::IsMember({"float32", "float16", "uint8"}))->capture_default_str();
     cli.add_option("--fit-space", fit_space, "Values the PCA fits: linear radiance (weighted sums of "
-                   "images fold into the components) or srgb-encoded values (the 8-bit codes / 255, "
-                   "perceptually closer; docs/btf-table71.md)")->check(CLI::IsMember({"linear", "srgb"}))->capture_default_str();
+                   "images fold into the components), srgb-encoded values (the 8-bit codes / 255, "
+                   "perceptually closer) or CIELAB (squared error = Delta E 1976 squared; "
+                   "docs/btf-table71.md)")->check(CLI::IsMember({"linear", "srgb", "lab"}))->capture_default_str();
+    std::string fit_norm = "l2";
+    cli.add_option("--fit-norm", fit_norm, "l2: the PCA (least squares); l1: the PCA's components then "
+                   "refitted towards the least absolute error, the norm of the MAE figures (iteratively "
+                   "reweighted least squares; each group in memory)")->check(CLI::IsMember({"l2", "l1"}))->capture_default_str();
+    int l1_iterations = 16;
+    cli.add_option("--l1-iterations", l1_iterations, "--fit-norm l1: rounds of reweighting (each solves every "
+                   "row of L and every column of V once)")->check(CLI::Range(1, 1000))->capture_default_str();
     cli.add_option("--light-directions", o.open.light_directions, "Light direction file "
                    "(default: the UBO2003 dome)")->check(CLI::ExistingFile);
     cli.add_option("--view-directions", o.open.view_directions, "View direction file "
@@ -89,6 +97,7 @@ int main(int argc, char** argv) {
     o.pca.method = btf::pca_method_from_string(method);
     o.encoding = btf::component_encoding_from_string(format);
     o.fit_space = btf::fit_space_from_string(fit_space);
+    o.pca.l1_iterations = fit_norm == "l1" ? l1_iterations : 0;
     o.weights_format = btf::weights_format_from_string(weights_format);
     o.pca.seed = common.seed;
     o.max_memory_bytes = uint64_t(max_memory_mib) << 20;

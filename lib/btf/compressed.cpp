@@ -30,13 +30,21 @@ ComponentEncoding component_encoding_from_string(const std::string& name) {
 constexpr EnumName<FitSpace> kFitSpaceNames[] = {
     {FitSpace::kLinear, "linear"},
     {FitSpace::kSrgb, "srgb"},
+    {FitSpace::kLab, "lab"},
 };
 
 std::string to_string(FitSpace f) { return enum_to_string(kFitSpaceNames, f); }
 
 FitSpace fit_space_from_string(const std::string& name) { return enum_from_string(kFitSpaceNames, name, "fit space"); }
 
-std::string manifest_color_space(FitSpace f) { return f == FitSpace::kSrgb ? "srgb_encoded" : "linear_srgb"; }
+std::string manifest_color_space(FitSpace f) {
+    switch (f) {
+        case FitSpace::kSrgb: return "srgb_encoded";
+        case FitSpace::kLab: return "cielab_d65";
+        case FitSpace::kLinear: break;
+    }
+    return "linear_srgb";
+}
 
 constexpr EnumName<WeightsFormat> kWeightsFormatNames[] = {
     {WeightsFormat::kFloat32, "float32"},
@@ -174,8 +182,9 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
         BtfShape& s = b->m_shape;
         const std::string space = m.value("color_space", std::string("linear_srgb"));
         if (space == manifest_color_space(FitSpace::kSrgb)) b->m_fit_space = FitSpace::kSrgb;
+        else if (space == manifest_color_space(FitSpace::kLab)) b->m_fit_space = FitSpace::kLab;
         else if (space != manifest_color_space(FitSpace::kLinear))
-            throw Error(str(manifest_path, ": unknown color_space '", space, "' (linear_srgb or srgb_encoded)"));
+            throw Error(str(manifest_path, ": unknown color_space '", space, "' (linear_srgb, srgb_encoded or cielab_d65)"));
         s.width = static_cast<int>(integer(m.at("width"), 1, 65536, manifest_path + ": width"));
         s.height = static_cast<int>(integer(m.at("height"), 1, 65536, manifest_path + ": height"));
         for (const auto& d : m.at("lights")) s.lights.push_back(direction_of(d, manifest_path));
@@ -277,6 +286,12 @@ image::Image CompressedBtf::decode(int light, int view, const std::vector<int>& 
             for (int64_t p = 0; p < m_shape.pixel_count(); ++p) col[p] = image::srgb_decode(std::clamp(col[p], 0.0f, 1.0f));
         for (int64_t p = 0; p < m_shape.pixel_count(); ++p) img.pixels[static_cast<size_t>(p * 3 + ch)] = col[p];
     }
+    if (m_fit_space == FitSpace::kLab)
+        for (int64_t p = 0; p < m_shape.pixel_count(); ++p) {
+            float* x = &img.pixels[static_cast<size_t>(p * 3)];
+            const Eigen::Vector3d rgb = image::linear_srgb_from_lab(Eigen::Vector3d(x[0], x[1], x[2])).cwiseMax(0.0).cwiseMin(1.0);
+            for (int ch = 0; ch < 3; ++ch) x[ch] = static_cast<float>(rgb[ch]);
+        }
     return img;
 }
 
@@ -310,9 +325,9 @@ image::Image CompressedBtf::combine_streamed(const std::vector<ImageTerm>& terms
 }
 
 image::Image CompressedBtf::combine_with(const std::vector<ImageTerm>& terms, const std::vector<int>& per_group) const {
-    if (m_fit_space == FitSpace::kSrgb) {
-        // The sRGB curve sits between the sum over components and the image: decode each term's
-        // image, then sum in double in the terms' order (BtfSource::combine's arithmetic).
+    if (m_fit_space != FitSpace::kLinear) {
+        // The sRGB curve (or Lab -> RGB) sits between the sum over components and the image:
+        // decode each term's image, then sum in double in the terms' order (BtfSource::combine's arithmetic).
         Eigen::MatrixXd acc = Eigen::MatrixXd::Zero(m_shape.pixel_count(), 3);
         for (const ImageTerm& t : terms) {
             const image::Image x = decode(t.light, t.view, per_group);

@@ -4,7 +4,9 @@
 //   btf-pca.json  the manifest: image size, colour space of the model ("linear_srgb", or
 //                 "srgb_encoded" for a model fitted to sRGB-encoded values, FitSpace::kSrgb:
 //                 the sum below is then an encoded value, decoded with the sRGB curve after the
-//                 sum), light and view directions
+//                 sum; "cielab_d65" for a model fitted to CIELAB, FitSpace::kLab: the three
+//                 channels' sums are L*, a*, b*, converted to linear_srgb after the sum), light
+//                 and view directions
 //                 (degrees), and per view group its views, its mean image and component images
 //                 (file, scale, offset, bytes, energy), and where its V sits in weights.bin; then
 //                 "stream": the components [group, component] in order of importance across
@@ -18,7 +20,9 @@
 //                 8-bit codes with value = offset + scale * code, or half/float EXR (scale 1,
 //                 offset 0) with --format exr-half / exr-float.
 // A pixel's value for (light, view, channel) is mean[p] + sum_c basis_c[p] * V[column, c]
-// (for "srgb_encoded": srgb_decode of that sum clamped to [0, 1]).
+// (for "srgb_encoded": srgb_decode of that sum clamped to [0, 1]; for "cielab_d65": the
+// channels' sums are one Lab triple, converted by image::linear_srgb_from_lab and clamped to
+// [0, 1]).
 #pragma once
 
 #include <memory>
@@ -49,11 +53,17 @@ enum class FitSpace {
     /// sRGB curve per image after the sum, so weighted sums no longer fold (combine decodes
     /// every image it sums).
     kSrgb,
+    /// CIELAB (D65 white, L* in [0, 100]) of each colour: the three channel columns of an image
+    /// hold L*, a*, b*, so squared error is Delta E 1976 squared, the metric of the thesis'
+    /// Table 7.1 (MAE per Lab channel). The decoder converts each pixel's Lab sum to linear_srgb
+    /// (clamped to [0, 1]); weighted sums do not fold (as kSrgb).
+    kLab,
 };
-std::string to_string(FitSpace f);            ///< "linear", "srgb"
+std::string to_string(FitSpace f);            ///< "linear", "srgb", "lab"
 /// Inverse of to_string; throws UsageError naming the value otherwise.
 FitSpace fit_space_from_string(const std::string& name);
-/// The manifest's "color_space" of a model fitted in `f`: "linear_srgb" or "srgb_encoded".
+/// The manifest's "color_space" of a model fitted in `f`: "linear_srgb", "srgb_encoded" or
+/// "cielab_d65".
 std::string manifest_color_space(FitSpace f);
 
 /// How V is stored in weights.bin (WeightsFormat::kUint8: each column's own offset and scale, as

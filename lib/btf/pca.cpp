@@ -298,7 +298,8 @@ Eigen::MatrixXd right_vectors(const CentredOp& a, PcaMethod method, int c, const
 
 void check_options(const PcaOptions& o) {
     INLIGHT_CHECK(o.components >= 1 && o.gram_max_side >= 1 && o.oversampling >= 0 &&
-                  o.power_iterations >= 0 && std::isfinite(o.max_rmse) && o.stream_views >= 0)
+                  o.power_iterations >= 0 && std::isfinite(o.max_rmse) && o.stream_views >= 0 &&
+                  o.l1_iterations >= 0)
         << "PCA options out of range";
 }
 
@@ -557,13 +558,129 @@ GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaO
     if (!finite) throw Error("PCA: the BTF's images hold NaN or Inf");
     g.mean = mean.cast<float>();
     fit_components(g, InCore(a), o, group_seed, [&] { return centred_energy(a, grain); });
+    if (o.l1_iterations > 0) refit_l1(a, g, o.l1_iterations);
     return g;
+}
+
+L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations) {
+    INLIGHT_CHECK(iterations >= 0 && a.rows() == g.pixels && a.cols() == g.columns) << iterations;
+    const int64_t p = a.rows(), n = a.cols(), grain = block_rows(n);
+    const int c = g.components(), k = c + 1;
+    // The model of the centred group: a ~ dm 1^T + B V^T, rows of u = [dm | B] and of v = [1 | V].
+    Eigen::MatrixXd u(p, k), v(n, k);
+    u.col(0).setZero();
+    u.rightCols(c) = g.basis.cast<double>();
+    v.col(0).setOnes();
+    v.rightCols(c) = g.weights.cast<double>();
+    auto residual = [&](int64_t i, int64_t j) { return double(a(i, j)) - u.row(i).dot(v.row(j)); };
+    // Sums over all samples, row chunks combined in order.
+    auto sum_all = [&](const std::function<double(double)>& f) {
+        return parallel::reduce(
+            p, grain, 0.0,
+            [&](int64_t b, int64_t e) {
+                double s = 0;
+                for (int64_t i = b; i < e; ++i)
+                    for (int64_t j = 0; j < n; ++j) s += f(residual(i, j));
+                return s;
+            },
+            [](double x, double y) { return x + y; });
+    };
+    L1Refit out;
+    const double samples = double(p) * double(n);
+    out.delta = 0.1 * std::sqrt(std::max(g.residual_energy.back(), 0.0) / samples);
+    const double delta = out.delta;
+    auto huber = [delta](double r) {
+        const double x = std::abs(r);
+        return x >= delta ? x - 0.5 * delta : 0.5 * x * x / delta;
+    };
+    out.sae_before = sum_all([](double r) { return std::abs(r); });
+    out.sae_after = out.sae_before;
+    // An exact fit (residual at float rounding of the data: 1e-5 relative, squared) has nothing
+    // to reweight.
+    if (!(g.residual_energy.back() > 1e-10 * g.total_energy) || !(delta > 0) || iterations == 0) return out;
+    out.huber.push_back(sum_all(huber));
+    auto weight = [delta](double r) { return 1.0 / std::max(std::abs(r), delta); };
+    // Solves (m + ridge) x = rhs; keeps `x` when the system is singular (no weight on it).
+    auto solve = [](Eigen::MatrixXd& m, const Eigen::VectorXd& rhs, auto x) {
+        const double ridge = 1e-12 * std::max(m.trace(), 1e-300) / double(m.rows());
+        m.diagonal().array() += ridge;
+        const Eigen::LDLT<Eigen::MatrixXd> ldlt(m.selfadjointView<Eigen::Lower>());
+        if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return;
+        const Eigen::VectorXd sol = ldlt.solve(rhs);
+        if (sol.allFinite()) x = sol.transpose();
+    };
+    for (int it = 0; it < iterations; ++it) {
+        // Rows of [dm | B], V fixed: (sum_j w v_j v_j^T) u_i = sum_j w a_ij v_j.
+        parallel::for_chunks(p, std::max<int64_t>(1, grain / 8), [&](int64_t b, int64_t e) {
+            Eigen::MatrixXd m(k, k);
+            Eigen::VectorXd rhs(k);
+            for (int64_t i = b; i < e; ++i) {
+                m.setZero();
+                rhs.setZero();
+                for (int64_t j = 0; j < n; ++j) {
+                    const double w = weight(residual(i, j));
+                    m.selfadjointView<Eigen::Lower>().rankUpdate(v.row(j).transpose(), w);
+                    rhs += (w * double(a(i, j))) * v.row(j).transpose();
+                }
+                solve(m, rhs, u.row(i));
+            }
+        });
+        out.huber.push_back(sum_all(huber));
+        if (c == 0) continue;
+        // Columns of V, rows fixed: (sum_i w b_i b_i^T) v_j = sum_i w (a_ij - dm_i) b_i.
+        parallel::for_chunks(n, 1, [&](int64_t b, int64_t e) {
+            Eigen::MatrixXd m(c, c);
+            Eigen::VectorXd rhs(c);
+            for (int64_t j = b; j < e; ++j) {
+                m.setZero();
+                rhs.setZero();
+                for (int64_t i = 0; i < p; ++i) {
+                    const double w = weight(residual(i, j));
+                    m.selfadjointView<Eigen::Lower>().rankUpdate(u.row(i).tail(c).transpose(), w);
+                    rhs += (w * (double(a(i, j)) - u(i, 0))) * u.row(i).tail(c).transpose();
+                }
+                solve(m, rhs, v.row(j).tail(c));
+            }
+        });
+        out.huber.push_back(sum_all(huber));
+    }
+    out.sae_after = sum_all([](double r) { return std::abs(r); });
+
+    // Back to the GroupPca form. B V^T = B R^T Q^T (V = Q R) = (B R^T W) (Q W)^T with W the
+    // eigenvectors of (B R^T)^T (B R^T), largest first: V orthonormal, columns by energy.
+    if (c > 0) {
+        const Eigen::HouseholderQR<Eigen::MatrixXd> qr(v.rightCols(c));
+        const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(n, c);
+        const Eigen::MatrixXd r = qr.matrixQR().topRows(c).triangularView<Eigen::Upper>();
+        const Eigen::MatrixXd br = u.rightCols(c) * r.transpose();
+        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(br.transpose() * br);
+        const Eigen::MatrixXd w = eig.eigenvectors().rowwise().reverse();
+        g.basis = (br * w).cast<float>();
+        g.weights = (q * w).cast<float>();
+    }
+    const Eigen::VectorXf dm = u.col(0).cast<float>();
+    g.mean += dm;
+    parallel::for_chunks(p, grain, [&](int64_t b, int64_t e) {
+        for (int64_t j = 0; j < n; ++j) a.col(j).segment(b, e - b) -= dm.segment(b, e - b);
+    });
+    // residual_energy[i + 1] = residual_energy[i] - (2 b_i^T A_c v_i - |b_i|^2) (V orthonormal).
+    g.total_energy = centred_energy(a, grain);
+    g.residual_energy.assign(1, g.total_energy);
+    if (c > 0) {
+        const Eigen::MatrixXd av = times(a, g.weights.cast<double>());
+        for (int i = 0; i < c; ++i) {
+            const Eigen::VectorXd bi = g.basis.col(i).cast<double>();
+            g.residual_energy.push_back(std::max(0.0, g.residual_energy.back() - (2 * bi.dot(av.col(i)) - bi.squaredNorm())));
+        }
+    }
+    return out;
 }
 
 GroupPca fit_group_streamed(const BtfSource& source, const std::vector<int>& views, const PcaOptions& o,
                             uint64_t group_seed, StreamStats* stats) {
     check_options(o);
     INLIGHT_CHECK(!views.empty() && source.shape().pixel_count() >= 1);
+    if (o.l1_iterations > 0) throw Error("PCA: the L1 refit needs the group in memory, not streamed");
     StreamStats local;
     StreamStats& st = stats ? *stats : local;
     Streamed a(source, views, o.stream_views, st);

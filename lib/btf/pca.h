@@ -54,6 +54,10 @@ struct PcaOptions {
     int oversampling = 10;     ///< randomized: extra test vectors p (HMT section 4.2)
     int power_iterations = 2;  ///< randomized: q (HMT Algorithm 4.4)
     uint64_t seed = 1;         ///< randomized: test matrices (each group mixes in its index)
+    /// The norm of the fit. 0: least squares (the PCA). n > 0: the PCA's C components are then
+    /// refitted towards the least absolute error (L1, the norm of the thesis' MAE) by n
+    /// iterations of iteratively reweighted least squares (refit_l1). Needs the group in memory.
+    int l1_iterations = 0;
     /// Out of core: a group of more than this many views is never held whole; every product
     /// the method needs is one pass over the BTF reading this many views at a time
     /// (fit_group_streamed). 0 = off (each group is read into memory).
@@ -71,7 +75,8 @@ struct GroupPca {
     Eigen::MatrixXf weights;              ///< V, N x C (R's rows after the first are V^T)
     double total_energy = 0;  ///< ||A_c||_F^2 (squared linear units)
     /// residual_energy[c] = ||A_c - (U Sigma)_c V_c^T||_F^2 after the first c components,
-    /// c = 0..C (residual_energy[0] = total_energy). Non-increasing; >= 0.
+    /// c = 0..C (residual_energy[0] = total_energy). Non-increasing for the PCA; >= 0 (after an
+    /// L1 refit it is the refitted model's, which need not fall with every component).
     std::vector<double> residual_energy;
 
     int components() const { return static_cast<int>(basis.cols()); }
@@ -86,11 +91,36 @@ struct GroupPca {
 
 /// Fits the PCA of one group's matrix `a` (P x N, from BtfSource::read_group), centring `a` in
 /// place (on return a = A_c). C is min(options.components, P, N), then cut by the error budget.
-/// `group_seed` seeds the randomized method's test matrix. Components beyond the data's rank
+/// `group_seed` seeds the randomized method's test matrix. With options.l1_iterations > 0 the
+/// PCA is then refitted by refit_l1 (C stays the one the PCA and the error budget chose). Components beyond the data's rank
 /// come out as zero columns of `basis` (never NaN). Throws Error if `a` holds NaN or Inf.
 /// Precondition: options in range (checked).
 GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaOptions& options,
                    uint64_t group_seed);
+
+/// What refit_l1 did: the objectives over the group's samples, before and after.
+struct L1Refit {
+    double delta = 0;       ///< the IRLS floor: 0.1 x the PCA's RMS residual (model units)
+    double sae_before = 0;  ///< sum of |residual| of the PCA
+    double sae_after = 0;   ///< sum of |residual| of the refitted model
+    /// sum of the Huber function of the residual (|r| - delta / 2 above delta, r^2 / (2 delta)
+    /// below) after 0, 1, ... half-steps: the objective each half-step cannot raise.
+    std::vector<double> huber;
+};
+
+/// Refits a group's model towards the least absolute error, the norm of the MAE figures:
+/// `iterations` rounds of iteratively reweighted least squares with weights 1 / max(|r|, delta),
+/// each round solving the rows of [dm | U Sigma] with V fixed, then the columns of V with the
+/// rows fixed (a weighted least-squares problem per row and per column, C + 1 or C unknowns).
+/// Each half-step minimises a quadratic majorant of the Huber objective (L1.huber), so that
+/// objective never rises; as delta -> 0 it is the L1 norm. Starts from the PCA in `g` (fit_group's
+/// result), with `a` the group centred by g.mean. Afterwards the product is put back in the
+/// GroupPca form: V orthonormal (QR of V, then the eigenvectors of the small Gram matrix of the
+/// rotated basis), components ordered by energy, the mean m + dm, `a` re-centred by it, and
+/// residual_energy the refitted model's squared errors. Every row's and column's sums run in a
+/// fixed order: the same bits for any thread count. A group the PCA fits exactly (residual
+/// energy at most 1e-10 of the centred energy: float rounding) is unchanged.
+L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations);
 
 /// What an out-of-core fit did.
 struct StreamStats {

@@ -67,22 +67,32 @@ void add_color(ColorSums& s, const Eigen::Vector3d& truth, Eigen::Vector3d test)
 Eigen::Vector3d to_linear(Eigen::Vector3d v, FitSpace space) {
     if (space == FitSpace::kSrgb)
         for (int c = 0; c < 3; ++c) v[c] = image::srgb_decode(float(std::clamp(v[c], 0.0, 1.0)));
+    if (space == FitSpace::kLab) v = image::linear_srgb_from_lab(v);
     return v;
 }
 
-/// A BTF's images sRGB-encoded (FitSpace::kSrgb): the values the PCA then fits.
-class SrgbEncodedSource : public BtfSource {
+/// A BTF's images in the fit space (sRGB-encoded for FitSpace::kSrgb, CIELAB for kLab): the
+/// values the PCA then fits.
+class FitSpaceSource : public BtfSource {
   public:
-    explicit SrgbEncodedSource(const BtfSource& linear) : m_linear(linear) {}
+    FitSpaceSource(const BtfSource& linear, FitSpace space) : m_linear(linear), m_space(space) {}
     const BtfShape& shape() const override { return m_linear.shape(); }
     image::Image read_image(int light, int view) const override {
         image::Image img = m_linear.read_image(light, view);
-        for (float& x : img.pixels) x = image::srgb_encode(x);
+        if (m_space == FitSpace::kSrgb)
+            for (float& x : img.pixels) x = image::srgb_encode(x);
+        if (m_space == FitSpace::kLab)
+            for (size_t i = 0; i + 2 < img.pixels.size(); i += 3) {
+                const Eigen::Vector3d lab =
+                    image::lab_from_linear_srgb(Eigen::Vector3d(img.pixels[i], img.pixels[i + 1], img.pixels[i + 2]));
+                for (int c = 0; c < 3; ++c) img.pixels[i + size_t(c)] = static_cast<float>(lab[c]);
+            }
         return img;
     }
 
   private:
     const BtfSource& m_linear;
+    FitSpace m_space;
 };
 
 /// What the run keeps of each group after freeing its data.
@@ -209,15 +219,19 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                             "x", shape.height, " (or other directions)"));
     }
     const MemoryPlan plan = plan_memory(shape, o, reference != nullptr);
+    if (o.pca.l1_iterations > 0 && plan.stream_views > 0)
+        throw UsageError(str("--fit-norm l1 refits each group in memory, but a group here is fitted out of core (",
+                             plan.stream_views, " views per block, memory budget ", std::ceil(double(plan.budget) / 1048576.0),
+                             " MiB from ", plan.budget_source, "): raise --max-memory-mib or use --fit-norm l2"));
     // The values fitted: the images themselves, or sRGB-encoded (the reference too, so that the
     // measurement below sees both in the model's space).
-    std::unique_ptr<SrgbEncodedSource> encoded_source, encoded_reference;
+    std::unique_ptr<FitSpaceSource> encoded_source, encoded_reference;
     const BtfSource* src = &source;
-    if (o.fit_space == FitSpace::kSrgb) {
-        encoded_source = std::make_unique<SrgbEncodedSource>(source);
+    if (o.fit_space != FitSpace::kLinear) {
+        encoded_source = std::make_unique<FitSpaceSource>(source, o.fit_space);
         src = encoded_source.get();
         if (reference) {
-            encoded_reference = std::make_unique<SrgbEncodedSource>(*reference);
+            encoded_reference = std::make_unique<FitSpaceSource>(*reference, o.fit_space);
             reference = encoded_reference.get();
         }
     }
@@ -508,7 +522,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                 {"components_max", o.pca.components}, {"max_rmse", o.pca.max_rmse},
                 {"components_total", stats.components}, {"components_per_group", per_group},
                 {"methods", methods}, {"component_format", to_string(o.encoding)},
-                {"fit_space", to_string(o.fit_space)}, {"weights_format", to_string(o.weights_format)},
+                {"fit_space", to_string(o.fit_space)}, {"fit_norm", o.pca.l1_iterations > 0 ? "l1" : "l2"},
+                {"l1_iterations", o.pca.l1_iterations}, {"weights_format", to_string(o.weights_format)},
                 {"quant_noise", o.quant_noise}};
     m["time"] = {{"read_s", stats.read_time_s}, {"fit_s", stats.fit_time_s}, {"read_cpu_s", stats.read_cpu_s},
                  {"fit_cpu_s", stats.fit_cpu_s}, {"store_s", store_s},

@@ -207,6 +207,76 @@ class EncodedRankOne : public BtfSource {
     BtfShape m_shape;
 };
 
+/// A BTF whose CIELAB values are of rank two with its per-pixel mean: (L*, a*, b*) = (10 + 75 x y,
+/// 8 x y', -8 x y'') with x per pixel and y, y', y'' per image, well inside the sRGB gamut.
+class LabLowRank : public EncodedRankOne {
+  public:
+    image::Image read_image(int light, int view) const override {
+        const BtfShape& s = shape();
+        image::Image img(s.width, s.height, 3, image::ColorSpace::kLinearSrgb);
+        const int64_t j = int64_t(view) * s.n_lights() + light;
+        const double y[3] = {0.3 + 0.7 * double((j * 5) % 11) / 10, double((j * 3) % 7) / 6 - 0.5, double((j * 2) % 5) / 4 - 0.5};
+        for (int64_t p = 0; p < s.pixel_count(); ++p) {
+            const double x = 0.4 + 0.6 * double((p * 7) % 13) / 12;
+            const Eigen::Vector3d rgb = image::linear_srgb_from_lab(Eigen::Vector3d(10 + 75 * x * y[0], 8 * x * y[1], -8 * x * y[2]));
+            for (int ch = 0; ch < 3; ++ch) img.pixels[static_cast<size_t>(p * 3 + ch)] = float(rgb[ch]);
+        }
+        return img;
+    }
+};
+
+// --fit-space lab: data of low rank in CIELAB is reproduced by its rank (float EXR storage), where
+// the linear fit is not; the decoder converts each pixel's Lab back to linear values.
+TEST(CompressToFolder, LabFitSpaceReproducesDataOfLowRankInLab) {
+    // Lab values <= 85 in float32: ~5e-6 each; the Lab -> linear slope is below 0.03 per unit of
+    // L* here, so linear values carry ~1e-7: 1e-5 (Lab units: 1e-4) leaves a margin of ~25.
+    constexpr double kFloatRounding = 1e-5, kLabRounding = 1e-4;
+    const LabLowRank btf;
+    PcaRunOptions o = run_options("btf_pca_lab_linear", 2, 2);
+    o.encoding = ComponentEncoding::kExrFloat;
+    const nlohmann::json lin = compress_to_folder(btf, o, 0);
+    o.output = testing::temp_dir("btf_pca_lab");
+    o.fit_space = FitSpace::kLab;
+    const nlohmann::json lab = compress_to_folder(btf, o, 0);
+    EXPECT_EQ(lab["error_space"], "cielab_d65");
+    EXPECT_EQ(lab["pca"]["fit_space"], "lab");
+    EXPECT_LT(lab["error"]["rmse_linear"].get<double>(), kLabRounding);  // in Lab units (error_space)
+    EXPECT_LT(lab["error"]["mae_lab"].get<double>(), kLabRounding);
+    // The linear fit of the same C does not reproduce it (measured 800x the Lab fit's MAE).
+    EXPECT_GT(lin["error"]["mae_lab"].get<double>(), 100 * lab["error"]["mae_lab"].get<double>());
+    const auto dec = CompressedBtf::open(o.output);
+    EXPECT_EQ(dec->fit_space(), FitSpace::kLab);
+    EXPECT_EQ(dec->manifest()["color_space"], "cielab_d65");
+    EXPECT_LT(rmse_between(*dec, btf, [&](int l, int v) { return dec->read_image(l, v); }), kFloatRounding);
+    const std::vector<ImageTerm> terms = {{1, 0, Eigen::Vector3d(0.5, 0.25, 1.0)}, {7, 4, Eigen::Vector3d(1.0, 1.0, 1.0)}};
+    const image::Image sum = dec->combine(terms), want = btf.combine(terms);
+    ASSERT_EQ(sum.pixels.size(), want.pixels.size());
+    for (size_t i = 0; i < sum.pixels.size(); ++i) ASSERT_NEAR(sum.pixels[i], want.pixels[i], 2 * kFloatRounding) << i;  // weights sum to <= 2
+    EXPECT_EQ(fit_space_from_string("lab"), FitSpace::kLab);
+}
+
+// --fit-norm l1 lowers the MAE figures of a group with outliers below the PCA's at the same C,
+// and is refused before any work when a group would be fitted out of core.
+TEST(CompressToFolder, L1RefitLowersMaeAndNeedsGroupsInMemory) {
+    const EncodedRankOne btf;  // rank one in sRGB-encoded values: in linear values the PCA leaves a heavy-tailed residual
+    PcaRunOptions o = run_options("btf_pca_l2", 2, 1);
+    o.encoding = ComponentEncoding::kExrFloat;
+    const nlohmann::json l2 = compress_to_folder(btf, o, 0);
+    o.output = testing::temp_dir("btf_pca_l1");
+    o.pca.l1_iterations = 8;
+    const nlohmann::json l1 = compress_to_folder(btf, o, 0);
+    EXPECT_EQ(l1["pca"]["fit_norm"], "l1");
+    EXPECT_EQ(l2["pca"]["fit_norm"], "l2");
+    EXPECT_LT(l1["error"]["mae_linear"].get<double>(), l2["error"]["mae_linear"].get<double>());
+    // Least squares is the RMSE optimum among models of C components: the refit cannot beat it.
+    EXPECT_GE(l1["error"]["rmse_linear"].get<double>(), l2["error"]["rmse_linear"].get<double>() * (1 - 1e-6));
+    o.output = testing::temp_dir("btf_pca_l1_streamed");
+    o.pca.stream_views = 1;
+    const std::string err = testing::error_of([&] { compress_to_folder(btf, o, 0); });
+    EXPECT_NE(err.find("--fit-norm l1"), std::string::npos) << err;
+    EXPECT_FALSE(std::filesystem::exists(o.output + "/btf-pca.json"));
+}
+
 // --fit-space srgb: data of rank one in encoded values is reproduced by one component (float
 // EXR storage, so only float rounding remains), where the linear fit leaves an error; the
 // decoder returns linear values (the manifest says srgb_encoded) and sums images after decoding.

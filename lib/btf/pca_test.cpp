@@ -211,6 +211,117 @@ TEST(FitGroup, SameBitsForAnyThreadCount) {
     parallel::set_thread_count(0);
 }
 
+/// Rank-2 data plus a mean, with a share of its samples replaced by large outliers (+-3..6): the
+/// case least absolute error is for. `clean` is the data before the outliers.
+struct Corrupted {
+    Eigen::MatrixXf a, clean;
+    Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic> outlier;
+};
+Corrupted make_corrupted(int p, int n, double share, uint64_t seed) {
+    const Spectrum s = make_spectrum(p, n, {6.0, 3.0}, seed);
+    Corrupted c{s.a, s.a, Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>::Constant(p, n, false)};
+    std::mt19937_64 rng(seed + 1);
+    std::uniform_real_distribution<double> u01;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < p; ++i)
+            if (u01(rng) < share) {
+                c.outlier(i, j) = true;
+                c.a(i, j) += float((u01(rng) < 0.5 ? -1 : 1) * (3.0 + 3.0 * u01(rng)));
+            }
+    return c;
+}
+
+/// The model the group holds: m 1^T + (U Sigma) V^T.
+Eigen::MatrixXf model_of(const GroupPca& g) { return g.reconstruct(g.components()); }
+
+// Least absolute error recovers low-rank data under sparse gross outliers, which least squares
+// spreads over every sample: 5% of the samples corrupted by 3-6 (the data's scale is ~0.5).
+TEST(RefitL1, RecoversLowRankDataUnderSparseOutliers) {
+    const Corrupted c = make_corrupted(300, 80, 0.05, 11);
+    Eigen::MatrixXf a = c.a;
+    GroupPca g = fit_group(a, {0}, options(PcaMethod::kGram, 2), 1);
+    auto clean_error = [&](const GroupPca& fit) {
+        const Eigen::MatrixXf m = model_of(fit);
+        double worst = 0;
+        for (int j = 0; j < c.a.cols(); ++j)
+            for (int i = 0; i < c.a.rows(); ++i)
+                if (!c.outlier(i, j)) worst = std::max(worst, double(std::abs(m(i, j) - c.clean(i, j))));
+        return worst;
+    };
+    const double pca_error = clean_error(g);
+    const L1Refit r = refit_l1(a, g, 30);
+    const double l1_error = clean_error(g);
+    // Least squares leaves errors of the outliers' order on clean samples.
+    EXPECT_GT(pca_error, 0.2);
+    // Huber's estimate is pulled by each outlier's bounded influence (1) against the clean
+    // samples' r / delta: a mean bias of about delta x share / (1 - share) = 0.005 here; the worst
+    // of 22,800 clean samples is a few times that (rows and columns share the outliers' pull), so
+    // 10x the mean bias (measured 0.027; the PCA's is 2.4).
+    constexpr double kHuberBiasTol = 0.05;
+    EXPECT_LT(l1_error, kHuberBiasTol) << "delta " << r.delta << " PCA " << pca_error;
+    EXPECT_LT(r.sae_after, r.sae_before);
+    // The outliers stay in the residual: the model does not chase them.
+    EXPECT_LT(l1_error, pca_error / 20);
+}
+
+// Each half-step minimises a quadratic majorant of the Huber objective, so the objective never
+// rises (up to the rounding of its sum over 24,000 samples, 1e-12 relative).
+TEST(RefitL1, HuberObjectiveNeverRisesAndTheFormIsKept) {
+    const Corrupted c = make_corrupted(400, 60, 0.1, 5);
+    Eigen::MatrixXf a = c.a;
+    // Dense Laplace-like noise on top, so every sample has a residual.
+    std::mt19937_64 rng(3);
+    std::exponential_distribution<double> expo(50.0);
+    for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] += float((i % 2 ? 1 : -1) * expo(rng));
+    const Eigen::MatrixXf original = a;
+    GroupPca g = fit_group(a, {0}, options(PcaMethod::kGram, 4), 1);
+    const L1Refit r = refit_l1(a, g, 12);
+    ASSERT_EQ(r.huber.size(), 1u + 2u * 12u);
+    constexpr double kSumRounding = 1e-12;
+    for (size_t i = 1; i < r.huber.size(); ++i) EXPECT_LE(r.huber[i], r.huber[i - 1] * (1 + kSumRounding)) << i;
+    EXPECT_LT(r.huber.back(), r.huber.front());
+    // GroupPca form: V orthonormal, components by energy, a re-centred by the new mean.
+    const Eigen::MatrixXd vtv = g.weights.cast<double>().transpose() * g.weights.cast<double>();
+    EXPECT_LT((vtv - Eigen::MatrixXd::Identity(4, 4)).cwiseAbs().maxCoeff(), kValueTol);
+    for (int i = 1; i < 4; ++i) EXPECT_GE(g.basis.col(i - 1).squaredNorm(), g.basis.col(i).squaredNorm());
+    Eigen::MatrixXf back = a;
+    back.colwise() += g.mean;
+    EXPECT_LT(max_abs(back, original), kValueTol);
+    // residual_energy is the refitted model's, component by component (brute force).
+    for (int cc = 0; cc <= 4; ++cc) {
+        const double brute = (original - g.reconstruct(cc)).cast<double>().squaredNorm();
+        EXPECT_NEAR(g.residual_energy[size_t(cc)], brute, kEnergyTol * g.total_energy) << cc;
+    }
+    EXPECT_NEAR(r.sae_after, (original - model_of(g)).cast<double>().cwiseAbs().sum(), 1e-5 * r.sae_after);
+}
+
+// Data the PCA fits exactly has no residual to reweight: the fit is returned as it was.
+TEST(RefitL1, ExactFitIsUnchanged) {
+    const Spectrum s = make_spectrum(120, 40, {2.0, 1.0, 0.5});
+    Eigen::MatrixXf a = s.a;
+    PcaOptions o = options(PcaMethod::kGram, 6);
+    GroupPca g = fit_group(a, {0}, o, 1);
+    const GroupPca before = g;
+    const L1Refit r = refit_l1(a, g, 5);
+    EXPECT_TRUE(r.huber.empty());
+    EXPECT_TRUE(g.basis == before.basis && g.weights == before.weights && g.mean == before.mean);
+}
+
+TEST(RefitL1, SameBitsForAnyThreadCount) {
+    const Corrupted c = make_corrupted(5000, 60, 0.05, 9);
+    PcaOptions o = options(PcaMethod::kGram, 3);
+    o.l1_iterations = 3;
+    parallel::set_thread_count(1);
+    Eigen::MatrixXf a = c.a;
+    const GroupPca one = fit_group(a, {0}, o, 3);
+    parallel::set_thread_count(2);
+    Eigen::MatrixXf b = c.a;
+    const GroupPca two = fit_group(b, {0}, o, 3);
+    parallel::set_thread_count(0);
+    EXPECT_TRUE(one.basis == two.basis && one.weights == two.weights && one.mean == two.mean && a == b);
+    EXPECT_EQ(one.residual_energy, two.residual_energy);
+}
+
 // Streaming: one sink call per view group in order, each fit equal to fitting that group alone;
 // 4 views in groups of 3 leave a group of one view (243 columns), fitted like any other.
 TEST(CompressBtf, StreamsGroupsIncludingASingleView) {

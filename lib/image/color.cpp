@@ -31,6 +31,13 @@ double lab_f(double t) {
     return t / (3.0 * kDelta * kDelta) + 4.0 / 29.0;
 }
 
+// The inverse of lab_f: cube above f = 6/29, linear below.
+double lab_f_inverse(double f) {
+    constexpr double kDelta = 6.0 / 29.0;
+    if (f > kDelta) return f * f * f;
+    return 3.0 * kDelta * kDelta * (f - 4.0 / 29.0);
+}
+
 // Hue angle in degrees in [0, 360); 0 for the achromatic axis (Sharma et al. eq. 4).
 double pow7(double x) {
     const double x2 = x * x;
@@ -99,6 +106,17 @@ Eigen::Vector3d lab_from_xyz(const Eigen::Vector3d& xyz) {
 
 Eigen::Vector3d lab_from_linear_srgb(const Eigen::Vector3d& rgb) {
     return lab_from_xyz(xyz_from_linear_srgb(rgb));
+}
+
+Eigen::Vector3d xyz_from_lab(const Eigen::Vector3d& lab) {
+    const Eigen::Vector3d w = d65_white_xyz();
+    const double fy = (lab[0] + 16.0) / 116.0;
+    return Eigen::Vector3d(w.x() * lab_f_inverse(fy + lab[1] / 500.0), w.y() * lab_f_inverse(fy),
+                           w.z() * lab_f_inverse(fy - lab[2] / 200.0));
+}
+
+Eigen::Vector3d linear_srgb_from_lab(const Eigen::Vector3d& lab) {
+    return linear_srgb_from_xyz(xyz_from_lab(lab));
 }
 
 double delta_e76(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2) {

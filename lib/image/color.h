@@ -39,6 +39,12 @@ const Eigen::Matrix3d& xyz_from_linear_rec2020_matrix();
 Eigen::Vector3d lab_from_xyz(const Eigen::Vector3d& xyz);
 /// Convenience: CIELAB of a linear Rec.709 colour.
 Eigen::Vector3d lab_from_linear_srgb(const Eigen::Vector3d& rgb);
+/// The inverse of lab_from_xyz (CIE 15:2004 eq. 8.6-8.8, the same exact constants): XYZ
+/// relative to the D65 white. Every finite Lab maps to a finite XYZ (outside the real colours
+/// where Lab is).
+Eigen::Vector3d xyz_from_lab(const Eigen::Vector3d& lab);
+/// Convenience: the linear Rec.709 colour of a CIELAB value (not clamped).
+Eigen::Vector3d linear_srgb_from_lab(const Eigen::Vector3d& lab);
 
 /// CIE 1976 colour difference: Euclidean distance in CIELAB.
 double delta_e76(const Eigen::Vector3d& lab1, const Eigen::Vector3d& lab2);

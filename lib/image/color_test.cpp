@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace inlight::image {
 namespace {
@@ -145,6 +146,26 @@ TEST(Lab, LinearSegmentForDarkColours) {
     EXPECT_NEAR(lab_from_xyz(d65_white_xyz() * (yj * (1 + 1e-9)))[0], 8.0, 1e-7);
     // Negative input is finite.
     EXPECT_TRUE(lab_from_xyz(Eigen::Vector3d(-0.1, -0.1, -0.1)).allFinite());
+}
+
+TEST(Lab, InverseRoundTripsOnBothSegmentsAndOutOfGamut) {
+    // Closed-form inverse: XYZ -> Lab -> XYZ is the identity up to double rounding of the cube
+    // root (relative 1e-12 covers a few ulps through cbrt and the 3x3 products).
+    constexpr double kRoundTripTol = 1e-12;
+    const double yj = std::pow(6.0 / 29.0, 3.0);
+    const std::vector<Eigen::Vector3d> colours = {Eigen::Vector3d(0.18, 0.18, 0.18), Eigen::Vector3d(1, 0, 0),
+                                                  Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0.001, 0.002, 0.0005),
+                                                  Eigen::Vector3d(yj, yj, yj), Eigen::Vector3d(1.7, -0.05, 0.3),
+                                                  Eigen::Vector3d(0, 0, 0)};
+    for (const Eigen::Vector3d& rgb : colours) {
+        const Eigen::Vector3d back = linear_srgb_from_lab(lab_from_linear_srgb(rgb));
+        EXPECT_NEAR((back - rgb).norm(), 0.0, kRoundTripTol * std::max(1.0, rgb.norm())) << rgb.transpose();
+    }
+    // Lab -> XYZ -> Lab also for values no real colour has (what a fitted model may produce).
+    const Eigen::Vector3d lab(35.0, 90.0, -120.0);
+    EXPECT_NEAR((lab_from_xyz(xyz_from_lab(lab)) - lab).norm(), 0.0, 1e-10);
+    EXPECT_NEAR(xyz_from_lab(Eigen::Vector3d(100, 0, 0)).y(), 1.0, kDoubleTol);
+    EXPECT_NEAR(xyz_from_lab(Eigen::Vector3d(8, 0, 0)).y(), yj, kDoubleTol);
 }
 
 TEST(DeltaE76, IsEuclidean) {

@@ -13,7 +13,7 @@ DIRS=(--light-directions "$WORK/lights.txt" --view-directions "$WORK/views.txt")
 "$MK" "$WORK/btf" 24 16 4 1.0 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf"
 
 expect_exit 0 "--help" -- "$PCA" --help
-for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views --fit-space --weights-format; do
+for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views --fit-space --weights-format --fit-norm --l1-iterations; do
     grep -q -- "$opt" "$WORK/stdout" || fail "--help lacks $opt"
 done
 
@@ -46,6 +46,22 @@ expect_true "report: fit space, error space, equal-bytes rows within budget" -- 
     (.table_equal_bytes | length) == 3 and all(.table_equal_bytes[]; .stored_bytes - .manifest_bytes <= .byte_budget)' "$WORK/s.json"
 expect_exit 2 "--fit-space log" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-space log "${DIRS[@]}"
 expect_stderr "--fit-space" "names the option"
+
+# --fit-space lab --fit-norm l1: the manifest says cielab_d65, the report the norm; the refit
+# lowers MAE at the same C (least absolute error) and cannot lower the RMSE of the PCA.
+expect_exit 0 "lab fit, L1 refit" -- "$PCA" "$WORK/btf" -o "$WORK/labl1" -k 3 -c 2 --fit-space lab --fit-norm l1 \
+    --l1-iterations 4 "${DIRS[@]}" --report "$WORK/l1.json"
+expect_exit 0 "lab fit, least squares" -- "$PCA" "$WORK/btf" -o "$WORK/labl2" -k 3 -c 2 --fit-space lab "${DIRS[@]}" --report "$WORK/l2.json"
+expect_true "manifest cielab_d65; report fit_norm l1 with 4 iterations" -- jq -e '.color_space == "cielab_d65"' "$WORK/labl1/btf-pca.json"
+expect_true "L1 refit: MAE below, RMSE not below the PCA's (unquantised)" -- bash -c "jq -e -s '(.[0].metrics | .pca.fit_norm == \"l1\" and .pca.l1_iterations == 4) and
+    (.[1].metrics.pca.fit_norm == \"l2\") and .[0].metrics.error.mae_linear < .[1].metrics.error.mae_linear and
+    .[0].metrics.error.rmse_linear_unquantised >= .[1].metrics.error.rmse_linear_unquantised' '$WORK/l1.json' '$WORK/l2.json'"
+expect_exit 2 "--fit-norm l3" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l3 "${DIRS[@]}"
+expect_stderr "--fit-norm" "names the option"
+expect_exit 2 "--l1-iterations 0" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --l1-iterations 0 "${DIRS[@]}"
+expect_stderr "--l1-iterations" "names the option"
+expect_exit 2 "--fit-norm l1 with groups out of core" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --stream-views 1 "${DIRS[@]}"
+expect_stderr "--fit-norm l1" "names the option"
 
 # An error budget: a rank-4 BTF needs at most 4 components above the 8-bit noise.
 expect_exit 0 "error budget" -- "$PCA" "$WORK/btf" -o "$WORK/budget" -k 5 -c 16 --max-rmse 0.01 "${DIRS[@]}" --report "$WORK/b.json"
