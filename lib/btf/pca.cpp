@@ -572,16 +572,13 @@ L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations) {
     u.rightCols(c) = g.basis.cast<double>();
     v.col(0).setOnes();
     v.rightCols(c) = g.weights.cast<double>();
-    auto residual = [&](int64_t i, int64_t j) { return double(a(i, j)) - u.row(i).dot(v.row(j)); };
-    // Sums over all samples, row chunks combined in order.
-    auto sum_all = [&](const std::function<double(double)>& f) {
+    // Sums of f(residual) over all samples, row chunks combined in order.
+    auto sum_all = [&](const auto& f) {
         return parallel::reduce(
             p, grain, 0.0,
             [&](int64_t b, int64_t e) {
-                double s = 0;
-                for (int64_t i = b; i < e; ++i)
-                    for (int64_t j = 0; j < n; ++j) s += f(residual(i, j));
-                return s;
+                const Eigen::MatrixXd r = a.middleRows(b, e - b).cast<double>() - u.middleRows(b, e - b) * v.transpose();
+                return r.unaryExpr(f).sum();
             },
             [](double x, double y) { return x + y; });
     };
@@ -610,36 +607,33 @@ L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations) {
         if (sol.allFinite()) x = sol.transpose();
     };
     for (int it = 0; it < iterations; ++it) {
-        // Rows of [dm | B], V fixed: (sum_j w v_j v_j^T) u_i = sum_j w a_ij v_j.
+        // Rows of [dm | B], V fixed: (V^T W_i V) u_i = V^T W_i a_i, W_i the row's weights; the
+        // products as sqrt(W_i) V blocks (one row per task: same bits for any thread count).
         parallel::for_chunks(p, std::max<int64_t>(1, grain / 8), [&](int64_t b, int64_t e) {
-            Eigen::MatrixXd m(k, k);
-            Eigen::VectorXd rhs(k);
+            Eigen::MatrixXd vw(n, k), m(k, k);
+            Eigen::VectorXd ai(n), w(n);
             for (int64_t i = b; i < e; ++i) {
+                ai = a.row(i).transpose().cast<double>();
+                w = (ai - v * u.row(i).transpose()).unaryExpr(weight);
+                vw = w.cwiseSqrt().asDiagonal() * v;
                 m.setZero();
-                rhs.setZero();
-                for (int64_t j = 0; j < n; ++j) {
-                    const double w = weight(residual(i, j));
-                    m.selfadjointView<Eigen::Lower>().rankUpdate(v.row(j).transpose(), w);
-                    rhs += (w * double(a(i, j))) * v.row(j).transpose();
-                }
-                solve(m, rhs, u.row(i));
+                m.selfadjointView<Eigen::Lower>().rankUpdate(vw.transpose());
+                solve(m, v.transpose() * w.cwiseProduct(ai), u.row(i));
             }
         });
         out.huber.push_back(sum_all(huber));
         if (c == 0) continue;
-        // Columns of V, rows fixed: (sum_i w b_i b_i^T) v_j = sum_i w (a_ij - dm_i) b_i.
+        // Columns of V, rows fixed: (B^T W_j B) v_j = B^T W_j (a_j - dm).
         parallel::for_chunks(n, 1, [&](int64_t b, int64_t e) {
-            Eigen::MatrixXd m(c, c);
-            Eigen::VectorXd rhs(c);
+            Eigen::MatrixXd bw(p, c), m(c, c);
+            Eigen::VectorXd aj(p), w(p);
             for (int64_t j = b; j < e; ++j) {
+                aj = a.col(j).cast<double>() - u.col(0);
+                w = (aj - u.rightCols(c) * v.row(j).tail(c).transpose()).unaryExpr(weight);
+                bw = w.cwiseSqrt().asDiagonal() * u.rightCols(c);
                 m.setZero();
-                rhs.setZero();
-                for (int64_t i = 0; i < p; ++i) {
-                    const double w = weight(residual(i, j));
-                    m.selfadjointView<Eigen::Lower>().rankUpdate(u.row(i).tail(c).transpose(), w);
-                    rhs += (w * (double(a(i, j)) - u(i, 0))) * u.row(i).tail(c).transpose();
-                }
-                solve(m, rhs, v.row(j).tail(c));
+                m.selfadjointView<Eigen::Lower>().rankUpdate(bw.transpose());
+                solve(m, u.rightCols(c).transpose() * w.cwiseProduct(aj), v.row(j).tail(c));
             }
         });
         out.huber.push_back(sum_all(huber));
