@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
                    "refitted towards the least absolute error, the norm of the MAE figures (iteratively "
                    "reweighted least squares; each group in memory)")->check(CLI::IsMember({"l2", "l1"}))->capture_default_str();
     int l1_iterations = 16;
-    cli.add_option("--l1-iterations", l1_iterations, "--fit-norm l1: rounds of reweighting (each solves every "
+    auto* l1_opt = cli.add_option("--l1-iterations", l1_iterations, "--fit-norm l1: rounds of reweighting (each solves every "
                    "row of L and every column of V once)")->check(CLI::Range(1, 1000))->capture_default_str();
     cli.add_option("--light-directions", o.open.light_directions, "Light direction file "
                    "(default: the UBO2003 dome)")->check(CLI::ExistingFile);
@@ -106,6 +106,8 @@ int main(int argc, char** argv) {
     interp.open = o.open;
     interp.scheme = btf::interp_scheme_from_string(scheme);
     return app::run("btf-pca", cli, common, argc, argv, [&](Report& report) {
+        if (l1_opt->count() > 0 && fit_norm != "l1")
+            throw UsageError(str("--l1-iterations ", l1_iterations, ": applies only to --fit-norm l1 (the fit is --fit-norm ", fit_norm, ")"));
         if (interp.pairs.empty()) btf::run_pca(o, report);
         else btf::run_interpolation(interp, report);
     });

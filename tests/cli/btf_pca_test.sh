@@ -60,6 +60,8 @@ expect_exit 2 "--fit-norm l3" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l3
 expect_stderr "--fit-norm" "names the option"
 expect_exit 2 "--l1-iterations 0" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --l1-iterations 0 "${DIRS[@]}"
 expect_stderr "--l1-iterations" "names the option"
+expect_exit 2 "--l1-iterations without --fit-norm l1" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --l1-iterations 4 "${DIRS[@]}"
+expect_stderr "applies only to --fit-norm l1" "says why"
 expect_exit 2 "--fit-norm l1 with groups out of core" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --stream-views 1 "${DIRS[@]}"
 expect_stderr "--fit-norm l1" "names the option"
 
