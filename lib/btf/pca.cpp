@@ -562,7 +562,7 @@ GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaO
     return g;
 }
 
-L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations) {
+L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations, bool trace) {
     INLIGHT_CHECK(iterations >= 0 && a.rows() == g.pixels && a.cols() == g.columns) << iterations;
     const int64_t p = a.rows(), n = a.cols(), grain = block_rows(n);
     const int c = g.components(), k = c + 1;
@@ -590,12 +590,12 @@ L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations) {
         const double x = std::abs(r);
         return x >= delta ? x - 0.5 * delta : 0.5 * x * x / delta;
     };
-    out.sae_before = sum_all([](double r) { return std::abs(r); });
-    out.sae_after = out.sae_before;
+    auto sae = [](double r) { return std::abs(r); };
+    if (trace) out.sae_before = out.sae_after = sum_all(sae);
     // An exact fit (residual at float rounding of the data: 1e-5 relative, squared) has nothing
     // to reweight.
     if (!(g.residual_energy.back() > 1e-10 * g.total_energy) || !(delta > 0) || iterations == 0) return out;
-    out.huber.push_back(sum_all(huber));
+    if (trace) out.huber.push_back(sum_all(huber));
     auto weight = [delta](double r) { return 1.0 / std::max(std::abs(r), delta); };
     // Solves (m + ridge) x = rhs; keeps `x` when the system is singular (no weight on it).
     auto solve = [](Eigen::MatrixXd& m, const Eigen::VectorXd& rhs, auto x) {
@@ -621,7 +621,7 @@ L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations) {
                 solve(m, v.transpose() * w.cwiseProduct(ai), u.row(i));
             }
         });
-        out.huber.push_back(sum_all(huber));
+        if (trace) out.huber.push_back(sum_all(huber));
         if (c == 0) continue;
         // Columns of V, rows fixed: (B^T W_j B) v_j = B^T W_j (a_j - dm).
         parallel::for_chunks(n, 1, [&](int64_t b, int64_t e) {
@@ -636,9 +636,9 @@ L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations) {
                 solve(m, u.rightCols(c).transpose() * w.cwiseProduct(aj), v.row(j).tail(c));
             }
         });
-        out.huber.push_back(sum_all(huber));
+        if (trace) out.huber.push_back(sum_all(huber));
     }
-    out.sae_after = sum_all([](double r) { return std::abs(r); });
+    if (trace) out.sae_after = sum_all(sae);
 
     // Back to the GroupPca form. B V^T = B R^T Q^T (V = Q R) = (B R^T W) (Q W)^T with W the
     // eigenvectors of (B R^T)^T (B R^T), largest first: V orthonormal, columns by energy.

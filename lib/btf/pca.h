@@ -98,7 +98,8 @@ struct GroupPca {
 GroupPca fit_group(Eigen::MatrixXf& a, const std::vector<int>& views, const PcaOptions& options,
                    uint64_t group_seed);
 
-/// What refit_l1 did: the objectives over the group's samples, before and after.
+/// What refit_l1 did: the objectives over the group's samples, before and after (only with
+/// `trace`; otherwise only delta is set).
 struct L1Refit {
     double delta = 0;       ///< the IRLS floor: 0.1 x the PCA's RMS residual (model units)
     double sae_before = 0;  ///< sum of |residual| of the PCA
@@ -119,8 +120,9 @@ struct L1Refit {
 /// rotated basis), components ordered by energy, the mean m + dm, `a` re-centred by it, and
 /// residual_energy the refitted model's squared errors. Every row's and column's sums run in a
 /// fixed order: the same bits for any thread count. A group the PCA fits exactly (residual
-/// energy at most 1e-10 of the centred energy: float rounding) is unchanged.
-L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations);
+/// energy at most 1e-10 of the centred energy: float rounding) is unchanged. `trace`: also sum
+/// the objectives of L1Refit (a pass over the group each; fit_group does not ask for them).
+L1Refit refit_l1(Eigen::MatrixXf& a, GroupPca& g, int iterations, bool trace = false);
 
 /// What an out-of-core fit did.
 struct StreamStats {

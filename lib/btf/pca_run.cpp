@@ -223,8 +223,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         throw UsageError(str("--fit-norm l1 refits each group in memory, but a group here is fitted out of core (",
                              plan.stream_views, " views per block, memory budget ", std::ceil(double(plan.budget) / 1048576.0),
                              " MiB from ", plan.budget_source, "): raise --max-memory-mib or use --fit-norm l2"));
-    // The values fitted: the images themselves, or sRGB-encoded (the reference too, so that the
-    // measurement below sees both in the model's space).
+    // The values fitted: the images themselves, or in the fit space (sRGB-encoded or CIELAB; the
+    // reference too, so that the measurement below sees both in the model's space).
     std::unique_ptr<FitSpaceSource> encoded_source, encoded_reference;
     const BtfSource* src = &source;
     if (o.fit_space != FitSpace::kLinear) {

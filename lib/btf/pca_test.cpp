@@ -249,7 +249,7 @@ TEST(RefitL1, RecoversLowRankDataUnderSparseOutliers) {
         return worst;
     };
     const double pca_error = clean_error(g);
-    const L1Refit r = refit_l1(a, g, 30);
+    const L1Refit r = refit_l1(a, g, 30, /*trace=*/true);
     const double l1_error = clean_error(g);
     // Least squares leaves errors of the outliers' order on clean samples.
     EXPECT_GT(pca_error, 0.2);
@@ -275,7 +275,7 @@ TEST(RefitL1, HuberObjectiveNeverRisesAndTheFormIsKept) {
     for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] += float((i % 2 ? 1 : -1) * expo(rng));
     const Eigen::MatrixXf original = a;
     GroupPca g = fit_group(a, {0}, options(PcaMethod::kGram, 4), 1);
-    const L1Refit r = refit_l1(a, g, 12);
+    const L1Refit r = refit_l1(a, g, 12, /*trace=*/true);
     ASSERT_EQ(r.huber.size(), 1u + 2u * 12u);
     constexpr double kSumRounding = 1e-12;
     for (size_t i = 1; i < r.huber.size(); ++i) EXPECT_LE(r.huber[i], r.huber[i - 1] * (1 + kSumRounding)) << i;
@@ -302,7 +302,7 @@ TEST(RefitL1, ExactFitIsUnchanged) {
     PcaOptions o = options(PcaMethod::kGram, 6);
     GroupPca g = fit_group(a, {0}, o, 1);
     const GroupPca before = g;
-    const L1Refit r = refit_l1(a, g, 5);
+    const L1Refit r = refit_l1(a, g, 5, /*trace=*/true);
     EXPECT_TRUE(r.huber.empty());
     EXPECT_TRUE(g.basis == before.basis && g.weights == before.weights && g.mean == before.mean);
 }
