@@ -3,12 +3,13 @@ BUILD    ?= build
 JOBS     ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build debug asan fuzz test test-only bench demo smoke format clean
+.PHONY: all deps print-deb-packages configure build debug asan fuzz test test-only bench demo smoke format clean
 
 all: build
 
 # Every build and run dependency, from Debian's packages only. Safe to re-run.
 DEB_PACKAGES := build-essential cmake pkg-config git jq shellcheck ca-certificates \
+	file time python3 clang-format \
 	libeigen3-dev libopencv-dev libopencv-contrib-dev libopenimageio-dev openimageio-tools libopenexr-dev \
 	libcli11-dev nlohmann-json3-dev libtbb-dev libembree-dev \
 	libgtest-dev libgmock-dev googletest libbenchmark-dev \
@@ -27,6 +28,10 @@ deps:
 		export DEBIAN_FRONTEND=noninteractive; \
 		apt-get update -q && apt-get install -y -q --no-install-recommends $$missing; \
 	else echo "make deps: all Debian packages present"; fi
+
+# The package list, for tests/setup/deps_test.sh (every command the scripts run comes from one).
+print-deb-packages:
+	@echo $(DEB_PACKAGES)
 
 configure:
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
