@@ -23,7 +23,7 @@ for b in "${benches[@]}"; do
     "$b" --benchmark_min_time=0.2 --benchmark_counters_tabular=true
 done
 
-# envmap-project's whole run against OIIO's read of the same 4096 x 2048 float EXR (issue 13).
+# envmap-project's whole run against OIIO's read of the same 4096 x 2048 float EXR.
 if [ -x "$BUILD/bin/envmap-project" ]; then
     echo
     echo "== envmap-load-bench (envmap-project / oiiotool --stats, back-to-back pairs)"
@@ -31,7 +31,7 @@ if [ -x "$BUILD/bin/envmap-project" ]; then
         "${ENVMAP_LOAD_PAIRS:-10}" | grep -v '^pair '
 fi
 
-# The path tracer's error against samples and time per sampler (issue 13; minutes): its table.
+# The path tracer's error against samples and time per sampler (minutes): its table.
 # Full-size figures (docs/benchmarks.md): pipelines/render-convergence.sh OUT 1024 128 64 4096.
 if [ -x "$BUILD/bin/render" ]; then
     echo
@@ -41,7 +41,7 @@ if [ -x "$BUILD/bin/render" ]; then
         ${RENDER_CONVERGENCE_ARGS:-1024 64 32 1024} | grep -v '^render-convergence: /'
 fi
 
-# btf-pca end to end (issue 10; minutes at Bonn size, and 6561 PNGs on disk, 243 MiB):
+# btf-pca end to end (minutes at Bonn size, and 6561 PNGs on disk, 243 MiB):
 # the btf_bench figure's BTF written as real PNGs, then decoded and compressed by the tool.
 if [ -x "$BUILD/bin/btf-pca" ] && [ -x "$BUILD/bench/btf_bench" ]; then
     echo

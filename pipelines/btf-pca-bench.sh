@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# btf-pca end to end (issue 10, docs/benchmarks.md): `btf_bench --write-ubo2003` writes the
+# btf-pca end to end (docs/benchmarks.md): `btf_bench --write-ubo2003` writes the
 # benchmark's BTF (the analytic BTF of btf_bench's in-process figure, rank RANK at scale SCALE,
 # clipped at 1) as a UBO2003 folder of real 8-bit sRGB PNGs, one folder per view as Bonn ships,
 # then the btf-pca tool compresses it under `/usr/bin/time -v`, decoding every PNG: wall, CPU and

@@ -4,7 +4,7 @@
 # envmap-project --max-error (docs/budget.md). Writes OUT/tradeoff.tsv, OUT/tradeoff.md (the
 # tables, machine and date) and OUT/error_vs_cost.png (one panel per map).
 #   pipelines/budget-tradeoff.sh [BUILD] [OUT]     (defaults: build, docs/budget)
-# Goal (issue 14): every map within 1% mean relative irradiance error at no more shader cost
+# Goal: every map within 1% mean relative irradiance error at no more shader cost
 # than 5 bands of pure SH. Both metrics are tabled; the budget's own is abs-over-mean.
 set -euo pipefail
 BUILD=${1:-build}

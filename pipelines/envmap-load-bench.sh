@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # envmap-load-bench: the whole envmap-project run against OpenImageIO's own read of the same
 # file (`oiiotool --stats`: read, decode and summarise), in back-to-back pairs whose order
-# alternates, so that the machine's load falls on both alike (issue 13: within 1.2x).
+# alternates, so that the machine's load falls on both alike (goal: within 1.2x).
 #   pipelines/envmap-load-bench.sh OUT_DIR [PAIRS] [WIDTH]
 # Input: blender-data's forest.exr resized by oiiotool to WIDTH x WIDTH/2 float, zip (made once in
 # OUT_DIR; not in the repository). Prints each pair and the median, quartiles and range of the

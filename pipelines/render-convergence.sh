@@ -3,7 +3,7 @@
 # (independent, sobol, adaptive sobol), all modes in one run on the same machine, from the
 # tool's own JSON reports (metrics.convergence), with gnuplot plots and a Markdown table.
 #   pipelines/render-convergence.sh OUT_DIR [MAX_SPP] [SPHERE_PX] [PATCH_PX] [PATCH_REF_SPP]
-# Scenes (docs/benchmarks.md, issue 13):
+# Scenes (docs/benchmarks.md):
 #   sphere: configs/scenes/sphere_city.toml (Lambert sphere under city.exr), SPHERE_PX^2 pixel
 #           centres (--no-jitter) against the exact image from brute-force irradiance
 #           (--convergence-ref-irradiance): mean relative error and relative RMSE;

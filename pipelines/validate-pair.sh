@@ -87,7 +87,7 @@ if [ "$(jq -n --argjson e "$MAX_ERROR" '$e > 0')" = true ]; then
 fi
 mv "$OUTDIR/budget.json.tmp" "$OUTDIR/budget.json"
 
-# The BTF shaded as a BTF (issue 10): the bundle's btf/ files as the app receives them, with the
+# The BTF shaded as a BTF: the bundle's btf/ files as the app receives them, with the
 # bytes a client holds after each stream prefix summed from the bundle manifest (render reads
 # them from streaming.tsv), shaded from 0, G, 2G, ... components (G groups: about one more
 # component per group each step) and from the whole stream.
@@ -125,7 +125,7 @@ if [ -n "$(role btf_manifest)" ] && [ $# -ge 4 ]; then
 fi
 mv "$OUTDIR/btf.json.tmp" "$OUTDIR/btf.json"
 
-# GLES output (issue 8): render --compare also draws the scene with the exported shaders through
+# GLES output: render --compare also draws the scene with the exported shaders through
 # EGL (metrics.realtime.gles): the third column, beside the CPU model and the truth.
 jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_name" \
     --arg envpath "$ENV_MAP" --slurpfile budget "$OUTDIR/budget.json" --slurpfile btf "$OUTDIR/btf.json" '

@@ -47,7 +47,7 @@ jq -s --argjson t "$MAX_DE2000" --argjson jnd "$JND_DE2000" '
                                                  | min_by(.components_sent) else null end),
             largest_part: (if $parts then ($parts | del(.truth_noise) | to_entries | max_by(.value) | .key) else null end),
             budget_text: (if $p.budget == null then null
-                          else "\($p.budget.sh_bands) bands + \($p.budget.lights) lights: \($p.budget.error * 1000 | round / 10)% \(if $p.budget.met then "(meets \($p.budget.max_error * 100)%)" else "(best; misses \($p.budget.max_error * 100)%)" end)" end),
+                          else "\($p.budget.sh_bands) bands + \($p.budget.lights) light\(if $p.budget.lights == 1 then "" else "s" end): \($p.budget.error * 1000 | round / 10)% \(if $p.budget.met then "(meets \($p.budget.max_error * 100)%)" else "(best; misses \($p.budget.max_error * 100)%)" end)" end),
             verdict: (if $ship.mean_de2000 <= $t then "good"
                       elif $ship.mean_de2000 <= 2 * $t then "marginal" else "poor" end),
             noise_limited: $noisy,
@@ -56,7 +56,7 @@ jq -s --argjson t "$MAX_DE2000" --argjson jnd "$JND_DE2000" '
             advice: (if $noisy then "truth too noisy to judge: render it with more samples (validate.toml spp / target-rel-error)"
                      elif $ship.mean_de2000 <= $t then "ships as is at \($p.sh_bands_shipped) SH bands"
                      elif $enough != null then "use \($enough.sh_bands) SH bands: dE2000 \($enough.mean_de2000 * 100 | round / 100) at \($enough.frame_time_ms * 100 | round / 100) ms per frame (CPU model)"
-                     else "more SH bands do not get there (best \($best.sh_bands) bands, dE2000 \($best.mean_de2000 * 100 | round / 100)): the rest is the BRDF grid, the fixed view or missing shadowing; extract dominant lights (issue 14)" end)})
+                     else "more SH bands do not get there (best \($best.sh_bands) bands, dE2000 \($best.mean_de2000 * 100 | round / 100)): the rest is the BRDF grid, the fixed view or missing shadowing; next lever: dominant lights (envmap-project --max-error, docs/budget.md)" end)})
   | sort_by(.fabric, .environment)' "${summaries[@]}" > "$V/summary.json"
 
 # 2. Plot data: per fabric and environment, error against SH bands; per fabric, the median

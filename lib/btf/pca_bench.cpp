@@ -12,7 +12,7 @@
 // After the table the binary prints the Bonn-size summary (`make bench` shows it): the whole
 // BTF at k = 1, C = 8 in CPU seconds and wall time with the load average around it, and one
 // group's Gram fit against the full SVD in the same run (CPU and wall ratios, RMSE of each),
-// against the goals of issue 10 (whole BTF <= 60 CPU s, i.e. under a minute on 2 free cores;
+// against the compression goals (whole BTF <= 60 CPU s, i.e. under a minute on 2 free cores;
 // Gram >= 10x faster than the full SVD at equal error).
 //
 // `btf_bench --write-ubo2003 DIR ...` writes the same data as image files instead: the end-to-end

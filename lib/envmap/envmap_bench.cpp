@@ -2,7 +2,7 @@
 // Run with `make bench`. Counters: Mpixel_per_s (wall), Mpixel_per_cpu_s (all threads' CPU time,
 // the figure that survives a shared machine), GB_per_s, and x_google_sh: Mpixel_per_s over
 // google/spherical-harmonics' ProjectEnvironment, 4.2 Mpixel/s on one thread of the 2-core
-// session machine (issue 13; that library is not packaged for Debian, so it is not rerun here).
+// session machine (that library is not packaged for Debian, so it is not rerun here).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

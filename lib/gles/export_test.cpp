@@ -288,7 +288,7 @@ TEST(ExportVariant, RefusesWhatDoesNotFitNamingTheNeed) {
               9 + 1 + 6);
 }
 
-// Issue 8: ES 1.00 up to the table's bands at the ES 2.0 minimum. The cheapest arrangement that
+// ES 1.00 up to the table's bands at the ES 2.0 minimum. The cheapest arrangement that
 // fits the 16 vectors is taken: 3 bands all in uniforms (9 + 1 + 6); 3 bands + 3 lights (22)
 // the table's scale/offset in its texture (16); 4 and 5 bands the lighting in its texture
 // (1 + 8, 1 + 14); 6 and 8 bands both (1). The scale/offset texels follow the table's texels,

@@ -384,7 +384,7 @@ TEST(GlesHarness, MatchesTheCpuModel) {
     }
 }
 
-// Issue 8: ES 1.00 above 5 bands at the ES 2.0 minimum (16 vectors, 64 texels: the table's
+// ES 1.00 above 5 bands at the ES 2.0 minimum (16 vectors, 64 texels: the table's
 // scale/offset and the lighting both in textures; octa:5 at 7 bands, 65 texels wide, wrapped
 // into rows of 64, 49 coefficients: the last texel padded), and a table of more than 64 x 64
 // texels (thetaphi:33x64, 6336) laid out within a GL_MAX_TEXTURE_SIZE of 128 given to the
@@ -463,7 +463,7 @@ std::vector<Eigen::Vector3d> light_probe_normals(const brdf::Grid& grid,
     return n;
 }
 
-// Issue 8 / 14: dominant lights in the shaders equal the CPU model's --rt-lighting shading
+// Dominant lights in the shaders equal the CPU model's --rt-lighting shading
 // (render::shade_lights: the cap's exact irradiance, the lobe at its centre) for each lobe
 // model, both versions, on octa:9 at 3 bands and thetaphi:9x16 (whose lookup brings its own
 // atan2) at 4: a sun
@@ -607,7 +607,7 @@ Eigen::Vector3d report_shader(const Eigen::Vector3d& n, const Eigen::Vector3d& a
     return albedo * (mean * 0.3) + spec;
 }
 
-// Issue 8: the seed variants are the report's shader as written, slips included, and the
+// The seed variants are the report's shader as written, slips included, and the
 // consistent ones are fixed. The report (1) looks its BRDF up at phi = atan(y/x), which loses
 // the quadrant, and (2) projects with Figure 6's basis (Condon-Shortley phase) while its
 // irradiance matrix (R&H eq. 12) assumes none. On the report's own 5 x 5 grid, normals in all
@@ -747,7 +747,7 @@ TEST(GlesHarness, SeedIsTheReportShaderWithItsSlips) {
     }
 }
 
-// Issue 15: the lookup snippet brdf-sh-bake ships (brdf/glsl.h, both its uniform-array and its
+// The lookup snippet brdf-sh-bake ships (brdf/glsl.h, both its uniform-array and its
 // texture path) computes brdf::lookup() on a real driver, at the nodes, cell centres, the
 // thetaphi seam and pole and the report grid's folds.
 TEST(BrdfGlslSnippet, EqualsLookupAtNodesSeamsAndPoles) {

@@ -62,7 +62,7 @@ struct RenderOptions {
     /// Sobol only: independently scrambled sample groups per pixel, whose spread is the noise
     /// estimate (render/sampler.h); >= 2. More groups give a steadier per-pixel estimate (G - 1
     /// dof) but each group is a shorter sequence, so the image's error grows with G: 2 (the
-    /// default) has 7-24% less error than 4 at equal samples (docs/benchmarks.md, issue 13),
+    /// default) has 7-24% less error than 4 at equal samples (docs/benchmarks.md),
     /// and its 1-dof map still predicts the image's error (its sum over pixels has many dof).
     int scramble_groups = 2;
     std::vector<int> snapshot_spp;  ///< also keep the image after these sample counts

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Bad input files, at least one per loader a tool reads: images (EXR, HDR, PNG), TOML (scene,
 # material, fabric via bundle, --config), OBJ and PLY meshes, OpenCV corner files, response JSON
-# and bundle manifests; plus the silent defaults of issue #12 (an empty material file or one
+# and bundle manifests; plus the silent defaults the hostile sweep found (an empty material file or one
 # without `specular` baked a default GGX without a word). Each: exit code, a message naming the
 # file and the problem, $OUT as it was. (The SH coefficient and BTF readers have no tool yet:
 # fuzz/ replays their seeds and crash inputs, and their unit tests hold the bad-file cases.)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Bad option values, one case per class of issue #12 (and more): NaN and Inf are usage errors
+# Bad option values, one case per class of the hostile sweep (docs/fuzzing.md): NaN and Inf are usage errors
 # everywhere (CLI11's Range lets NaN through; app::parse adds finite() to every float option), a
 # rotation holding NaN is a usage error and not a CHECK abort, quality gates and stop rules
 # reject NaN and negatives, sizes that cannot be allocated and empty sizes are named, and a run

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Outputs, the classes of issue #12: an output naming an input (calibrate response's image, the
+# Outputs, the classes of the hostile sweep (docs/fuzzing.md): an output naming an input (calibrate response's image, the
 # scene's environment map, a bundle's file) or another output (--stderr-output = -o; two inputs of one stem into
 # one folder) is a usage error naming both, found before any work; a run that fails after some
 # of its outputs could be written (the second of two envmap-project inputs is bad; the .json of

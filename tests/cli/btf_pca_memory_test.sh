@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# btf-pca's hard case "a BTF larger than memory" (issue 10): the images are streamed by view
+# btf-pca's hard case "a BTF larger than memory": the images are streamed by view
 # group, so peak memory is bounded by one group, not the whole BTF. Two BTFs of the same light
 # set and image size, one with 4 views and one with 16 (4x the data), compressed in one run of
 # this script: the memory the run adds (the tool's peak RSS over its RSS before compressing,

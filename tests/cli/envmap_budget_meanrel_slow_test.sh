@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 14's goal in the mean of per-normal relative errors (docs/budget.md, "In mean-rel, with
+# The budget's goal in the mean of per-normal relative errors (docs/budget.md, "In mean-rel, with
 # the fit to the metric"): with `--error-metric mean-rel --sh-fit metric --max-lights 4` each of
 # the eight blender-data HDRIs and the five probes of ../shared/data is within 1% at no more
 # shader cost than 5 bands of pure SH (129 operations), measured at the 1030 validation normals

@@ -32,7 +32,7 @@ expect_true "ES 1.00 table is RGBA8 within 16 uniform vectors" -- jq -e \
 expect_true "RGBA8 data is width x height x 4 bytes" -- bash -c "test \$(stat -c %s '$WORK/g/satin-es100-consistent-b3-highp.brdf.bin') -eq \
     \$(jq '.textures[0].width * .textures[0].height * 4' '$WORK/g/satin-es100-consistent-b3-highp.json')"
 
-# Dominant lights (issue 14): a lighting file from envmap-project --max-error (a sky of 1 with a
+# Dominant lights: a lighting file from envmap-project --max-error (a sky of 1 with a
 # one-pixel sun of 30,000), exported into the consistent variants and compared in render.
 EP="$BIN/envmap-project"
 "$TBIN/inlight_make_test_image" "$WORK/sun.exr" 256 128 1 40 40 30000
