@@ -16,7 +16,8 @@ using namespace inlight;
 int main(int argc, char** argv) {
     CLI::App cli{
         "brdf-sh-bake: project a material's cosine-weighted specular/sheen lobe into SH "
-        "at each normal of a grid (view fixed) and report the table's error"};
+        "at each normal of a grid (view fixed) and report the table's error",
+        "brdf-sh-bake"};
     app::CommonArgs common;
     std::string material_path, output, grid_spec = "thetaphi:9x32", integrator = "gauss-legendre";
     std::string view_deg, view_xyz;

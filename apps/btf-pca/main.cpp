@@ -9,7 +9,8 @@ using namespace inlight;
 
 int main(int argc, char** argv) {
     CLI::App cli{"btf-pca: PCA compression of a bidirectional texture function per group of k "
-                 "neighbouring views, components as 8-bit PNG (or EXR) ordered for streaming"};
+                 "neighbouring views, components as 8-bit PNG (or EXR) ordered for streaming",
+                 "btf-pca"};
     app::CommonArgs common;
     btf::PcaRunOptions o;
     std::string method = "auto", format = "png";

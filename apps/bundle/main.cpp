@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
     app.add_flag_callback(
         "--version",
         [] {
-            std::cout << "bundle " << version_string() << "\n";
+            std::cout << version_line("bundle") << "\n";
             throw CLI::Success();
         },
         "Print the version and exit");

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     app.add_flag_callback(
         "--version",
         [] {
-            std::cout << "calibrate " << version_string() << "\n";
+            std::cout << version_line("calibrate") << "\n";
             throw CLI::Success();
         },
         "Print the version and exit");

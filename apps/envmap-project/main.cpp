@@ -190,7 +190,8 @@ nlohmann::json process(const Args& a, const envmap::BudgetSetup* budget, const s
 
 int main(int argc, char** argv) {
     CLI::App cli{"envmap-project: project HDR environments onto real spherical harmonics (R&H 2001 "
-                 "convention, z up, Cycles lat-long) and report irradiance error"};
+                 "convention, z up, Cycles lat-long) and report irradiance error",
+                 "envmap-project"};
     app::CommonArgs common;
     Args a;
     cli.add_option("inputs", a.inputs, "Environment images (EXR, HDR, ...; linear_srgb), or 8-bit "

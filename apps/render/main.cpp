@@ -39,7 +39,8 @@ std::string default_stderr_path(const std::string& output) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"render: ground-truth path tracer (Embree) of a scene file, float EXR output"};
+    CLI::App app{"render: ground-truth path tracer (Embree) of a scene file, float EXR output",
+                 "render"};
     app::CommonArgs common;
     render::RenderOptions opt;
     render::CompareOptions cmp;

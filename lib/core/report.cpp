@@ -10,12 +10,6 @@
 
 namespace inlight {
 
-#ifndef INLIGHT_VERSION
-#define INLIGHT_VERSION "0.0.0"
-#endif
-
-std::string version_string() { return INLIGHT_VERSION; }
-
 namespace {
 std::string utc_now() {
     const std::time_t t = std::time(nullptr);
@@ -68,6 +62,7 @@ nlohmann::json Report::to_json(const std::string& status, int exit_code,
                             .count();
     return {{"tool", m_tool},
             {"version", version_string()},
+            {"commit", build_commit()},
             {"status", status},
             {"exit_code", exit_code},
             {"argv", m_argv},

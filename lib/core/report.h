@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/version.h"
+
 namespace inlight {
 
 /// Collects what a run did: inputs (with sha256), outputs, resolved options, time per stage,
@@ -85,8 +87,5 @@ class ScopedStage {
     std::string m_stage;
     std::chrono::steady_clock::time_point m_start;
 };
-
-/// Library version string, e.g. "0.1.0".
-std::string version_string();
 
 }  // namespace inlight
