@@ -1,5 +1,6 @@
 #include "bundle/cli.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -143,6 +144,15 @@ void run_pack(const PackToolOptions& o, Report& report) {
     }
     for (const std::string& spec : o.files) {
         const FileSpec f = parse_file_spec(spec);
+        // An unknown role is the caller's mistake, found before any work: a usage error.
+        const auto& roles = roles_for(req.kind);
+        if (std::none_of(roles.begin(), roles.end(),
+                         [&](const RoleSpec& r) { return f.role == r.role; })) {
+            std::string known;
+            for (const RoleSpec& r : roles) known += str(known.empty() ? "" : ", ", r.role);
+            throw UsageError(str("--file '", spec, "': '", f.role, "' is not a ", o.kind,
+                                 " role (roles: ", known, ")"));
+        }
         req.files.push_back({f.source, f.path, f.role, f.stream_index});
     }
     const std::string dest =

@@ -1,5 +1,6 @@
 #include "core/app.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -131,7 +132,7 @@ void setup(CLI::App& app, CommonArgs& common, const std::string& example) {
     app.add_flag_callback(
         "--version",
         [&app]() {
-            std::cout << app.get_name() << " " << version_string() << "\n";
+            std::cout << version_line(app.get_name()) << "\n";
             throw CLI::Success();
         },
         "Print the version and exit");
@@ -251,6 +252,51 @@ void check_report_writable(const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// Levenshtein distance, for the "did you mean" of an unknown option.
+size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+            diagonal = up;
+        }
+    }
+    return row[b.size()];
+}
+
+// Throws a usage error naming the first long option in args that `app` does not have (with the
+// nearest one it has), before CLI11 parses: CLI11 first feeds such a word's value to the
+// positional arguments and reports that instead ("inputs: File does not exist: 3" for
+// `--bandz 3`). Words after "--" are positional.
+void check_long_options(const CLI::App& app, int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word == "--") return;
+        if (word.size() < 3 || word.compare(0, 2, "--") != 0) continue;
+        const std::string name = word.substr(0, word.find('='));
+        if (app.get_option_no_throw(name) != nullptr) continue;
+        std::string nearest;
+        size_t best = 4;  // suggest only a near miss: at most 3 edits
+        for (const CLI::Option* opt : app.get_options()) {
+            for (const std::string& known : opt->get_lnames()) {
+                const size_t d = edit_distance(name.substr(2), known);
+                if (d < best) best = d, nearest = "--" + known;
+            }
+        }
+        throw CLI::ValidationError(
+            name, nearest.empty() ? "unknown option (see --help)"
+                                  : "unknown option (did you mean " + nearest + "?)");
+    }
+}
+
+}  // namespace
+
 std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip) {
     // Safety net: every floating-point option rejects NaN and Inf, whether or not the tool gave
     // it one of the finite checks of core/validators.h (CLI11's Range lets NaN through).
@@ -273,6 +319,7 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip) {
         config->set_source(option_value_in(argc, argv, "--config"));
     }
     try {
+        check_long_options(app, argc - skip, argv + skip);
         app.parse(argc - skip, argv + skip);
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e) == 0 ? kExitOk : kExitUsage;

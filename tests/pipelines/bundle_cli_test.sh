@@ -21,8 +21,8 @@ expect_true "maps: 64 px albedo, derived normals, 16 px thumbnail" -- \
 printf 'specular = "lambert"\n' > "$WORK/mat.toml"
 files=(--file "albedo=$WORK/m/albedo.png" --file "normal=$WORK/m/normal.png"
     --file "thumbnail=$WORK/m/thumbnail.png" --file "material=$WORK/mat.toml@material.toml")
-expect_exit 1 "pack: unknown role" -- "$B" pack --kind fabric --id w "${files[@]}" --file "sparkle=$WORK/mat.toml" -o "$WORK/b"
-expect_stderr "'sparkle' is not a fabric role" "names the role"
+expect_exit 2 "pack: unknown role is a usage error" -- "$B" pack --kind fabric --id w "${files[@]}" --file "sparkle=$WORK/mat.toml" -o "$WORK/b"
+expect_stderr "'sparkle' is not a fabric role (roles: albedo" "names the role and the roles a fabric may hold"
 expect_exit 1 "pack: missing source" -- "$B" pack --kind fabric --id w "${files[@]}" --file "brdf_sh_table=$WORK/nope.bin" -o "$WORK/b"
 expect_stderr "nope.bin: not found" "names the file"
 expect_true "failed packs leave nothing" -- test ! -e "$WORK/b/fabrics/w"

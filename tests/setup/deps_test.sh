@@ -42,43 +42,54 @@ mapfile -t deb_closure < <(printf '%s\n' "${deb_packages[@]}"
         tr ',|' '\n' | sed -E 's/\(.*\)//; s/:any//; s/^ +| +$//g' | grep .)
 in_deps() { local p; for p in "${deb_closure[@]}"; do [ "$p" = "$1" ] && return 0; done; return 1; }
 
-# package_of PATH: the Debian package that owns PATH, through symlinks (alternatives) and
-# merged /usr (dpkg knows /bin/dd, the shell finds /usr/bin/dd).
-package_of() {
-    local p candidates=("$1" "$(readlink -f "$1")")
-    candidates+=("${1/#\/usr\/bin\//\/bin/}" "${1/#\/usr\/sbin\//\/sbin/}")
-    for p in "${candidates[@]}"; do
-        dpkg -S "$p" 2>/dev/null | grep -v '^diversion' | head -n 1 | cut -d: -f1 | grep . && return 0
-    done
-    return 1
-}
-
-n=0
-declare -A seen
+# The commands, each once, with the first script that runs it; shell functions are not commands.
+declare -A where
 while IFS=$'\t' read -r cmd file; do
-    [ -n "${seen[$cmd]:-}" ] && continue
-    seen[$cmd]=1
+    [ -n "${where[$cmd]:-}" ] && continue
     is_function "$cmd" && continue
     [ "$file" = "$recipes" ] && file=Makefile
-    n=$((n + 1))
-    path=$(PATH=/usr/sbin:/usr/bin:/sbin:/bin type -P "$cmd")
+    where[$cmd]=$file
+done < <(perl "$HERE/list_commands.pl" "${scripts[@]}" "${cxx[@]}" "$recipes")
+
+# Where each command is, and the paths dpkg may know it by: through symlinks (alternatives) and
+# merged /usr (dpkg knows /bin/dd, the shell finds /usr/bin/dd). Their owners are read from
+# dpkg's file lists in one pass (dpkg -S per path takes seconds for the ~70 commands).
+declare -A path_of
+for cmd in "${!where[@]}"; do
+    path_of[$cmd]=$(PATH=/usr/sbin:/usr/bin:/sbin:/bin type -P "$cmd")
+done
+candidates() {
+    [ -n "$1" ] || return 0
+    printf '%s\n' "$1" "$(readlink -f "$1")" "${1/#\/usr\/bin\//\/bin/}" "${1/#\/usr\/sbin\//\/sbin/}"
+}
+for cmd in "${!path_of[@]}"; do candidates "${path_of[$cmd]}"; done | sort -u > "$WORK/paths"
+declare -A owner
+while IFS=: read -r list path; do
+    pkg=$(basename "$list" .list)
+    owner[$path]=${pkg%%:*}
+done < <(grep -xF -f "$WORK/paths" /var/lib/dpkg/info/*.list)
+
+for cmd in $(printf '%s\n' "${!where[@]}" | sort); do
+    file=${where[$cmd]}
+    path=${path_of[$cmd]}
     if [ -z "$path" ]; then
         fail "'$cmd' (run by $file) is not installed from a Debian package: add its package to DEB_PACKAGES"
         continue
     fi
-    pkg=$(package_of "$path")
+    pkg=
+    while read -r p; do
+        [ -n "${owner[$p]:-}" ] && { pkg=${owner[$p]}; break; }
+    done < <(candidates "$path")
     if [ -z "$pkg" ]; then
         fail "'$cmd' ($path, run by $file) belongs to no Debian package"
-        continue
-    fi
-    if in_deps "$pkg"; then
+    elif in_deps "$pkg"; then
         pass "$cmd: $pkg (make deps)"
     elif dpkg-query -W -f='${Priority} ${Essential}\n' "$pkg" | grep -qE '^required|yes$'; then
         pass "$cmd: $pkg (on a bare Debian 12)"
     else
         fail "'$cmd' (run by $file) comes from package $pkg, which make deps does not install: add it to DEB_PACKAGES"
     fi
-done < <(perl "$HERE/list_commands.pl" "${scripts[@]}" "${cxx[@]}" "$recipes")
-expect_true "found the commands the scripts run ($n; at least jq, sqlite3, file)" -- \
-    test -n "${seen[jq]:-}" -a -n "${seen[sqlite3]:-}" -a -n "${seen[file]:-}"
+done
+expect_true "found the commands the scripts run (${#where[@]}; at least jq, sqlite3, file)" -- \
+    test -n "${where[jq]:-}" -a -n "${where[sqlite3]:-}" -a -n "${where[file]:-}"
 finish

@@ -138,6 +138,7 @@ for my $file (@ARGV) {
     $text =~ s/\b(?:bash|sh) -c\s+(?:"((?:[^"\\]|\\.)*)"|'([^']*)')/" ; " . unescape($1 \/\/ $2) . " ; "/ge;
     ($text) = scan($text, 0, '');
     $text =~ s/\b[A-Za-z_][A-Za-z0-9_]*\+?=\([^()]*\)/X/g;   # array assignments
+    $text =~ s/\[\[.*?\]\]/X/g;                                  # [[ tests ]] (regexes)
     $text =~ s/(^|\n)\s*[\w*|.-]+\)/$1/g;                  # case patterns: `name)`
     for my $piece (split /\|\||&&|[|;&(){}\n!]|\bthen\b|\bdo\b|\belse\b/, $text) {
         my @words = split ' ', $piece;
