@@ -8,7 +8,9 @@
 # BTF_PCA_BENCH_ARGS="SIDE_PX DIRECTIONS K C" sizes the btf-pca run (default "256 81 1 8", Bonn
 # size: 6561 PNGs written once into BUILD/btf-pca-bench; e.g. "64 27 1 8" for a quick one).
 set -euo pipefail
-BUILD=${1:-build}
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+BUILD=${1:-$ROOT/build}
 shopt -s nullglob
 benches=("$BUILD"/bench/*)
 if [ ${#benches[@]} -eq 0 ]; then
@@ -27,7 +29,7 @@ done
 if [ -x "$BUILD/bin/envmap-project" ]; then
     echo
     echo "== envmap-load-bench (envmap-project / oiiotool --stats, back-to-back pairs)"
-    INLIGHT_BIN="$BUILD/bin" "$(dirname "$0")/envmap-load-bench.sh" "$BUILD/envmap-load-bench" \
+    INLIGHT_BIN="$BUILD/bin" "$HERE/envmap-load-bench.sh" "$BUILD/envmap-load-bench" \
         "${ENVMAP_LOAD_PAIRS:-10}" | grep -v '^pair '
 fi
 
@@ -37,7 +39,7 @@ if [ -x "$BUILD/bin/render" ]; then
     echo
     echo "== render-convergence (sphere 64^2, patch 32^2, up to 1024 spp)"
     # shellcheck disable=SC2086 # the arguments are a list of words
-    INLIGHT_BIN="$BUILD/bin" "$(dirname "$0")/render-convergence.sh" "$BUILD/render-convergence" \
+    INLIGHT_BIN="$BUILD/bin" "$HERE/render-convergence.sh" "$BUILD/render-convergence" \
         ${RENDER_CONVERGENCE_ARGS:-1024 64 32 1024} | grep -v '^render-convergence: /'
 fi
 
@@ -47,6 +49,6 @@ if [ -x "$BUILD/bin/btf-pca" ] && [ -x "$BUILD/bench/btf_bench" ]; then
     echo
     echo "== btf-pca-bench (btf_bench --write-ubo2003, then btf-pca under /usr/bin/time -v)"
     # shellcheck disable=SC2086 # the arguments are a list of words
-    INLIGHT_BIN="$BUILD/bin" BTF_BENCH="$BUILD/bench/btf_bench" "$(dirname "$0")/btf-pca-bench.sh" \
+    INLIGHT_BIN="$BUILD/bin" BTF_BENCH="$BUILD/bench/btf_bench" "$HERE/btf-pca-bench.sh" \
         "$BUILD/btf-pca-bench" ${BTF_PCA_BENCH_ARGS:-256 81 1 8}
 fi

@@ -4,10 +4,12 @@
 # from the run report. Long (minutes): run it under nice on a shared machine.
 #   pipelines/btf-capture-bench.sh [BUILD] [SIZE_PX] [SPP] [FABRIC] [OUT]
 set -euo pipefail
-BUILD=${1:-build}
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+BUILD=${1:-$ROOT/build}
 SIZE=${2:-128}
 SPP=${3:-4}
-FABRIC=${4:-configs/fabrics/wool-twill.toml}
+FABRIC=${4:-$ROOT/configs/fabrics/wool-twill.toml}
 OUT=${5:-$(mktemp -d)/capture}
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(date -u +%F), load $(cut -d' ' -f1-3 /proc/loadavg)"
 /usr/bin/time -f "cpu: user %U s, sys %S s, wall %e s, max rss %M KB" \

@@ -23,25 +23,27 @@
 # seed; a capture of other settings under OUT is an error (use another OUT), an unfinished one
 # (killed run, no ok report) is done again. Minutes per capture: run it under nice.
 set -euo pipefail
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
 OUT=${1:-out/btf-eval}
 SIZE=${2:-32}
 CAP_PX=${3:-64}
 CAP_SPP=${4:-4}
 SETS=${BTF_EVAL_SETS:-woven analytic}
-FABRICS=${BTF_EVAL_FABRICS:-$(for t in configs/fabrics/*.toml; do basename "$t" .toml; done)}
+FABRICS=${BTF_EVAL_FABRICS:-$(for t in "$ROOT"/configs/fabrics/*.toml; do basename "$t" .toml; done)}
 NOISE_FABRICS=${NOISE_FABRICS:-wool-twill}
 KS=${BTF_EVAL_KS:-1 3 9 81}
 read -r -a PCA_ARGS <<<"${BTF_PCA_ARGS:-}"
 CAPTURES=${BTF_EVAL_CAPTURES:-$OUT}
-BIN=${INLIGHT_BIN:-build/bin}
-TBIN=${INLIGHT_TEST_BIN:-build/tests}
+BIN=$(tool_bin)
+TBIN=${INLIGHT_TEST_BIN:-$ROOT/build/tests}
 say() { echo "[btf-eval] $*" >&2; }
 die() { echo "btf-eval: $*" >&2; exit "${2:-1}"; }
 for v in "$SIZE" "$CAP_PX" "$CAP_SPP"; do
     [[ $v =~ ^[1-9][0-9]*$ ]] || die "SIZE_PX, CAP_PX and CAP_SPP must be positive integers, got '$v'" 2
 done
 for f in $FABRICS; do
-    [ -f "configs/fabrics/$f.toml" ] || die "BTF_EVAL_FABRICS: configs/fabrics/$f.toml not found (run from the repository root)" 2
+    [ -f "$ROOT/configs/fabrics/$f.toml" ] || die "BTF_EVAL_FABRICS: $ROOT/configs/fabrics/$f.toml not found" 2
 done
 for k in $KS; do
     [[ $k =~ ^[1-9][0-9]*$ ]] || die "BTF_EVAL_KS must hold positive integers, got '$k'" 2
@@ -156,7 +158,7 @@ capture() {
 
 if [[ " $SETS " == *" woven "* ]]; then
     for name in $FABRICS; do
-        toml=configs/fabrics/$name.toml
+        toml=$ROOT/configs/fabrics/$name.toml
         mkdir -p "$OUT/$name"
         capture "$toml" "$CAPTURES/$name/capture" 1
         ref=""

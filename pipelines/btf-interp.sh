@@ -7,11 +7,13 @@
 # path-traced truth. Steps whose output exists are skipped.
 #   pipelines/btf-interp.sh [BUILD] [OUT] [SIZE_PX] [SPP] [FABRIC] [COMPONENTS] [TRUTH_SPP] [ENV...]
 set -euo pipefail
-BUILD=${1:-build}
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+BUILD=${1:-$ROOT/build}
 OUT=${2:-out/btf-interp}
 SIZE=${3:-64}
 SPP=${4:-8}
-FABRIC=${5:-configs/fabrics/wool-twill.toml}
+FABRIC=${5:-$ROOT/configs/fabrics/wool-twill.toml}
 C=${6:-16}
 TSPP=${7:-128}
 shift $(( $# < 7 ? $# : 7 ))
@@ -23,7 +25,7 @@ mkdir -p "$OUT"
     "$R" "$FABRIC" --btf-capture -o "$OUT/grid" "${CAP[@]}" --seed 1 --report "$OUT/grid.json"
 for s in offgrid beyond ongrid; do
     [ -s "$OUT/$s/capture.json" ] || "$R" "$FABRIC" --btf-capture -o "$OUT/$s" \
-        --btf-pairs "configs/btf/interp-$s-pairs.txt" "${CAP[@]}" --seed 2 --report "$OUT/$s.json"
+        --btf-pairs "$ROOT/configs/btf/interp-$s-pairs.txt" "${CAP[@]}" --seed 2 --report "$OUT/$s.json"
 done
 for c in "$C" 4; do
     [ -s "$OUT/pca$c/btf-pca.json" ] ||
@@ -35,7 +37,7 @@ for src in grid "pca$C"; do
     for scheme in nearest thesis delaunay; do
         for s in offgrid beyond ongrid; do
             r="$OUT/i-$src-$scheme-$s"
-            [ -s "$r.json" ] || "$P" "$OUT/$src" --interpolate "configs/btf/interp-$s-pairs.txt" \
+            [ -s "$r.json" ] || "$P" "$OUT/$src" --interpolate "$ROOT/configs/btf/interp-$s-pairs.txt" \
                 --scheme "$scheme" --truth "$OUT/$s" -o "$r" --report "$r.json" -q
             jq -r --arg src "$src" --arg s "$s" '.metrics.interpolation as $m | $m.mean_errors as $e |
                 "| \($src) | \($m.scheme) | \($s) (\($m.pairs)) | \($e.mae_lab * 100 | round / 100) | \($e.delta_e2000_mean * 100 | round / 100) | \($e.rmse_rgb8 * 100 | round / 100) | \($e.rel_rmse * 1000 | round / 1000) | \($e.mean_rel_diff * 1000 | round / 10)% | \($m.pairs_outside_measured_region) |"' "$r.json"
@@ -63,7 +65,7 @@ for blend in "--view-neighbours 1" "--view-neighbours 3" "--view-interp thesis" 
     tag=${blend// /_}
     # shellcheck disable=SC2086  # $blend is an option and its value
     [ -s "$OUT/views$tag.json" ] || "$R" "$FABRIC" --btf-shade "$OUT/grid" --environment "${ENVS[0]}" $blend \
-        --shade-views configs/btf/interp-shade-views.txt -o "$OUT/views$tag" --spp "$TSPP" --threads 2 \
+        --shade-views "$ROOT/configs/btf/interp-shade-views.txt" -o "$OUT/views$tag" --spp "$TSPP" --threads 2 \
         --report "$OUT/views$tag.json" -q
     jq -r --arg b "$blend" '.metrics.btf_shade.results[] |
         "| \($b) | \(.view_deg[0]), \(.view_deg[1]) | \(.mean_rel * 1000 | round / 1000) | \(.mean_de2000 * 100 | round / 100) | \(.mean_luminance_rel_diff * 1000 | round / 10)% |"' "$OUT/views$tag.json"

@@ -6,12 +6,14 @@
 # Environments default to blender-data's studio lights and a synthetic sun (a 0.2 sky with one
 # 2e4 pixel of a 128 x 64 map at theta 41, phi 66 deg, 0.0016 sr: ~97% of the irradiance).
 set -euo pipefail
-BUILD=${1:-build}
+# shellcheck source=pipelines/lib.sh
+. "$(dirname "$0")/lib.sh"
+BUILD=${1:-$ROOT/build}
 OUT=${2:-out/btf-shade}
 SIZE=${3:-64}
 CSPP=${4:-8}
 TSPP=${5:-256}
-FABRIC=${6:-configs/fabrics/wool-twill.toml}
+FABRIC=${6:-$ROOT/configs/fabrics/wool-twill.toml}
 shift $(( $# < 6 ? $# : 6 ))
 mkdir -p "$OUT"
 W=/usr/share/blender/datafiles/studiolights/world

@@ -7,10 +7,10 @@
 # Goal: every map within 1% mean relative irradiance error at no more shader cost
 # than 5 bands of pure SH. Both metrics are tabled; the budget's own is abs-over-mean.
 set -euo pipefail
-BUILD=${1:-build}
-OUT=${2:-docs/budget}
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
+BUILD=${1:-$ROOT/build}
+OUT=${2:-$ROOT/docs/budget}
 EP="$BUILD/bin/envmap-project"
 GOAL=${GOAL:-0.01}
 # The budget's metric and how each candidate's SH are found (docs/budget.md, "--sh-fit").
@@ -22,7 +22,7 @@ VALIDATE_NORMALS=${VALIDATE_NORMALS:-1024}
 MAX_LIGHTS=${MAX_LIGHTS:-3}
 [ -x "$EP" ] || { echo "budget-tradeoff: $EP not built" >&2; exit 1; }
 BLENDER=/usr/share/blender/datafiles/studiolights/world
-PROBES="$ROOT/../shared/data/probes-latlong"
+PROBES="$SHARED/data/probes-latlong"
 maps=()
 for m in "$BLENDER"/*.exr "$PROBES"/*.hdr; do [ -e "$m" ] && maps+=("$m"); done
 if [ "${#maps[@]}" -eq 0 ]; then

@@ -4,9 +4,9 @@
 #   pipelines/calibrate_ros.sh [OUT] [FRAME]    (binaries from ${INLIGHT_BIN:-build/bin})
 set -euo pipefail
 OUT=${1:-out/calibrate_ros}
-BIN=${INLIGHT_BIN:-build/bin}
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
+BIN=$(tool_bin)
 DATA="$SHARED/data/fisheye-ros-mono"
 FRAME=${2:-$DATA/left-0000.png}
 if [ ! -d "$DATA" ]; then

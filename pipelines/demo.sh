@@ -3,9 +3,9 @@
 #   pipelines/demo.sh [OUT]       (binaries from ${INLIGHT_BIN:-build/bin})
 set -euo pipefail
 OUT=${1:-out}
-BIN=${INLIGHT_BIN:-build/bin}
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
+BIN=$(tool_bin)
 HDRI_DIR=/usr/share/blender/datafiles/studiolights/world
 mkdir -p "$OUT"
 

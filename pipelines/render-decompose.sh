@@ -12,10 +12,10 @@
 #        BUDGET_S (600), MAX_BANDS (5), LIGHTS (1), LIGHT_ERROR (0.01: the budget of the lights
 #        model); PLOT_ONLY=1 redraws the plots from OUT/decomposition.tsv
 set -euo pipefail
-BUILD=${1:-build}
-OUT=${2:-docs/decomposition}
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
+BUILD=${1:-$ROOT/build}
+OUT=${2:-$ROOT/docs/decomposition}
 R="$BUILD/bin/render"
 EP="$BUILD/bin/envmap-project"
 SCENES=${SCENES:-patch_city patch_report sphere_city drape_velvet}
