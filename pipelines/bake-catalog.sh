@@ -7,7 +7,7 @@
 #     --slurm   submit every job to Slurm with sbatch (generic --cluster mode, status through
 #               scontrol: no accounting database needed); SBATCH_ARGS adds sbatch options
 # Rerun it at any time: only what changed (by content) is rebuilt; after a kill, the jobs that
-# were running are redone and nothing else. Binaries from ${INLIGHT_BIN:-build/bin}.
+# were running are redone and nothing else. Binaries from ${INLIGHT_BIN:-ROOT/build/bin} (ROOT: the repository).
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"

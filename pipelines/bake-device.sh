@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bake-device: chessboard photos of a device and lens -> calibrate -> the direction, solid-angle
 # and mask maps (full size and downscaled) and the calibration in a device bundle, verified.
-#   pipelines/bake-device.sh DEVICE_DIR OUT [ID]         (binaries from ${INLIGHT_BIN:-build/bin})
+#   pipelines/bake-device.sh DEVICE_DIR OUT [ID]         (binaries from ${INLIGHT_BIN:-ROOT/build/bin})
 # DEVICE_DIR holds calibrate.toml: `calibrate geometry` options, including `inputs` (the photos
 # or their folders; relative paths are relative to DEVICE_DIR) and optionally name.txt (one
 # line: the device's name for the catalogue). Each step writes OUT/work/devices/ID/<step>/ with

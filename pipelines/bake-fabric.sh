@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bake-fabric: one fabric folder -> its bundle, verified (docs/pipelines.md).
-#   pipelines/bake-fabric.sh FABRIC_DIR OUT [ID [BTF_DIR]]   (binaries from ${INLIGHT_BIN:-build/bin})
+#   pipelines/bake-fabric.sh FABRIC_DIR OUT [ID [BTF_DIR]]   (binaries from ${INLIGHT_BIN:-ROOT/build/bin})
 # FABRIC_DIR holds fabric.toml (`bundle fabric-maps` options; relative paths are relative to
 # FABRIC_DIR), material.toml (a brdf-sh-bake material), optionally brdf-sh-bake.toml (bake and
 # --gles-* export options; default configs/brdf-sh-bake.toml), btf-pca.toml (default

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # End to end on real data: calibrate the ROS fisheye set, then light from one of its frames (a room
 # with ceiling lights): envmap-project fits SH to the frame with the direction and solid-angle maps.
-#   pipelines/calibrate_ros.sh [OUT] [FRAME]    (binaries from ${INLIGHT_BIN:-build/bin})
+#   pipelines/calibrate_ros.sh [OUT] [FRAME]    (binaries from ${INLIGHT_BIN:-ROOT/build/bin})
 set -euo pipefail
 OUT=${1:-out/calibrate_ros}
 # shellcheck source=pipelines/lib.sh

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The sample pipeline on real data: every stage writes $OUT/<step>/ with its own --report.
-#   pipelines/demo.sh [OUT]       (binaries from ${INLIGHT_BIN:-build/bin})
+#   pipelines/demo.sh [OUT]       (binaries from ${INLIGHT_BIN:-ROOT/build/bin})
 set -euo pipefail
 OUT=${1:-out}
 # shellcheck source=pipelines/lib.sh

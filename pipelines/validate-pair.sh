@@ -6,7 +6,7 @@
 # The scene is the app's case: the fabric on the screen (z = 0, facing +z), seen along -z by an
 # orthographic camera, a PATCH_WIDTH_M-wide patch (0.1 m) showing the bundle's textures tiled at
 # its tile_size_m, lit by the environment (lat-long, device frame). Render options come from
-# ${VALIDATE_RENDER_CONFIG:-configs/pipelines/validate.toml}; the real-time model bakes the BRDF
+# ${VALIDATE_RENDER_CONFIG:-ROOT/configs/pipelines/validate.toml}; the real-time model bakes the BRDF
 # table with the bundle's grid and samples per normal, so it is the table the bundle ships.
 # Two optional studies join the pair's summary:
 #   - the band budget (VALIDATE_MAX_ERROR, default 0.01; 0 = off): envmap-project --max-error on
