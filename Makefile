@@ -67,8 +67,12 @@ fuzz:
 
 test: deps build test-only
 
+# ctest lists skipped tests without a reason: skip_reasons.sh prints each one's from its output,
+# then ctest's summary line again; the exit code is ctest's.
 test-only:
-	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD) && { ctest --output-on-failure -j $(JOBS); echo $$? > ctest.rc; } 2>&1 | tee ctest.log
+	@$(CURDIR)/tests/skip_reasons.sh $(BUILD)/ctest.log $(BUILD)/Testing/Temporary/LastTest.log
+	@exit $$(cat $(BUILD)/ctest.rc)
 
 bench: build
 	./pipelines/bench.sh $(BUILD)
