@@ -2,6 +2,7 @@
 // the GLES shader, and report how exact the table is (lib/brdf/bake.h, docs/brdf.md).
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "brdf/bake.h"
 #include "brdf/glsl.h"
@@ -62,9 +63,16 @@ int main(int argc, char** argv) {
                    "whose SH truncation error of radiance under the test lightings is <= this "
                    "(relative); exit 3 if 8 bands do not meet it")
         ->check(app::finite_positive());
-    cli.add_flag("--validate", full_validate,
-                 "Check every grid node and 256 off-grid normals "
-                 "(default: at most 64 nodes and 64 normals)");
+    auto* full = cli.add_flag("--validate", full_validate,
+                              "Check every grid node and 256 off-grid normals "
+                              "(default: at most 64 nodes and 64 normals)");
+    bool no_reference = false;
+    cli.add_flag("--no-reference-check", no_reference,
+                 "Skip the check against a converged reference: most of a default run's time "
+                 "(the run ends saying how much), but the table and report then carry no error "
+                 "figures. Not with --max-error (its band choice needs the reference) or "
+                 "--validate")
+        ->excludes(full);
     gles::ExportArgs gles_args;
     gles::add_export_options(cli, gles_args);
     app::setup(cli, common,
@@ -74,6 +82,10 @@ int main(int argc, char** argv) {
 
     return app::run("brdf-sh-bake", cli, common, argc, argv, [&](Report& report) {
         fs::check_output_stem(output, "-o");
+        if (no_reference && max_error > 0) {
+            throw UsageError("--no-reference-check: --max-error chooses the bands from the "
+                             "reference's truncation errors; give --sh-bands instead");
+        }
         report.add_input(material_path);
         for (const char* suffix : {".bin", ".json", ".glsl", "_texture.exr"})
             fs::declare_output(output + suffix, "-o");
@@ -107,11 +119,16 @@ int main(int argc, char** argv) {
             vopt.max_nodes = 0;
             vopt.test_normals = 256;
         }
+        double reference_s = 0;
         const brdf::ReferenceSet ref = [&] {
+            if (no_reference) return brdf::ReferenceSet{};
             ScopedStage stage(report, "reference");
-            return brdf::make_reference(material, grid, o.view, vopt);
+            brdf::ReferenceSet r = brdf::make_reference(material, grid, o.view, vopt);
+            reference_s = stage.elapsed_s();
+            return r;
         }();
-        const std::vector<double> by_bands = brdf::truncation_by_bands(ref);
+        const std::vector<double> by_bands =
+            no_reference ? std::vector<double>{} : brdf::truncation_by_bands(ref);
         int chosen = 0;
         if (max_error > 0) {
             chosen = brdf::choose_bands(by_bands, max_error);
@@ -126,10 +143,12 @@ int main(int argc, char** argv) {
             table = brdf::bake(material, grid, o);
             bake_s = stage.elapsed_s();
         }
-        brdf::Validation v = [&] {
+        const std::optional<brdf::Validation> v = [&]() -> std::optional<brdf::Validation> {
+            if (no_reference) return std::nullopt;
             ScopedStage stage(report, "validate");
             return brdf::validate(ref, table);
         }();
+        const nlohmann::json errors = v ? v->to_json() : nlohmann::json(nullptr);
         nlohmann::json meta = {
             {"tool", "brdf-sh-bake"},
             {"version", version_string()},
@@ -144,7 +163,7 @@ int main(int argc, char** argv) {
             {"samples_per_normal", o.samples},
             {"seed", o.seed},
             {"bake_time_s", bake_s},
-            {"error", v.to_json()}};
+            {"error", errors}};
         brdf::write_binary(output + ".bin", table);
         brdf::write_json(output + ".json", table, meta);
         fs::write_text_atomic(output + ".glsl", brdf::glsl_lookup_source(table));
@@ -161,7 +180,8 @@ int main(int argc, char** argv) {
             }
         }
         auto& m = report.metrics();
-        m = v.to_json();
+        if (v) m = errors;
+        m["reference_check"] = !no_reference;
         m["model"] = brdf::to_string(material.specular);
         m["grid"] = brdf::to_string(grid);
         m["sh_bands"] = o.sh_bands;
@@ -176,10 +196,17 @@ int main(int argc, char** argv) {
             m["max_error"] = max_error;
             m["chosen_sh_bands"] = chosen;
         }
-        log::info(str("integration error ", v.integration_radiance_max_rel, ", interpolation ",
-                      v.interpolation_radiance_max_rel, ", truncation ",
-                      v.truncation_radiance_max_rel, ", total ", v.total_radiance_max_rel,
-                      " (radiance, relative); bake ", bake_s, " s"));
+        if (v) {
+            log::info(str("integration error ", v->integration_radiance_max_rel,
+                          ", interpolation ", v->interpolation_radiance_max_rel, ", truncation ",
+                          v->truncation_radiance_max_rel, ", total ", v->total_radiance_max_rel,
+                          " (radiance, relative); bake ", bake_s, " s"));
+            log::info(str("reference check: ", std::round(reference_s * 100) / 100, " s of this run "
+                          "(--no-reference-check skips it, and these error figures)"));
+        } else {
+            log::info(str("bake ", bake_s, " s; no reference check (--no-reference-check): the "
+                          "table's error is not measured"));
+        }
         if (max_error > 0 && chosen == 0) {
             throw app::QualityGateFailed(str("8 SH bands leave a truncation error of ",
                                              by_bands.back(), " > --max-error ", max_error));

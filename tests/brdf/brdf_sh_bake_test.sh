@@ -77,6 +77,26 @@ expect_exit 3 "unreachable --max-error" -- "$BAKE" --material "$MAT" --grid octa
 expect_true "status quality_gate_failed" -- jq -e '.status == "quality_gate_failed"' "$WORK/gate_run.json"
 expect_true "outputs written despite the gate" -- test -s "$WORK/gate.bin"
 
+# The reference check can be skipped: the table is the same bytes (the reference only measures
+# it), the table and report say no error was measured, and a default run says what it cost.
+expect_exit 0 "bake with the reference check" -- "$BAKE" --material "$MAT" --grid octa:5 -o "$WORK/rc" \
+    --report "$WORK/rc_run.json"
+expect_stderr "reference check: [0-9.]* s of this run (--no-reference-check skips it" "says what the check costs"
+expect_exit 0 "--no-reference-check" -- "$BAKE" --material "$MAT" --grid octa:5 -o "$WORK/norc" \
+    --report "$WORK/norc_run.json" --no-reference-check
+expect_true "same table bytes without the check" -- cmp -s "$WORK/rc.bin" "$WORK/norc.bin"
+expect_true "no reference stage, report says so" -- jq -e '.metrics.reference_check == false and
+    (.stage_time_s | has("reference") | not) and (.metrics | has("total_radiance_max_rel") | not)' "$WORK/norc_run.json"
+expect_true "the checked run has the stage and its figures" -- jq -e '.metrics.reference_check == true and
+    .stage_time_s.reference > 0 and .metrics.total_radiance_max_rel >= 0' "$WORK/rc_run.json"
+expect_true "the table's error is null, not a figure" -- jq -e '.error == null' "$WORK/norc.json"
+expect_exit 2 "--no-reference-check with --max-error" -- "$BAKE" --material "$MAT" --grid octa:5 \
+    -o "$WORK/x1" --no-reference-check --max-error 0.1
+expect_stderr "give --sh-bands instead" "says why and what to do"
+expect_true "and wrote nothing" -- test ! -e "$WORK/x1.bin"
+expect_exit 2 "--no-reference-check with --validate" -- "$BAKE" --material "$MAT" --grid octa:5 \
+    -o "$WORK/x2" --no-reference-check --validate
+
 # --config with an unknown key is a usage error.
 printf 'grid = "octa:5"\nfrobnicate = 1\n' > "$WORK/bad.toml"
 expect_exit 2 "unknown config key" -- "$BAKE" --config "$WORK/bad.toml" --material "$MAT" -o "$WORK/x"
