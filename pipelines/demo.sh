@@ -8,6 +8,10 @@ OUT=${1:-out}
 BIN=$(tool_bin)
 HDRI_DIR=/usr/share/blender/datafiles/studiolights/world
 mkdir -p "$OUT"
+# Everything the demo prints also goes to $OUT/demo.txt: the README points there instead of
+# copying figures that would go stale as the code changes.
+exec > >(tee "$OUT/demo.txt")
+tee_pid=$!
 
 if [ ! -d "$HDRI_DIR" ]; then
     echo "demo: $HDRI_DIR not found: run 'make deps' (Debian package blender-data)" >&2
@@ -116,4 +120,6 @@ grep -E '^\| (fabric|---|[a-z])' "$OUT/catalog/validate/summary.md" | cut -d'|' 
 echo "  ... all pairs, images and plots: $OUT/catalog/validate/index.html"
 
 echo
-echo "demo: outputs and reports in $OUT/"
+echo "demo: outputs and reports in $OUT/; this summary in $OUT/demo.txt"
+exec >&-
+wait "$tee_pid"

@@ -19,4 +19,15 @@ if [ -z "$hits" ]; then pass "no tracker numbers in README, docs, pipelines, con
 # The check itself finds one when there is one.
 printf "see i%s 14 for why\n" "$word" > "$WORK/probe.md"
 expect_true "the pattern finds a planted tracker number" -- grep -qE "$pattern" "$WORK/probe.md"
+
+# The README copies no figure of a run (they went stale: 4 of 26 demo figures differed from what
+# the tools printed): its output blocks (fenced blocks without a language) hold no decimal
+# figure, and it points at the file make demo writes instead, which demo.sh does write.
+figures=$(awk '/^```/ { if (block) { block = 0 } else { block = 1; output = ($0 == "```") }; next }
+               block && output && /[0-9]+\.[0-9]+/ { print FILENAME ":" NR ": " $0 }' README.md)
+if [ -z "$figures" ]; then pass "README's output blocks copy no figures"; else
+    fail "README copies figures of a run (quote out/demo.txt instead):"; echo "$figures" | head; fi
+expect_true "README points at out/demo.txt" -- grep -q 'out/demo.txt' README.md
+# shellcheck disable=SC2016 # the script's text, not an expansion
+expect_true "demo.sh writes OUT/demo.txt" -- grep -qF 'tee "$OUT/demo.txt"' pipelines/demo.sh
 finish
