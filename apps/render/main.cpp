@@ -8,6 +8,7 @@
 #include "core/log.h"
 #include "core/validators.h"
 #include "brdf/grid.h"
+#include "brdf/table.h"
 #include "gles/cli.h"
 #include "gles/scene.h"
 #include "image/image.h"
@@ -167,6 +168,15 @@ int main(int argc, char** argv) {
     app.add_option("--rt-bake-samples", cmp.bake_samples, "BRDF table: evaluations per normal")
         ->check(CLI::Range(16, 1 << 22))
         ->capture_default_str();
+    std::vector<std::string> brdf_tables;
+    app.add_option("--brdf-table", brdf_tables,
+                   "With --compare: validate these BRDF tables (brdf-sh-bake's .bin, one per "
+                   "scene material in scene order) instead of baking each material here at "
+                   "--rt-grid; the band sweep stops at the tables' bands")
+        ->check(CLI::ExistingFile)
+        ->needs("--compare")
+        ->excludes("--rt-grid")
+        ->excludes("--rt-bake-samples");
     app.add_option("--rt-supersample", cmp.supersample,
                    "Real-time fragments per pixel side (box filter like the path tracer)")
         ->check(CLI::Range(1, 16))
@@ -229,6 +239,38 @@ int main(int argc, char** argv) {
             if (a.height_px > 0) desc.camera.height_px = a.height_px;
             scene = std::make_unique<render::Scene>(std::move(desc));
             for (const auto& f : scene->files()) report.add_input(f);
+        }
+        // The user's BRDF tables, checked against the scene before the render.
+        for (const std::string& f : brdf_tables) {
+            report.add_input(f);
+            cmp.tables.push_back(brdf::read_binary(f));
+        }
+        if (!brdf_tables.empty()) {
+            const size_t n = scene->desc().materials.size();
+            if (cmp.tables.size() != n) {
+                throw UsageError(str("--brdf-table: ", cmp.tables.size(), " tables for the ", n,
+                                     " materials of ", a.scene, " (one each, in scene order)"));
+            }
+            int bands = brdf::kMaxBakeBands;
+            for (size_t i = 0; i < n; ++i) {
+                if (cmp.tables[i].sh_bands < 3) {
+                    throw UsageError(str("--brdf-table ", brdf_tables[i], ": ",
+                                         cmp.tables[i].sh_bands,
+                                         " SH bands; the compare needs 3 (the app's)"));
+                }
+                bands = std::min(bands, cmp.tables[i].sh_bands);
+            }
+            if (cmp.max_bands > bands) {
+                if (app.get_option("--rt-max-bands")->count() > 0) {
+                    throw UsageError(str("--rt-max-bands ", cmp.max_bands, ": the --brdf-table "
+                                         "tables have ", bands, " SH bands"));
+                }
+                log::info(str("render: band sweep 1..", bands, ", the --brdf-table tables' bands"));
+                cmp.max_bands = bands;
+            }
+        } else if (a.compare) {
+            log::info(str("render: no --brdf-table: the compare bakes each material's table here (",
+                          cmp.grid, ", ", cmp.bake_samples, " samples per normal)"));
         }
         // The reference image is read before the render: a wrong size or a bad file was found
         // only after path tracing, and an -o naming it was not caught as an input.

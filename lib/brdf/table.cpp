@@ -1,5 +1,6 @@
 #include "brdf/table.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -45,6 +46,22 @@ float mix(float x, float y, float a) { return x * (1.0f - a) + y * a; }  // GLSL
 
 void Table::resize() {
     coeffs.assign(static_cast<size_t>(channels) * grid.node_count() * coeff_count(), 0.0f);
+}
+
+Table first_bands(const Table& table, int bands) {
+    if (bands < 1 || bands > table.sh_bands) {
+        throw Error(str("BRDF table of ", table.sh_bands, " SH bands: cannot take its first ",
+                        bands));
+    }
+    Table out = table;
+    out.sh_bands = bands;
+    out.resize();
+    const size_t nodes = static_cast<size_t>(table.channels) * table.grid.node_count();
+    for (size_t node = 0; node < nodes; ++node) {
+        std::copy_n(table.coeffs.begin() + node * table.coeff_count(), out.coeff_count(),
+                    out.coeffs.begin() + node * out.coeff_count());
+    }
+    return out;
 }
 
 void lookup(const Table& t, const Eigen::Vector3f& n, int channel, float* out) {

@@ -61,6 +61,11 @@ void lookup(const Table& table, const Eigen::Vector3f& n, int channel, float* ou
 /// table, channel 0. NaN or out-of-range indices are returned as NaN coefficients.
 void lookup_report_original(const Table& table, const Eigen::Vector3f& n, float* out);
 
+/// The table at its first `bands` bands: each node's first bands^2 coefficients (SH coefficients
+/// are stored band by band, and each is projected on its own, so this equals a bake at `bands`).
+/// Precondition: 1 <= bands <= table.sh_bands (checked: Error).
+Table first_bands(const Table& table, int bands);
+
 /// Writes the binary format above (atomically). Throws Error naming the file.
 void write_binary(const std::string& path, const Table& table);
 /// Reads it back. Throws Error naming the file on a bad magic, version, size or truncation.

@@ -267,13 +267,7 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
         options.exposure > 0 ? options.exposure : render::auto_exposure(truth.radiance);
     render::RealtimeLighting lighting_sh;
     lighting_sh.coeffs = render::project_environment(scene.environment(), options.max_bands);
-    brdf::BakeOptions bo;
-    bo.sh_bands = options.max_bands;
-    bo.samples = options.bake_samples;
-    const render::Camera& cam = scene.camera();
-    bo.view = (cam.position - cam.look_at).normalized();
-    const brdf::Grid grid = brdf::parse_grid(options.grid);
-    for (const render::SurfaceMaterial& m : scene.materials()) lighting_sh.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    lighting_sh.tables = render::compare_tables(scene, options, options.max_bands);
 
     // The lighting file's variants: its residual SH (zero-padded to 3 bands) and its lights.
     render::RealtimeLighting lit;
@@ -288,8 +282,7 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
         lit.coeffs = Eigen::MatrixXd::Zero(sh::count(lit_bands), 3);
         lit.coeffs.topRows(lighting->sh.coeffs.rows()) = lighting->sh.coeffs;
         lit.lights = lighting->lights;
-        bo.sh_bands = lit_bands;
-        for (const render::SurfaceMaterial& m : scene.materials()) lit.tables.push_back(brdf::bake(m.brdf, grid, bo));
+        lit.tables = render::compare_tables(scene, options, lit_bands);
     }
 
     for (GlslVersion version : {GlslVersion::kEs300, GlslVersion::kEs100}) {

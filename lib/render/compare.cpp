@@ -65,6 +65,56 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+brdf::BakeOptions compare_bake_options(const Scene& scene, const CompareOptions& options,
+                                       int bands) {
+    brdf::BakeOptions bo;
+    bo.sh_bands = std::min(bands, brdf::kMaxBakeBands);
+    bo.samples = options.bake_samples;
+    const Camera& cam = scene.camera();
+    bo.view = (cam.position - cam.look_at).normalized();
+    return bo;
+}
+
+std::vector<brdf::Table> compare_tables(const Scene& scene, const CompareOptions& options,
+                                        int bands) {
+    const auto& materials = scene.desc().materials;
+    std::vector<brdf::Table> out;
+    if (!options.tables.empty()) {
+        if (options.tables.size() != materials.size()) {
+            throw Error(str("compare: ", options.tables.size(), " BRDF tables given for ",
+                            materials.size(), " scene materials (one each, in scene order)"));
+        }
+        for (size_t i = 0; i < materials.size(); ++i) {
+            if (options.tables[i].sh_bands < bands) {
+                throw Error(str("compare: BRDF table ", i + 1, " has ", options.tables[i].sh_bands,
+                                " SH bands; this comparison needs ", bands));
+            }
+            out.push_back(brdf::first_bands(options.tables[i], bands));
+        }
+        return out;
+    }
+    const brdf::BakeOptions bo = compare_bake_options(scene, options, bands);
+    const brdf::Grid grid = brdf::parse_grid(options.grid);
+    for (const SurfaceMaterial& m : materials) out.push_back(brdf::bake(m.brdf, grid, bo));
+    return out;
+}
+
+nlohmann::json compare_tables_json(const CompareOptions& options) {
+    if (options.tables.empty()) {
+        return {{"source", "baked"},
+                {"grid", options.grid},
+                {"samples", options.bake_samples},
+                {"why", "no --brdf-table given: each material baked here for the camera's view; "
+                        "give the tables brdf-sh-bake wrote to validate those"}};
+    }
+    nlohmann::json grids = nlohmann::json::array(), bands = nlohmann::json::array();
+    for (const brdf::Table& t : options.tables) {
+        grids.push_back(brdf::to_string(t.grid));
+        bands.push_back(t.sh_bands);
+    }
+    return {{"source", "given"}, {"grid", grids}, {"sh_bands", bands}};
+}
+
 nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
                                 const CompareOptions& options, const std::string& prefix,
                                 std::vector<WrittenFile>& written) {
@@ -89,22 +139,27 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
     auto t0 = std::chrono::steady_clock::now();
     lighting.coeffs = project_environment(scene.environment(), options.max_bands);
     const double project_s = seconds_since(t0);
-    brdf::BakeOptions bo;
-    bo.sh_bands = options.max_bands;
-    bo.samples = options.bake_samples;
-    const Camera& cam = scene.camera();
-    bo.view = (cam.position - cam.look_at).normalized();
-    const brdf::Grid grid = brdf::parse_grid(options.grid);
+    const brdf::BakeOptions bo = compare_bake_options(scene, options, options.max_bands);
     t0 = std::chrono::steady_clock::now();
-    for (const SurfaceMaterial& m : scene.desc().materials)
-        lighting.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    lighting.tables = compare_tables(scene, options, options.max_bands);
     out["inputs"] = {{"lighting_sh_bands", options.max_bands},
                      {"project_time_s", project_s},
-                     {"brdf_grid", brdf::to_string(grid)},
+                     {"brdf_tables", compare_tables_json(options)},
+                     {"brdf_grid", options.tables.empty()
+                                       ? options.grid
+                                       : brdf::to_string(options.tables.front().grid)},
                      {"brdf_bake_samples", options.bake_samples},
                      {"brdf_bake_time_s", seconds_since(t0)},
                      {"view", {bo.view.x(), bo.view.y(), bo.view.z()}}};
-    if (cam.projection == Projection::kPerspective) {
+    for (size_t i = 0; i < options.tables.size(); ++i) {
+        const double cos_angle = std::clamp(options.tables[i].view.normalized().dot(bo.view), -1.0, 1.0);
+        if (cos_angle < std::cos(0.5 * M_PI / 180)) {
+            log::warn(str("compare: BRDF table ", i + 1, " was baked for a view ",
+                          std::acos(cos_angle) * 180 / M_PI,
+                          " deg from the camera's: the model uses it as the app would"));
+        }
+    }
+    if (scene.camera().projection == Projection::kPerspective) {
         log::warn(
             "compare: perspective camera: the BRDF table assumes one view direction "
             "(toward the camera's position), as the app does");

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "brdf/bake.h"
 #include "image/image.h"
 #include "image/metrics.h"
 #include "render/path_tracer.h"
@@ -26,7 +27,24 @@ struct CompareOptions {
     int bake_samples = 4096;       ///< brdf::bake integrand evaluations per normal
     std::string grid = "octa:17";  ///< brdf::parse_grid spec of the BRDF table
     int supersample = 4;           ///< real-time fragments per pixel side (see RealtimeOptions)
+    /// The BRDF tables to validate, one per scene material in scene order (render
+    /// --brdf-table: what brdf-sh-bake wrote), each with at least the bands the compare uses.
+    /// Empty: each material is baked here at `grid` and `bake_samples` for the camera's view.
+    std::vector<brdf::Table> tables;
 };
+
+/// The bake options of the compare's own BRDF tables: `bands` (at most brdf::kMaxBakeBands),
+/// options' samples, the view toward the camera's position.
+brdf::BakeOptions compare_bake_options(const Scene& scene, const CompareOptions& options,
+                                       int bands);
+/// One BRDF table per scene material at `bands`: options.tables' first `bands` bands when
+/// given (Error when one has fewer, or their count is not the materials'), else baked with
+/// compare_bake_options on options.grid.
+std::vector<brdf::Table> compare_tables(const Scene& scene, const CompareOptions& options,
+                                        int bands);
+/// Where the compare's tables come from, for the report: {"source": "given", "grid", "sh_bands"}
+/// or {"source": "baked", "grid", "samples", "why"}.
+nlohmann::json compare_tables_json(const CompareOptions& options);
 
 /// Error images and metrics of `test` against `truth` (same size, linear_srgb).
 struct Comparison {

@@ -31,23 +31,10 @@ void check_frame(const Scene& scene, const LightingFile& file) {
 
 }  // namespace
 
-brdf::BakeOptions compare_bake_options(const Scene& scene, const CompareOptions& options,
-                                       int bands) {
-    brdf::BakeOptions bo;
-    bo.sh_bands = std::min(bands, brdf::kMaxBakeBands);
-    bo.samples = options.bake_samples;
-    const Camera& cam = scene.camera();
-    bo.view = (cam.position - cam.look_at).normalized();
-    return bo;
-}
-
 RealtimeLighting compare_lighting(const Scene& scene, const CompareOptions& options, int bands) {
     RealtimeLighting lighting;
     lighting.coeffs = project_environment(scene.environment(), bands);
-    const brdf::BakeOptions bo = compare_bake_options(scene, options, bands);
-    const brdf::Grid grid = brdf::parse_grid(options.grid);
-    for (const SurfaceMaterial& m : scene.desc().materials)
-        lighting.tables.push_back(brdf::bake(m.brdf, grid, bo));
+    lighting.tables = compare_tables(scene, options, bands);
     return lighting;
 }
 

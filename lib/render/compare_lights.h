@@ -14,12 +14,8 @@
 
 namespace inlight::render {
 
-/// The bake options of the compare's BRDF tables: `bands`, options' samples, the view toward
-/// the camera's position.
-brdf::BakeOptions compare_bake_options(const Scene& scene, const CompareOptions& options,
-                                       int bands);
 /// The real-time model's inputs as the compare builds them: the scene environment's SH at
-/// `bands` and one table per material (compare_bake_options on options' grid).
+/// `bands` and one table per material (compare_tables).
 RealtimeLighting compare_lighting(const Scene& scene, const CompareOptions& options, int bands);
 
 /// Renders the consistent model with `file`'s coefficients and lights (BRDF tables baked at

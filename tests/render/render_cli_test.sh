@@ -4,7 +4,8 @@
 # shellcheck source=tests/cli/lib.sh
 source "$(dirname "$0")/../cli/lib.sh"
 R="$BIN/render"
-SCENES="${INLIGHT_SOURCE_DIR:?}/configs/scenes"
+SRC=${INLIGHT_SOURCE_DIR:?}
+SCENES="$SRC/configs/scenes"
 FURNACE="$SCENES/sphere_furnace.toml"
 SMALL=(--width-px 16 --height-px 16)
 
@@ -75,6 +76,41 @@ if have_package_file /usr/share/blender/datafiles/studiolights/world/courtyard.e
         jq -e '.metrics.realtime.exposure > 0 and .metrics.realtime.consistent_by_sh_bands[2].frame_time_ms > 0' "$WORK/p.json"
     expect_true "side-by-side PNG is three panels wide" -- \
         bash -c "oiiotool --info '$WORK/p_compare_seed.png' | grep -Eq '48 x +16,'"
+    expect_true "the report says the compare baked its own table, and why" -- \
+        jq -e '.metrics.realtime.inputs.brdf_tables.source == "baked" and (.metrics.realtime.inputs.brdf_tables.why | test("--brdf-table"))' "$WORK/p.json"
+
+    # --brdf-table: the compare validates the user's table. Given the table brdf-sh-bake bakes
+    # with the compare's own grid, samples and bands, the model's images are the same bytes as
+    # the compare's own bake; another table gives other images; its bands bound the sweep.
+    MAT="$SRC/configs/materials/report-cook-torrance.toml"
+    expect_exit 0 "brdf-sh-bake the compare's table" -- "$BIN/brdf-sh-bake" --material "$MAT" \
+        --grid octa:17 --samples 256 --sh-bands 4 -o "$WORK/t4" -q --no-reference-check
+    expect_exit 0 "compare --brdf-table" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/pt.exr" "${SMALL[@]}" \
+        --spp 16 --compare --rt-max-bands 4 --rt-supersample 2 --brdf-table "$WORK/t4.bin" --report "$WORK/pt.json"
+    expect_true "the given table's model equals the compare's own bake of it (bytes)" -- \
+        cmp "$WORK/p_rt_consistent.exr" "$WORK/pt_rt_consistent.exr"
+    # shellcheck disable=SC2016 # $f is jq's
+    expect_true "the report names the given table" -- jq -e --arg f "$WORK/t4.bin" \
+        '.metrics.realtime.inputs.brdf_tables == {"source": "given", "grid": ["octa:17"], "sh_bands": [4]} and
+         ([.inputs[].path] | index($f) != null)' "$WORK/pt.json"
+    expect_exit 0 "brdf-sh-bake another table (3 bands, coarse grid, another view)" -- "$BIN/brdf-sh-bake" \
+        --material "$MAT" --grid octa:5 --samples 256 --sh-bands 3 --view-deg 30,0 -o "$WORK/t3" -q \
+        --no-reference-check
+    expect_exit 0 "compare with it" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/pc.exr" "${SMALL[@]}" \
+        --spp 16 --compare --rt-supersample 2 --brdf-table "$WORK/t3.bin" --report "$WORK/pc.json"
+    expect_stderr "BRDF table 1 was baked for a view 30 deg from the camera's" "warns that the table's view is not the camera's"
+    expect_true "another table gives another model image" -- bash -c "! cmp -s '$WORK/p_rt_consistent.exr' '$WORK/pc_rt_consistent.exr'"
+    expect_true "the sweep stops at the table's 3 bands" -- \
+        jq -e '.metrics.realtime.consistent_by_sh_bands | length == 3' "$WORK/pc.json"
+    expect_exit 2 "--rt-max-bands past the table's bands" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/px.exr" \
+        "${SMALL[@]}" --spp 4 --compare --rt-max-bands 5 --brdf-table "$WORK/t3.bin"
+    expect_stderr "tables have 3 SH bands" "says the table's bands"
+    expect_exit 2 "two tables for one material" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/px.exr" \
+        "${SMALL[@]}" --spp 4 --compare --brdf-table "$WORK/t3.bin" --brdf-table "$WORK/t4.bin"
+    expect_stderr "2 tables for the 1 materials" "counts tables and materials"
+    expect_true "refused before the render: no image" -- test ! -e "$WORK/px.exr"
+    expect_exit 2 "--brdf-table with --rt-grid" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/px.exr" \
+        --compare --brdf-table "$WORK/t3.bin" --rt-grid octa:9
 fi
 
 # Stop rules and the quality gate.
