@@ -199,7 +199,7 @@ int main(int argc, char** argv) {
         opt.strategy = render::strategy_from_string(a.strategy);
         opt.sampler = render::sampler_from_string(a.sampler);
         if (cap.enabled || !shade.btf.empty()) {
-            if (cap.enabled) fs::declare_output(a.output, "-o");
+            if (cap.enabled) render::check_capture_folder(a.output);
             render::CaptureOptions co;
             co.width_px = a.width_px > 0 ? a.width_px : co.width_px;
             co.height_px = a.height_px > 0 ? a.height_px : co.height_px;

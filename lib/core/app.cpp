@@ -1,15 +1,22 @@
 #include "core/app.h"
 
+#include <pthread.h>
+#include <signal.h>
+
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <iterator>
 #include <limits>
 #include <new>
 #include <stdexcept>
+#include <thread>
 
 #include "core/fs.h"
 #include "core/log.h"
@@ -297,6 +304,47 @@ void check_long_options(const CLI::App& app, int argc, char** argv) {
 
 }  // namespace
 
+namespace {
+
+// While a run is on, SIGINT, SIGTERM and SIGHUP roll its outputs back before the process ends
+// (with 128 + the signal, as a shell reports a death by that signal), so an interrupted run
+// leaves its output folders as they were instead of the temporaries of every staged file. The
+// signals are blocked in this thread, and so in every thread started later (they inherit the
+// mask), and taken by a watcher thread; the destructor restores the mask.
+class InterruptGuard {
+  public:
+    InterruptGuard(fs::OutputTransaction& outputs, std::string tool) {
+        sigemptyset(&m_signals);
+        for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&m_signals, s);
+        pthread_sigmask(SIG_BLOCK, &m_signals, &m_previous);
+        m_watcher = std::thread([this, &outputs, tool = std::move(tool)] {
+            const timespec tick{0, 100'000'000};
+            while (!m_stop.load()) {
+                const int sig = sigtimedwait(&m_signals, nullptr, &tick);
+                if (sig <= 0) continue;
+                log::error(str(tool, ": interrupted (", strsignal(sig),
+                               "): this run's unfinished outputs are removed"));
+                outputs.abandon(0.2);
+                std::_Exit(128 + sig);
+            }
+        });
+    }
+    ~InterruptGuard() {
+        m_stop = true;
+        m_watcher.join();
+        pthread_sigmask(SIG_SETMASK, &m_previous, nullptr);
+    }
+    InterruptGuard(const InterruptGuard&) = delete;
+    InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+  private:
+    sigset_t m_signals{}, m_previous{};
+    std::atomic<bool> m_stop{false};
+    std::thread m_watcher;
+};
+
+}  // namespace
+
 std::optional<int> parse(CLI::App& app, int argc, char** argv, int skip) {
     // Safety net: every floating-point option rejects NaN and Inf, whether or not the tool gave
     // it one of the finite checks of core/validators.h (CLI11's Range lets NaN through).
@@ -381,7 +429,6 @@ int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, 
     report.set_argv(argc, argv);
     report.set_config(resolved_config(app));
     report.set_seed(common.seed);
-    report.set_threads(parallel::set_thread_count(common.threads));
 
     int code = kExitOk;
     std::string status = "ok";
@@ -398,6 +445,9 @@ int run(const std::string& tool, const CLI::App& app, const CommonArgs& common, 
         // Every output of the run is staged and appears only if the run succeeds (or ran to a
         // failed quality gate, whose outputs are part of the contract).
         fs::OutputTransaction outputs;
+        const InterruptGuard interrupts(outputs, tool);
+        // After the guard: worker threads inherit its signal mask.
+        report.set_threads(parallel::set_thread_count(common.threads));
         try {
             if (!common.report_path.empty() && common.report_path != "-") {
                 try {

@@ -1,16 +1,21 @@
 #include "core/fs.h"
 
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <atomic>
 #include <cctype>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
+#include <thread>
 
 #include "core/check.h"
 #include "core/error.h"
@@ -42,6 +47,25 @@ std::string temp_sibling(const std::string& path) {
     const stdfs::path p(path);
     const std::string tag = str(".tmp-", ::getpid(), "-", counter++);
     return (p.parent_path() / (p.stem().string() + tag + p.extension().string())).string();
+}
+
+size_t remove_stale_temporaries(const std::string& dir) {
+    static const std::regex kTemp(R"(.*\.tmp-([0-9]+)-[0-9]+(\.[^./]*)?)");
+    size_t removed = 0;
+    std::error_code ec;
+    for (stdfs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        std::smatch m;
+        const std::string name = it->path().filename().string();
+        if (!std::regex_match(name, m, kTemp) || !it->is_regular_file(ec)) continue;
+        const long pid = std::strtol(m[1].str().c_str(), nullptr, 10);
+        // kill(pid, 0) fails with ESRCH when no such process exists.
+        if (pid <= 0 || pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 ||
+            errno != ESRCH)
+            continue;
+        std::error_code rm;
+        if (stdfs::remove(it->path(), rm)) ++removed;
+    }
+    return removed;
 }
 
 bool same_file(const std::string& a, const std::string& b) {
@@ -346,6 +370,18 @@ void OutputTransaction::rollback() noexcept {
     // Deepest first; a directory that is not empty (someone else wrote there) stays.
     for (auto it = m_created_dirs.rbegin(); it != m_created_dirs.rend(); ++it) stdfs::remove(*it, ec);
     m_created_dirs.clear();
+}
+
+void OutputTransaction::abandon(double grace_s) noexcept {
+    m_mutex.lock();  // never released: the process ends right after
+    m_done = true;
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) std::this_thread::sleep_for(std::chrono::duration<double>(grace_s));
+        std::error_code ec;
+        for (const Staged& s : m_staged) stdfs::remove(s.tmp, ec);
+        for (auto it = m_created_dirs.rbegin(); it != m_created_dirs.rend(); ++it)
+            stdfs::remove(*it, ec);
+    }
 }
 
 std::string OutputTransaction::reserved_clash() const {

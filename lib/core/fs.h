@@ -50,6 +50,12 @@ std::string read_file(const std::string& path);
 /// The file name's extension in lower case without the dot ("EXR" -> "exr"), or "".
 std::string extension(const std::string& path);
 
+/// Removes, under `dir` (recursively), the temporary siblings (temp_sibling's "<stem>.tmp-<pid>-
+/// <n><ext>") that a process no longer running left behind: a run killed before it could commit
+/// or roll back (SIGKILL, power loss). A live process's temporaries, including this one's, are
+/// kept. Returns how many were removed; never throws (an unreadable folder removes nothing).
+size_t remove_stale_temporaries(const std::string& dir);
+
 /// Whether two paths name the same file: the same path once symlinks, "." and ".." are resolved,
 /// or (when both exist) the same device and inode (hard links).
 bool same_file(const std::string& a, const std::string& b);
@@ -104,6 +110,11 @@ class OutputTransaction {
     void commit();
     /// Removes every staged file and the directories created for them. Never throws.
     void rollback() noexcept;
+    /// For a process about to end on a signal (call it, then _Exit): takes the transaction's lock
+    /// for good, so no further output can be staged, and removes every staged file and created
+    /// directory twice, `grace_s` apart, because a writer that had its temporary path before
+    /// the lock may still be creating that file after the first pass. Never throws.
+    void abandon(double grace_s) noexcept;
     /// Number of staged files.
     size_t staged_count() const;
 

@@ -3,7 +3,10 @@
 // another output (same path after resolution, symlink or hard link).
 #include "core/fs.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <filesystem>
 #include <map>
@@ -26,6 +29,30 @@ std::map<std::string, std::string> listing(const std::string& dir) {
         out[rel] = e.is_directory() ? "<dir>" : fs::read_file(e.path().string());
     }
     return out;
+}
+
+TEST(RemoveStaleTemporaries, RemovesOnlyThoseOfProcessesThatAreGone) {
+    const std::string dir = testing::temp_dir("stale_tmp");
+    // A process that has ended: its pid names no process until the kernel reuses it.
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) _exit(0);
+    ASSERT_EQ(waitpid(child, nullptr, 0), child);
+    const std::string dead = std::to_string(child), mine = std::to_string(getpid());
+    fs::write_text_atomic(dir + "/a.tmp-" + dead + "-0.png", "x");
+    fs::write_text_atomic(dir + "/view/b c.tmp-" + dead + "-17.exr", "x");  // nested, spaces
+    fs::write_text_atomic(dir + "/d.tmp-" + dead + "-3", "x");              // no extension
+    fs::write_text_atomic(dir + "/e.tmp-" + mine + "-1.png", "x");          // this process's
+    fs::write_text_atomic(dir + "/f.png", "x");
+    fs::write_text_atomic(dir + "/g.tmp-x-1.png", "x");                     // not a pid
+    const size_t removed = fs::remove_stale_temporaries(dir);
+    if (kill(child, 0) == 0) GTEST_SKIP() << "pid " << child << " was reused at once";
+    EXPECT_EQ(removed, 3u);
+    EXPECT_EQ(listing(dir), (std::map<std::string, std::string>{{"e.tmp-" + mine + "-1.png", "x"},
+                                                               {"f.png", "x"},
+                                                               {"g.tmp-x-1.png", "x"},
+                                                               {"view", "<dir>"}}));
+    EXPECT_EQ(fs::remove_stale_temporaries(dir + "/absent"), 0u);
 }
 
 TEST(OutputTransaction, FailedRunLeavesTheFolderAsItWas) {

@@ -120,6 +120,28 @@ void add_capture_options(CLI::App& app, CaptureArgs& a) {
         ->needs(cap);
 }
 
+void check_capture_folder(const std::string& out_dir) {
+    namespace stdfs = std::filesystem;
+    std::error_code ec;
+    if (stdfs::exists(out_dir, ec)) {
+        if (!stdfs::is_directory(out_dir, ec)) {
+            throw UsageError(str("-o '", out_dir, "' is an existing file: a capture writes a folder"));
+        }
+        if (const size_t stale = fs::remove_stale_temporaries(out_dir); stale > 0) {
+            log::info(str("render: removed ", stale, " temporary file", stale == 1 ? "" : "s",
+                          " that a killed capture left in ", out_dir));
+        }
+        for (stdfs::recursive_directory_iterator it(out_dir, ec), end; !ec && it != end;
+             it.increment(ec)) {
+            if (!it->is_directory(ec)) {
+                throw UsageError(str("-o '", out_dir, "' holds files (", it->path().string(),
+                                     "): a capture writes into a new or empty folder"));
+            }
+        }
+    }
+    fs::declare_output((stdfs::path(out_dir) / "capture.json").string(), "-o");
+}
+
 void run_capture(const CaptureArgs& a, const std::string& fabric, const std::string& out_dir,
                  const CaptureOptions& options, Report& report) {
     std::vector<CaptureJob> jobs;

@@ -27,6 +27,12 @@ struct CaptureArgs {
 /// --irradiance-w-m2 on `app`.
 void add_capture_options(CLI::App& app, CaptureArgs& args);
 
+/// Checks a capture's -o folder before any work: a new folder, or an existing one without files
+/// (empty folders inside it are fine). Temporaries that a killed capture left there (its process
+/// is gone) are removed first, so a rerun needs no rm -rf. Throws UsageError for an existing
+/// file or a folder holding other files. Declares OUT_DIR/capture.json as the run's output.
+void check_capture_folder(const std::string& out_dir);
+
 /// Reads the fabric and the direction files (UsageError naming the option and the file's
 /// problem: duplicates, non-unit vectors, NaN, directions below the sample), captures every
 /// (light, view) image into `out_dir` (UBO2003 names, one folder per view, plus capture.json

@@ -68,4 +68,54 @@ for t in 1 2; do
         --width-px 8 --height-px 8 --spp 2 --btf-lights "$WORK/two.txt" --btf-views "$WORK/two.txt" --threads "$t" --seed 3
 done
 expect_true "byte-identical PNGs for 1 and 2 threads" -- diff -r "$WORK/t1" "$WORK/t2"
+
+# The -o folder: an existing empty one is accepted; one holding files, or a file, is refused
+# before any work.
+mkdir -p "$WORK/empty/sub"
+expect_exit 0 "an existing empty folder (with an empty subfolder)" -- "$R" "$FABRICS/wool-twill.toml" \
+    --btf-capture -o "$WORK/empty" "${TINY[@]}" --btf-lights "$WORK/two.txt" --btf-views "$WORK/two.txt"
+expect_true "captured into it" -- test -s "$WORK/empty/capture.json"
+expect_exit 2 "a folder that holds files" -- "$R" "$FABRICS/wool-twill.toml" --btf-capture -o "$WORK/empty" \
+    "${TINY[@]}" --btf-lights "$WORK/two.txt" --btf-views "$WORK/two.txt"
+expect_stderr "holds files" "says why"
+expect_exit 2 "a file as -o" -- "$R" "$FABRICS/wool-twill.toml" --btf-capture -o "$WORK/two.txt" "${TINY[@]}"
+expect_stderr "is an existing file: a capture writes a folder" "says a capture writes a folder"
+
+# Interrupted: SIGTERM rolls the capture back (nothing left, exit 143 as a shell reports it);
+# SIGKILL cannot be caught and leaves temporaries, which the next capture into the folder removes
+# before it runs to the end. The capture takes ~5 s at 16 px and 4 spp (6561 images); each signal
+# comes once the capture has staged its first images (polled, up to 60 s on a loaded machine).
+KILLCAP=(--width-px 16 --height-px 16 --spp 4)
+# wait_for_temporaries DIR PID: until DIR holds a staged temporary (or PID ended, or 60 s).
+wait_for_temporaries() {
+    local i
+    for ((i = 0; i < 600; i++)); do
+        [ -n "$(find "$1" -name '*.tmp-*' -print -quit 2>/dev/null)" ] && return 0
+        kill -0 "$2" 2>/dev/null || return 1
+        sleep 0.1
+    done
+    return 1
+}
+"$R" "$FABRICS/denim-plain.toml" --btf-capture -o "$WORK/term" "${KILLCAP[@]}" -q 2>"$WORK/term.err" &
+pid=$!
+wait_for_temporaries "$WORK/term" "$pid"
+kill -TERM "$pid"
+wait "$pid"
+code=$?
+if [ "$code" -eq 143 ]; then pass "SIGTERM: exit 143"; else fail "SIGTERM: exit $code, expected 143"; fi
+expect_true "SIGTERM: the folder the run made is gone" -- test ! -e "$WORK/term"
+expect_true "SIGTERM: said so" -- grep -q "interrupted (Terminated): this run's unfinished outputs are removed" "$WORK/term.err"
+mkdir "$WORK/killed"
+"$R" "$FABRICS/denim-plain.toml" --btf-capture -o "$WORK/killed" "${KILLCAP[@]}" -q &
+pid=$!
+wait_for_temporaries "$WORK/killed" "$pid"
+kill -KILL "$pid"
+wait "$pid" 2>/dev/null
+left=$(find "$WORK/killed" -name '*.tmp-*' | wc -l)
+expect_true "SIGKILL: temporaries left ($left)" -- test "$left" -gt 0
+expect_exit 0 "the rerun into the killed capture's folder" -- "$R" "$FABRICS/denim-plain.toml" --btf-capture \
+    -o "$WORK/killed" "${KILLCAP[@]}"
+expect_stderr "removed $left temporary files that a killed capture left" "the rerun removed them and said so"
+expect_true "the rerun's capture is whole and clean" -- test "$(find "$WORK/killed" -name '*.png' | wc -l)" -eq 6561 \
+    -a "$(find "$WORK/killed" -name '*.tmp-*' | wc -l)" -eq 0
 finish
