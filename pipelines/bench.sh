@@ -12,14 +12,14 @@ set -euo pipefail
 . "$(dirname "$0")/lib.sh"
 BUILD=${1:-$ROOT/build}
 shopt -s nullglob
-benches=("$BUILD"/bench/*)
+benches=("$BUILD"/bench/*_bench)
 if [ ${#benches[@]} -eq 0 ]; then
     echo "bench: no benchmark binaries in $BUILD/bench (configure with -DINLIGHT_BUILD_BENCH=ON)" >&2
     exit 1
 fi
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(date -u +%F)"
 for b in "${benches[@]}"; do
-    [ -x "$b" ] || continue
+    if [ ! -f "$b" ] || [ ! -x "$b" ]; then continue; fi
     echo
     echo "== $(basename "$b")"
     "$b" --benchmark_min_time=0.2 --benchmark_counters_tabular=true
