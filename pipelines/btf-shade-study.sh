@@ -3,6 +3,7 @@
 # as float EXR (no 8-bit clipping), shades it under each environment and compares it with the
 # path-traced truth of the same weave; prints one row per environment and view.
 #   pipelines/btf-shade-study.sh [BUILD] [OUT] [SIZE_PX] [CAPTURE_SPP] [TRUTH_SPP] [FABRIC] [ENV...]
+# BTF_SHADE_ARGS adds render options to the shading (e.g. "--light-cells constant").
 # Environments default to blender-data's studio lights and a synthetic sun (a 0.2 sky with one
 # 2e4 pixel of a 128 x 64 map at theta 41, phi 66 deg, 0.0016 sr: ~97% of the irradiance).
 set -euo pipefail
@@ -28,8 +29,10 @@ if [ ! -s "$OUT/btf/capture.json" ]; then
 fi
 args=()
 for e in "${ENVS[@]}"; do args+=(--environment "$e"); done
+# BTF_SHADE_ARGS: more render options for the shading, e.g. "--light-cells constant".
+read -r -a extra <<<"${BTF_SHADE_ARGS:-}"
 "$BUILD/bin/render" "$FABRIC" --btf-shade "$OUT/btf" "${args[@]}" -o "$OUT/shade" --spp "$TSPP" \
-    --threads 2 --report "$OUT/shade.json" -q
+    --threads 2 --report "$OUT/shade.json" -q "${extra[@]}"
 echo "| environment | view (deg) | mean rel. error | mean dE2000 | mean luminance, BTF vs truth | truth noise |"
 echo "| --- | --- | --- | --- | --- | --- |"
 jq -r '.metrics.btf_shade.results[] | "| \(.environment | split("/") | last) | \(.view_deg[0]), \(.view_deg[1]) | \(.mean_rel * 1000 | round / 1000) | \(.mean_de2000 * 100 | round / 100) | \(.mean_luminance_rel_diff * 1000 | round / 10)% | \(.truth_rel_error * 1000 | round / 1000) |"' "$OUT/shade.json"

@@ -10,10 +10,25 @@
 
 namespace inlight::btf {
 
-int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d) {
+namespace {
+/// Light directions nearer the horizon own no cell under CellRule::kCosine: cos(89.5 deg).
+constexpr double kMinCellCos = 0.0087265;
+}  // namespace
+
+std::string to_string(CellRule rule) { return rule == CellRule::kConstant ? "constant" : "cosine"; }
+
+CellRule cell_rule_from_string(const std::string& name) {
+    if (name == "constant") return CellRule::kConstant;
+    if (name == "cosine") return CellRule::kCosine;
+    throw Error(str("light cell rule '", name, "': expected constant or cosine"));
+}
+
+int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d,
+                  const std::vector<char>* eligible) {
     int best = 0;
     double best_cos = -2;
     for (size_t k = 0; k < light_vectors.size(); ++k) {
+        if (eligible && !(*eligible)[k]) continue;
         const double c = light_vectors[k].dot(d);
         if (c > best_cos) {
             best_cos = c;
@@ -61,6 +76,14 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
     }
     std::vector<Eigen::Vector3d> lv;
     for (const Direction& d : lights) lv.push_back(d.vector());
+    const bool cosine = options.rule == CellRule::kCosine;
+    std::vector<char> eligible(lv.size(), 1);
+    if (cosine) {
+        for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
+        if (std::none_of(eligible.begin(), eligible.end(), [](char e) { return e != 0; })) {
+            throw Error("dome lighting: every light direction lies within 0.5 deg of the horizon");
+        }
+    }
 
     const int w = latlong.width, h = latlong.height, s = options.subsamples;
     const size_t n = lights.size();
@@ -95,8 +118,10 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
                                 p.below += l * sub_omega;
                                 continue;
                             }
-                            const auto k = static_cast<size_t>(nearest_light(lv, d));
-                            p.weight[k] += l * sub_omega;
+                            const auto k = static_cast<size_t>(
+                                nearest_light(lv, d, cosine ? &eligible : nullptr));
+                            p.weight[k] += cosine ? Eigen::Vector3d(l * (sub_omega * d.z() / lv[k].z()))
+                                                  : Eigen::Vector3d(l * sub_omega);
                             p.omega[k] += sub_omega;
                         }
                     }

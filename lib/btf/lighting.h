@@ -10,15 +10,24 @@
 // btf(x, l, v) L_env(l) dl, which the BTF's light set turns into the sum
 //   L_r(x, v) ~= sum_k btf(x, l_k, v) W_k,   W_k = integral over cell k of L_env(l) dl,
 // i.e. btf is taken constant over each cell (the thesis' discrete rendering equation, section
-// 2; Sattler, Sarlette and Klein 2003 shade BTFs under environments this way). Light arriving
-// from below the sample's plane (z <= 0 in the sample frame) reaches no light direction and is
-// dropped (reported in below_horizon).
+// 2; Sattler, Sarlette and Klein 2003 shade BTFs under environments this way): CellRule::kConstant.
+// But btf holds the cosine of its own light direction, and a cell of the outer ring reaches down
+// to the horizon, where the true cosine goes to 0: the constant rule lights a Lambertian plate
+// under a uniform sky 5.9% too bright, and a room lit from near the horizon far more. The default
+// CellRule::kCosine divides the cosine out and integrates it exactly over the cell,
+//   W_k = integral over cell k of L_env(l) cos(theta_l) / cos(theta_k) dl,
+// so btf / cos is what is taken constant: exact for any Lambertian BTF under any environment,
+// and light near the horizon fades with its cosine as it does on the real sample. Light
+// directions within 0.5 deg of the horizon own no cell (their images are black and the division
+// would blow up): their neighbours take it. Light arriving from below the sample's plane (z <= 0
+// in the sample frame) reaches no light direction and is dropped (reported in below_horizon).
 //
 // Frames: the map follows Blender/Cycles (core/conventions.h), in its own frame; `sample_from_env`
 // turns those directions into the BTF sample frame (docs/conventions.md, +z the sample normal).
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "btf/dataset.h"
@@ -27,7 +36,14 @@
 
 namespace inlight::btf {
 
+/// How a light direction's weight treats the cosine inside its BTF image (see above).
+enum class CellRule {
+    kConstant,  ///< btf constant over the cell: W_k = integral of L over the cell (the thesis)
+    kCosine,    ///< btf / cos constant: W_k = integral of L cos(theta) / cos(theta_k)
+};
+
 struct DomeLightingOptions {
+    CellRule rule = CellRule::kCosine;
     /// Each map pixel is split into subsamples x subsamples directions, uniform in solid angle
     /// over the pixel (uniform in cos theta over the row's band and in phi over the column),
     /// each assigned whole to its nearest light direction. 1..64.
@@ -38,10 +54,12 @@ struct DomeLightingOptions {
 
 /// The environment seen through a BTF's light set.
 struct DomeLighting {
-    /// Per light direction: the integral of the map's radiance over its cell, W m^-2 per
-    /// linear_srgb channel (radiance x sr). Multiplies btf = L_r / E_perp (1/sr).
+    /// Per light direction: the map's radiance integrated over its cell (with kCosine, weighted
+    /// by cos(theta) / cos(theta_k)), W m^-2 per linear_srgb channel. Multiplies btf = L_r /
+    /// E_perp (1/sr).
     std::vector<Eigen::Vector3d> weight;
-    /// Per light direction: the solid angle of its cell, sr (they sum to 2 pi).
+    /// Per light direction: the solid angle of its cell, sr (they sum to 2 pi; 0 for a light
+    /// direction within 0.5 deg of the horizon under kCosine).
     std::vector<double> solid_angle_sr;
     /// The integral over the lower hemisphere (sample frame z <= 0), which no light sees.
     Eigen::Vector3d below_horizon = Eigen::Vector3d::Zero();
@@ -63,7 +81,13 @@ std::vector<ImageTerm> shading_terms(const DomeLighting& lighting, const std::ve
                                      const std::vector<double>& view_weights, double irradiance_w_m2);
 
 /// Index of the light direction whose cell holds unit vector `d` (largest cosine; ties go to the
-/// lowest index). `light_vectors` are unit vectors in the sample frame.
-int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d);
+/// lowest index). `light_vectors` are unit vectors in the sample frame; those whose `eligible`
+/// entry is false (when given) own no cell.
+int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d,
+                  const std::vector<char>* eligible = nullptr);
+
+/// "constant" | "cosine", and back (Error naming the value).
+std::string to_string(CellRule rule);
+CellRule cell_rule_from_string(const std::string& name);
 
 }  // namespace inlight::btf

@@ -23,11 +23,18 @@ image::Image constant_map(int h, const Eigen::Vector3d& l) {
     return img;
 }
 
+DomeLightingOptions constant_rule() {
+    DomeLightingOptions opt;
+    opt.rule = CellRule::kConstant;
+    return opt;
+}
+
 TEST(DomeLighting, ConstantEnvironmentSplitsTheHemisphereExactly) {
     // The equator is a row boundary of an even-height map, so every subsample falls cleanly on
-    // one side: the cells' solid angles sum to 2 pi and the weights to 2 pi L.
+    // one side: the cells' solid angles sum to 2 pi and, under the constant rule, the weights to
+    // 2 pi L.
     const Eigen::Vector3d l(0.5, 1.0, 2.0);
-    const DomeLighting d = integrate_dome_cells(constant_map(32, l), ubo2003_dome());
+    const DomeLighting d = integrate_dome_cells(constant_map(32, l), ubo2003_dome(), constant_rule());
     ASSERT_EQ(d.weight.size(), 81u);
     double omega = 0;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -89,20 +96,26 @@ TEST(DomeLighting, OnePixelLightsTheDirectionItFacesInTheSampleFrame) {
     for (int c = 0; c < 3; ++c) img.at(col, row, c) = static_cast<float>(l[c]);
     const double omega = latlong_pixel_solid_angle(row, w, h);
 
-    const auto check = [&](const DomeLighting& d, Direction expected) {
+    // Under the cosine rule the pixel's weight is its integral of L cos(theta) (in closed form,
+    // 2 pi / w (z0^2 - z1^2) / 2, which the subsamples' midpoint rule in z sums exactly) over
+    // cos 45 deg.
+    const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
+    const double cos_omega = 2 * kPi / w * (z0 * z0 - z1 * z1) / 2;
+    const auto check = [&](const DomeLighting& d, Direction expected, double scale) {
         const int k = find_direction(ubo2003_dome(), expected).value();
         for (size_t j = 0; j < 81; ++j) {
             for (int c = 0; c < 3; ++c) {
-                const double want = static_cast<int>(j) == k ? l[c] * omega : 0.0;
-                EXPECT_NEAR(d.weight[j][c], want, l[c] * omega * kSumRelTol) << j;
+                const double want = static_cast<int>(j) == k ? l[c] * scale : 0.0;
+                EXPECT_NEAR(d.weight[j][c], want, l[c] * scale * kSumRelTol) << j;
             }
         }
     };
-    check(integrate_dome_cells(img, ubo2003_dome()), {45, 40});
+    check(integrate_dome_cells(img, ubo2003_dome(), constant_rule()), {45, 40}, omega);
+    check(integrate_dome_cells(img, ubo2003_dome()), {45, 40}, cos_omega / std::cos(45 * kDeg));
     // Turned by -40 deg about z into the sample frame, the pixel spans phi -0.6..5 deg: (45, 0).
-    DomeLightingOptions opt;
+    DomeLightingOptions opt = constant_rule();
     opt.sample_from_env = parse_rotation("z=-40");
-    check(integrate_dome_cells(img, ubo2003_dome(), opt), {45, 0});
+    check(integrate_dome_cells(img, ubo2003_dome(), opt), {45, 0}, omega);
 }
 
 TEST(DomeLighting, LambertianBtfUnderAConstantSkyFollowsTheRingModel) {
@@ -113,7 +126,8 @@ TEST(DomeLighting, LambertianBtfUnderAConstantSkyFollowsTheRingModel) {
     // sky by ~6%, because the 75-degree ring's cells reach the horizon. The Voronoi boundary
     // between two rings deviates from their mid-angle by < 1 deg; moving all five by 1 deg
     // changes the sum by sum 2 sin(b) (cos theta_in - cos theta_out) * 0.0175 = 0.018: the bound.
-    const DomeLighting d = integrate_dome_cells(constant_map(64, {1, 1, 1}), ubo2003_dome());
+    const DomeLighting d =
+        integrate_dome_cells(constant_map(64, {1, 1, 1}), ubo2003_dome(), constant_rule());
     double sum = 0;
     for (size_t k = 0; k < 81; ++k)
         sum += std::cos(ubo2003_dome()[k].theta_deg * kDeg) * d.solid_angle_sr[k] / kPi;
@@ -125,6 +139,64 @@ TEST(DomeLighting, LambertianBtfUnderAConstantSkyFollowsTheRingModel) {
     }
     EXPECT_NEAR(ring_model, 1.0589, 1e-4);
     EXPECT_NEAR(sum, ring_model, 0.018);
+}
+
+/// sum_k cos(theta_k) W_k: what a Lambertian BTF of albedo pi (btf = cos theta_l) reflects.
+Eigen::Vector3d lambertian_shading(const DomeLighting& d, const std::vector<Direction>& lights) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (size_t k = 0; k < lights.size(); ++k)
+        sum += std::cos(lights[k].theta_deg * kDeg) * d.weight[k];
+    return sum;
+}
+
+TEST(DomeLighting, CosineRuleShadesALambertianBtfExactlyUnderAnyEnvironment) {
+    // The truth, independently: the integral of L cos(theta) over the upper hemisphere, per map
+    // pixel in closed form (2 pi / w (z0^2 - z1^2) / 2 over the part with z > 0). The map: a
+    // uniform sky of 1, a window band near the horizon (theta 80-88 deg) of 50, and a sun pixel
+    // of 3e4 at theta 86 deg, the room light the constant rule gets most wrong.
+    const int h = 90, w = 180;
+    image::Image img = constant_map(h, {1, 1, 1});
+    for (int row = 40; row < 44; ++row)
+        for (int col = 20; col < 60; ++col)
+            for (int c = 0; c < 3; ++c) img.at(col, row, c) = 50;
+    for (int c = 0; c < 3; ++c) img.at(100, 43, c) = 3e4f;
+    double truth = 0;
+    for (int row = 0; row < h / 2; ++row) {
+        const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
+        for (int col = 0; col < w; ++col) truth += img.at(col, row, 0) * 2 * kPi / w * (z0 * z0 - z1 * z1) / 2;
+    }
+    const Eigen::Vector3d cosine = lambertian_shading(integrate_dome_cells(img, ubo2003_dome()), ubo2003_dome());
+    const Eigen::Vector3d constant =
+        lambertian_shading(integrate_dome_cells(img, ubo2003_dome(), constant_rule()), ubo2003_dome());
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(cosine[c], truth, truth * 1e-12) << c;
+    // The constant rule, for contrast: the window and the sun at 80-88 deg get cos 75 deg.
+    EXPECT_GT(constant[0] / truth, 1.5);
+    // And under a uniform sky the cosine rule gives pi exactly, where the constant rule's ring
+    // model gives 1.0589 pi (the test above).
+    const Eigen::Vector3d sky =
+        lambertian_shading(integrate_dome_cells(constant_map(64, {1, 1, 1}), ubo2003_dome()), ubo2003_dome());
+    EXPECT_NEAR(sky[0], kPi, kPi * 1e-12);
+}
+
+TEST(DomeLighting, CosineRuleGivesAHorizonLightNoCell) {
+    // A light at theta 90 deg (its image is black) owns no cell under the cosine rule, so no
+    // division by its zero cosine; its neighbour at 60 deg takes the light it would have had.
+    std::vector<Direction> lights = {{0, 0}, {60, 0}, {90, 0}};
+    const DomeLighting d = integrate_dome_cells(constant_map(32, {1, 1, 1}), lights);
+    EXPECT_EQ(d.solid_angle_sr[2], 0.0);
+    EXPECT_EQ(d.weight[2], Eigen::Vector3d::Zero());
+    for (const auto& wk : d.weight) EXPECT_TRUE(wk.allFinite());
+    EXPECT_NEAR(lambertian_shading(d, lights)[0], kPi, kPi * 1e-12);
+    EXPECT_NE(testing::error_of([] { integrate_dome_cells(constant_map(4, {1, 1, 1}), {{90, 0}}); })
+                  .find("horizon"),
+              std::string::npos);
+}
+
+TEST(DomeLighting, CellRuleNamesRoundTrip) {
+    EXPECT_EQ(cell_rule_from_string(to_string(CellRule::kConstant)), CellRule::kConstant);
+    EXPECT_EQ(cell_rule_from_string(to_string(CellRule::kCosine)), CellRule::kCosine);
+    EXPECT_NE(testing::error_of([] { cell_rule_from_string("barycentric"); }).find("barycentric"),
+              std::string::npos);
 }
 
 TEST(DomeLighting, BadInputIsAnError) {

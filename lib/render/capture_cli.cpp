@@ -247,6 +247,14 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
         ->check(CLI::IsMember({"thesis", "delaunay"}))
         ->needs(shade)
         ->excludes("--view-neighbours");
+    app.add_option("--light-cells", a.cell_rule,
+                   "BTF shading: a light direction's weight: cosine (the cosine inside its image "
+                   "divided out and integrated exactly over its cell: right at the horizon) or "
+                   "constant (the image constant over the cell, the thesis' rule: too bright "
+                   "where light comes from near the horizon; docs/btf.md)")
+        ->check(CLI::IsMember({"constant", "cosine"}))
+        ->capture_default_str()
+        ->needs(shade);
     app.add_option("--cell-subsamples", a.subsamples,
                    "BTF shading: directions per map pixel side when integrating light cells")
         ->check(CLI::Range(1, 64))
@@ -330,6 +338,7 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
         env.image = load_latlong(env_path);
         btf::DomeLightingOptions lo;
         lo.subsamples = a.subsamples;
+        lo.rule = btf::cell_rule_from_string(a.cell_rule);
         const btf::DomeLighting lighting =
             btf::integrate_dome_cells(env.image, btf->shape().lights, lo);
         const std::string stem = std::filesystem::path(env_path).stem().string();
