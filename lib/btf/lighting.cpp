@@ -1,8 +1,11 @@
 #include "btf/lighting.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <memory>
 
+#include "btf/interp.h"
 #include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
@@ -15,13 +18,64 @@ namespace {
 constexpr double kMinCellCos = 0.0087265;
 }  // namespace
 
-std::string to_string(CellRule rule) { return rule == CellRule::kConstant ? "constant" : "cosine"; }
+std::string to_string(CellRule rule) {
+    switch (rule) {
+        case CellRule::kConstant: return "constant";
+        case CellRule::kCosine: return "cosine";
+        case CellRule::kBarycentric: return "barycentric";
+    }
+    return "?";
+}
 
 CellRule cell_rule_from_string(const std::string& name) {
-    if (name == "constant") return CellRule::kConstant;
-    if (name == "cosine") return CellRule::kCosine;
-    throw Error(str("light cell rule '", name, "': expected constant or cosine"));
+    for (CellRule r : {CellRule::kConstant, CellRule::kCosine, CellRule::kBarycentric})
+        if (name == to_string(r)) return r;
+    throw Error(str("light cell rule '", name, "': expected constant, cosine or barycentric"));
 }
+
+namespace {
+
+/// The light directions and a ring of horizon points (every 5 deg, those not within 1e-3 deg of
+/// a light) triangulated (spherical Delaunay), with a hint for coherent queries.
+class HorizonTriangulation {
+  public:
+    explicit HorizonTriangulation(const std::vector<Direction>& lights) : m_lights(lights.size()) {
+        std::vector<Direction> set = lights;
+        for (int j = 0; j < 72; ++j) {
+            const Direction h{90.0, 5.0 * j};
+            if (!find_direction(lights, h, 1e-3)) set.push_back(h);
+        }
+        const DelaunayInterpolator tri(set);
+        m_tri = tri.triangles();
+        for (const Direction& d : set) m_vec.push_back(d.vector());
+    }
+    /// Adds `amount` x the barycentric weight of each light vertex of the triangle holding d;
+    /// `hint` is the triangle the previous query found (updated).
+    template <typename Add>
+    void spread(const Eigen::Vector3d& d, size_t& hint, const Add& add) const {
+        for (size_t n = 0; n < m_tri.size(); ++n) {
+            const size_t t = (hint + n) % m_tri.size();
+            const auto& v = m_tri[t];
+            const Eigen::Vector3d &a = m_vec[size_t(v[0])], &b = m_vec[size_t(v[1])],
+                                  &c = m_vec[size_t(v[2])];
+            const double w[3] = {d.dot(b.cross(c)), a.dot(d.cross(c)), a.dot(b.cross(d))};
+            if (w[0] < -1e-12 || w[1] < -1e-12 || w[2] < -1e-12) continue;
+            const double s = std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
+            if (!(s > 0)) continue;
+            hint = t;
+            for (int i = 0; i < 3; ++i)
+                if (size_t(v[size_t(i)]) < m_lights) add(size_t(v[size_t(i)]), std::max(0.0, w[i]) / s);
+            return;
+        }
+    }
+
+  private:
+    size_t m_lights;
+    std::vector<std::array<int, 3>> m_tri;
+    std::vector<Eigen::Vector3d> m_vec;
+};
+
+}  // namespace
 
 int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d,
                   const std::vector<char>* eligible) {
@@ -77,6 +131,9 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
     std::vector<Eigen::Vector3d> lv;
     for (const Direction& d : lights) lv.push_back(d.vector());
     const bool cosine = options.rule == CellRule::kCosine;
+    const bool barycentric = options.rule == CellRule::kBarycentric;
+    std::unique_ptr<HorizonTriangulation> tri;
+    if (barycentric) tri = std::make_unique<HorizonTriangulation>(lights);
     std::vector<char> eligible(lv.size(), 1);
     if (cosine) {
         for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
@@ -99,6 +156,7 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
         h, 1, identity,
         [&](int64_t r0, int64_t r1) {
             Partial p = identity;
+            size_t hint = 0;
             for (int64_t row = r0; row < r1; ++row) {
                 const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
                 const double sub_omega = (z0 - z1) / s * (2 * kPi / w) / s;
@@ -116,6 +174,13 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
                                 Eigen::Vector3d(rr * std::cos(phi), rr * std::sin(phi), z);
                             if (d.z() <= 0) {
                                 p.below += l * sub_omega;
+                                continue;
+                            }
+                            if (barycentric) {
+                                tri->spread(d, hint, [&](size_t k, double beta) {
+                                    p.weight[k] += l * (sub_omega * beta);
+                                    p.omega[k] += sub_omega * beta;
+                                });
                                 continue;
                             }
                             const auto k = static_cast<size_t>(

@@ -38,8 +38,12 @@ namespace inlight::btf {
 
 /// How a light direction's weight treats the cosine inside its BTF image (see above).
 enum class CellRule {
-    kConstant,  ///< btf constant over the cell: W_k = integral of L over the cell (the thesis)
-    kCosine,    ///< btf / cos constant: W_k = integral of L cos(theta) / cos(theta_k)
+    kConstant,     ///< btf constant over the cell: W_k = integral of L over the cell (the thesis)
+    kCosine,       ///< btf / cos constant: W_k = integral of L cos(theta) / cos(theta_k)
+    /// btf linear over the spherical Delaunay triangles of the light directions and a ring of
+    /// horizon points (every 5 deg at theta 90) where btf is 0: W_k = integral of L beta_k,
+    /// beta_k the barycentric weight of light k (those of the horizon points are dropped).
+    kBarycentric,
 };
 
 struct DomeLightingOptions {
@@ -86,7 +90,7 @@ std::vector<ImageTerm> shading_terms(const DomeLighting& lighting, const std::ve
 int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d,
                   const std::vector<char>* eligible = nullptr);
 
-/// "constant" | "cosine", and back (Error naming the value).
+/// "constant" | "cosine" | "barycentric", and back (Error naming the value).
 std::string to_string(CellRule rule);
 CellRule cell_rule_from_string(const std::string& name);
 

@@ -251,8 +251,9 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
                    "BTF shading: a light direction's weight: cosine (the cosine inside its image "
                    "divided out and integrated exactly over its cell: right at the horizon) or "
                    "constant (the image constant over the cell, the thesis' rule: too bright "
-                   "where light comes from near the horizon; docs/btf.md)")
-        ->check(CLI::IsMember({"constant", "cosine"}))
+                   "where light comes from near the horizon) or barycentric (images linear over "
+                   "the light directions' triangles, black at the horizon); docs/btf.md")
+        ->check(CLI::IsMember({"constant", "cosine", "barycentric"}))
         ->capture_default_str()
         ->needs(shade);
     app.add_option("--cell-subsamples", a.subsamples,
