@@ -20,6 +20,20 @@ my %keywords = map { $_ => 1 } qw(if then else elif fi for while until do done c
 my %wrappers = map { $_ => 1 } qw(nice timeout env xargs exec time nohup setsid stdbuf ionice
     flock);
 
+# substitution(TEXT, POS, BARE_ARITHMETIC): at POS, an arithmetic expansion $((...)) (or, when
+# BARE_ARITHMETIC, a (( )) command) gives (' X ', the position after it); a command substitution
+# $(...) or `...` gives (its command text, the position after it); anything else gives ().
+sub substitution {
+    my ($t, $i, $bare) = @_;
+    if (substr($t, $i, 3) eq '$((' || ($bare && substr($t, $i, 2) eq '((')) {
+        my $j = index($t, '))', $i);
+        return (' X ', $j < 0 ? length($t) : $j + 2);
+    }
+    my $c = substr($t, $i, 1);
+    return () unless substr($t, $i, 2) eq '$(' || $c eq '`';
+    return scan($t, $i + ($c eq '`' ? 1 : 2), $c eq '`' ? '`' : ')');
+}
+
 # scan(TEXT, POS, END): the shell text from POS up to an unquoted END ('' = the end) as command
 # text, and the position after END.
 sub scan {
@@ -46,15 +60,7 @@ sub scan {
             $i = $j < 0 ? $n : $j;
             next;
         }
-        if (substr($t, $i, 3) eq '$((' || substr($t, $i, 2) eq '((') {
-            my $j = index($t, '))', $i);
-            $i = $j < 0 ? $n : $j + 2;
-            $out .= ' X ';
-            next;
-        }
-        if (substr($t, $i, 2) eq '$(' || $c eq '`') {
-            my $open = $c eq '`' ? 1 : 2;
-            my ($inner, $j) = scan($t, $i + $open, $c eq '`' ? '`' : ')');
+        if (my ($inner, $j) = substitution($t, $i, 1)) {
             $out .= " X ; $inner ; ";
             $i = $j;
             next;
@@ -86,14 +92,7 @@ sub scan_double {
         my $c = substr($t, $i, 1);
         return ($out, $i + 1) if $c eq '"';
         if ($c eq '\\') { $i += 2; next; }
-        if (substr($t, $i, 3) eq '$((') {
-            my $j = index($t, '))', $i);
-            $i = $j < 0 ? $n : $j + 2;
-            next;
-        }
-        if (substr($t, $i, 2) eq '$(' || $c eq '`') {
-            my $open = $c eq '`' ? 1 : 2;
-            my ($inner, $j) = scan($t, $i + $open, $c eq '`' ? '`' : ')');
+        if (my ($inner, $j) = substitution($t, $i, 0)) {
             $out .= " ; $inner ; ";
             $i = $j;
             next;
