@@ -53,7 +53,7 @@ port=$((20000 + RANDOM % 20000))
 mkdir -p "$S/state" "$S/spool"
 cat >"$S/slurm.conf" <<CONF
 ClusterName=inlight
-SlurmctldHost=$host
+SlurmctldHost=$host(127.0.0.1)
 SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
@@ -73,17 +73,18 @@ SlurmctldLogFile=$S/slurmctld.log
 SlurmdLogFile=$S/slurmd.log
 SlurmctldPort=$port
 SlurmdPort=$((port + 1))
-NodeName=$host CPUs=$(nproc) State=UNKNOWN
+NodeName=$host NodeAddr=127.0.0.1 NodeHostname=$host CPUs=$(nproc) State=UNKNOWN
 PartitionName=inlight Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
 export SLURM_CONF="$S/slurm.conf"
 slurmctld -f "$SLURM_CONF" || cannot "slurmctld did not start: $(tail -n 3 "$S/slurmctld.log" 2>/dev/null)"
 slurmd -f "$SLURM_CONF" || cannot "slurmd did not start: $(tail -n 3 "$S/slurmd.log" 2>/dev/null)"
+# "idle" exactly: "idle*" is a node the controller has not heard from (slurmd did not register).
 for _ in $(seq 1 120); do
-    sinfo -h -o '%t' 2>/dev/null | grep -q '^idle' && break
+    sinfo -h -o '%t' 2>/dev/null | grep -qx 'idle' && break
     sleep 0.5
 done
-sinfo -h -o '%t' 2>/dev/null | grep -q '^idle' ||
+sinfo -h -o '%t' 2>/dev/null | grep -qx 'idle' ||
     cannot "no idle node after 60 s: $(tail -n 3 "$S/slurmctld.log" "$S/slurmd.log" 2>/dev/null)"
 echo "slurm-single-node: $(sinfo -h -o '%P %D node %N, %c CPUs, %t') (state in $S)" >&2
 set +e
