@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "btf/quantize.h"
+#include "core/json_in.h"
 #include "core/check.h"
 #include "core/enum_names.h"
 #include "core/error.h"
@@ -170,11 +171,7 @@ Eigen::VectorXf read_column(const std::string& dir, const nlohmann::json& meta, 
 std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
     const std::string manifest_path = dir + "/btf-pca.json";
     std::unique_ptr<CompressedBtf> b(new CompressedBtf());
-    try {
-        b->m_manifest = nlohmann::json::parse(fs::read_file(manifest_path));
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(str(manifest_path, ": not a btf-pca manifest: ", e.what()));
-    }
+    b->m_manifest = json_in::read_file(manifest_path);
     const nlohmann::json& m = b->m_manifest;
     try {
         if (m.at("format").get<std::string>() != "inlight-btf-pca" || m.at("version") != 1)

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "bundle/contents.h"
+#include "core/json_in.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/json_out.h"
@@ -156,12 +157,7 @@ Manifest read_bundle(const std::string& dir) {
         throw Error(str(manifest_path, ": is a symlink to ", manifest_real.string(),
                         ", outside the bundle"));
     }
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(fs::read_file(manifest_path));
-    } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range (overflow)
-        throw Error(str(manifest_path, ": not valid JSON: ", e.what()));
-    }
+    const nlohmann::json j = json_in::read_file(manifest_path);
     Manifest m = manifest_from_json(j, manifest_path);
     std::set<std::string> listed = {kManifestName};
     for (const FileEntry& f : m.files) {

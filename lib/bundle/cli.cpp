@@ -7,6 +7,7 @@
 
 #include "bundle/bundle.h"
 #include "bundle/catalog.h"
+#include "core/json_in.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/validators.h"
@@ -128,6 +129,10 @@ void run_pack(const PackToolOptions& o, Report& report) {
             throw UsageError(str("--property '", p, "': expected KEY=VALUE"));
         }
         const std::string key = p.substr(0, eq), value = p.substr(eq + 1);
+        if (json_in::nesting_depth(value) > json_in::kMaxDepth) {
+            throw UsageError(str("--property '", key, "': nested deeper than ",
+                                 json_in::kMaxDepth, " levels"));
+        }
         nlohmann::json v = nlohmann::json::parse(value, nullptr, false);
         // Not JSON: kept as a string, unless it is a number JSON cannot hold ("nan", "inf",
         // "1e999"), which would otherwise become the string "nan".

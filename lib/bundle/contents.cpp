@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <map>
 
+#include "core/json_in.h"
 #include "core/error.h"
 #include "core/fs.h"
 
@@ -30,12 +31,8 @@ class Listing {
     // Parses the inner manifest `f` (already hash-checked) and checks its "format".
     nlohmann::json read_json(const FileEntry& f, const std::string& format) const {
         const std::string shown = where(f);
-        nlohmann::json j;
-        try {
-            j = nlohmann::json::parse(fs::read_file((stdfs::path(m_dir) / f.path).string()));
-        } catch (const nlohmann::json::exception& e) {
-            throw Error(str(shown, ": not valid JSON: ", e.what()));
-        }
+        const nlohmann::json j =
+            json_in::parse(fs::read_file((stdfs::path(m_dir) / f.path).string()), shown);
         if (member(j, "format") != format) {
             throw Error(str(shown, ": not a '", format, "' manifest"));
         }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "core/json_in.h"
 #include "core/check.h"
 #include "core/error.h"
 #include "core/fs.h"
@@ -318,12 +319,7 @@ constexpr double kMaxLogExposure = 80;  ///< |g| of a response curve (e^80 ~ 5.5
 }  // namespace
 
 ResponseCurve read_response(const std::string& path) {
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(fs::read_file(path));
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(str(path, ": not JSON (", e.what(), ")"));
-    }
+    const nlohmann::json j = json_in::read_file(path);
     // j.value() throws when the key holds another type (a duplicate "format" key holding an
     // array was found by response_fuzz): compare only a string.
     const auto format = j.is_object() ? j.find("format") : j.end();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/json_in.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/json_out.h"
@@ -284,12 +285,7 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
         views = read_option_file("--shade-views", a.views, btf::read_directions);
     }
     const std::string meta_path = a.btf + "/capture.json";
-    nlohmann::json meta;
-    try {
-        meta = nlohmann::json::parse(fs::read_file(meta_path));
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(str(meta_path, ": not a capture description: ", e.what()));
-    }
+    const nlohmann::json meta = json_in::read_file(meta_path);
     report.add_input(meta_path);
     report.add_input(fabric);
     double irradiance = 0;

@@ -1,5 +1,6 @@
 #include "render/realtime_lights.h"
 
+#include "core/json_in.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/fs.h"
@@ -18,8 +19,7 @@ Eigen::Vector3d shade_lights(const std::vector<envmap::DirectionalLight>& lights
 }
 
 LightingFile read_lighting_file(const std::string& path) {
-    const nlohmann::json doc = nlohmann::json::parse(fs::read_file(path), nullptr, false);
-    if (doc.is_discarded()) throw Error(str(path, ": not valid JSON"));
+    const nlohmann::json doc = json_in::read_file(path);
     LightingFile f;
     f.sh = sh::from_json(doc, path);
     if (f.sh.coeffs.cols() != 3)

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "core/json_in.h"
 #include "core/error.h"
 #include "core/fs.h"
 #include "sh/sh.h"
@@ -144,8 +145,7 @@ CoefficientSet read_coefficients(const std::string& path) {
     const std::string ext = fs::extension(path);
     if (ext == "bin") return read_binary(path);
     if (ext == "json") {
-        const nlohmann::json doc = nlohmann::json::parse(fs::read_file(path), nullptr, false);
-        if (doc.is_discarded()) throw Error(str(path, ": not valid JSON"));
+        const nlohmann::json doc = json_in::read_file(path);
         return from_json(doc, path);
     }
     throw Error(str(path, ": expected a .json or .bin SH coefficient file"));

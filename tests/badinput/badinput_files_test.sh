@@ -194,4 +194,11 @@ printf '{"format": "inlight_bundle", ' > "$WORK/bundle1/manifest.json"
 bad 1 "manifest.json.*not valid JSON" "bundle manifest that is not JSON" -- "$BIN/bundle" verify "$WORK/bundle1"
 printf '{"format": "inlight_bundle", "version": 1, "kind": "fabric", "id": "x", "name": "x", "created_by": "t", "properties": {}, "files": [{"path": "../../etc/passwd", "role": "albedo", "media_type": "image/png", "color_space": "srgb", "bytes": 1, "sha256": "%064d", "width_px": 1, "height_px": 1, "stream_index": -1}]}' 0 > "$WORK/bundle2/manifest.json"
 bad 1 "\.\." "bundle manifest with a path out of the bundle" -- "$BIN/bundle" verify "$WORK/bundle2"
+# 30000 nested arrays in "properties" (60 kB): refused before any recursive walk (it crashed
+# the reader with a stack overflow before every JSON read went through core/json_in.h).
+mkdir -p "$WORK/bundle3"
+python3 -c "d = 30000; print('{\"format\": \"inlight_bundle\", \"version\": 1, \"kind\": \"fabric\", \"id\": \"bundle3\", \"name\": \"x\", \"created_by\": \"t\", \"properties\": {\"p\": ' + '[' * d + ']' * d + '}, \"files\": []}')" > "$WORK/bundle3/manifest.json"
+bad 1 "bundle3/manifest.json: arrays/objects nested deeper than 64" "bundle manifest nested 30000 deep" -- "$BIN/bundle" verify "$WORK/bundle3"
+mkdir -p "$WORK/root3/fabrics" && cp -r "$WORK/bundle3" "$WORK/root3/fabrics/bundle3"
+bad 1 "manifest.json: arrays/objects nested deeper than 64" "bundle index of a manifest nested 30000 deep" -- "$BIN/bundle" index "$WORK/root3" -o "$OUT/deep.sqlite"
 finish
