@@ -28,6 +28,12 @@ while read -r f; do
 done < <(cd "$G" && jq -r '.variants[].manifest' index.json | while read -r v; do echo "$v"; jq -r '.files[]' "$v"; done)
 expect_true "shader files hashed in the manifest as exported" -- test "$mismatch" -eq 0
 expect_true "properties from the stage reports" -- jq -e '.name == "Tiny weave" and .properties.sh_bands == 3 and .properties.brdf_grid == "thetaphi:5x8" and .properties.tile_size_m == 0.05' "$M"
+
+# What ships is reproducible: the same fabric baked again into another folder gives a
+# byte-identical bundle, manifest included: no time, host or path of the run in it (each tool's
+# outputs are the same for any --threads: their own tests).
+expect_exit 0 "bake-fabric again" -- "$PIPE/bake-fabric.sh" "$WORK/fab" "$WORK/again" tiny
+expect_true "byte-identical bundle" -- diff -r "$B" "$WORK/again/bundles/fabrics/tiny"
 for step in maps/report.json brdf/report.json pack.json verify.json; do
     expect_true "report $step ok" -- jq -e '.status == "ok"' "$WORK/out/work/fabrics/tiny/$step"
 done
