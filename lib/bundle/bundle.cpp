@@ -144,7 +144,9 @@ Manifest write_bundle(const std::string& dest, const PackRequest& request) {
     return m;
 }
 
-Manifest read_bundle(const std::string& dir) {
+namespace {
+
+Manifest read_bundle_once(const std::string& dir) {
     std::error_code ec;
     if (!stdfs::is_directory(dir, ec)) throw Error(str(dir, ": not a bundle folder (not found)"));
     const stdfs::path root = stdfs::canonical(dir);
@@ -195,7 +197,46 @@ Manifest read_bundle(const std::string& dir) {
             throw Error(str(dir, "/", rel, ": not listed in the manifest (stray or partial file)"));
         }
     }
+    // In a bundle root, the folder is named by the id and sits under its kind's folder.
+    const stdfs::path lexical = stdfs::path(dir).lexically_normal();
+    const std::string parent =
+        (lexical.has_filename() ? lexical : lexical.parent_path()).parent_path().filename().string();
+    const std::string name =
+        (lexical.has_filename() ? lexical : lexical.parent_path()).filename().string();
+    // (Not a hidden folder: pack checks its staging folder ".<id>.tmp-..." before the swap.)
+    if ((parent == "fabrics" || parent == "devices") && !name.empty() && name[0] != '.') {
+        if (m.id != name) {
+            throw Error(str(dir, ": folder name differs from the manifest's id '", m.id, "'"));
+        }
+        if (parent != to_string(m.kind) + "s") {
+            throw Error(str(dir, ": a ", to_string(m.kind), " bundle in ", parent, "/"));
+        }
+    }
     return m;
+}
+
+}  // namespace
+
+Manifest read_bundle(const std::string& dir) {
+    const std::string manifest_path = (stdfs::path(dir) / kManifestName).string();
+    for (int attempt = 1;; ++attempt) {
+        std::string before;
+        try {
+            before = fs::read_file(manifest_path);
+        } catch (const Error&) {
+        }
+        try {
+            return read_bundle_once(dir);
+        } catch (const Error&) {
+            // Replaced while it was read (pack swaps the whole folder in): read it again.
+            std::string after;
+            try {
+                after = fs::read_file(manifest_path);
+            } catch (const Error&) {
+            }
+            if (attempt >= 5 || before.empty() || after == before) throw;
+        }
+    }
 }
 
 std::string manifest_sha256(const std::string& dir) {

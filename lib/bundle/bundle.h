@@ -49,6 +49,10 @@ Manifest write_bundle(const std::string& dest, const PackRequest& request);
 ///   - the folder holds a file the manifest does not list (stray or partial files);
 ///   - an inner manifest (exported shaders, compressed BTF) names a file the bundle does not
 ///     hold, or the BTF's stream order differs from the bundle's (check_contents).
+///   - the folder sits in a bundle root's fabrics/ or devices/ and its name is not the
+///     manifest's id, or its kind is not the folder's (one rule for verify and index).
+/// A bundle replaced by `bundle pack` while it is read (its manifest changed meanwhile) is read
+/// again, up to 5 times, so a reader never reports a mixture of the old and the new bundle.
 Manifest read_bundle(const std::string& dir);
 
 /// The SHA-256 of the bundle's manifest.json (identifies the bundle's whole content, since the

@@ -151,13 +151,7 @@ std::vector<CatalogRow> write_catalog(const std::string& root, const std::string
             for (const FileEntry& f : m.files) {
                 fs::declare_input((stdfs::path(dir) / f.path).string(), "bundle file");
             }
-            const Kind want = std::string(kind_dir) == "fabrics" ? Kind::kFabric : Kind::kDevice;
-            if (m.kind != want) {
-                throw Error(str(dir, ": a ", to_string(m.kind), " bundle in ", kind_dir, "/"));
-            }
-            if (m.id != name) {
-                throw Error(str(dir, ": folder name differs from the manifest's id '", m.id, "'"));
-            }
+            // read_bundle checked the id against the folder and the kind against kind_dir.
             bundles.push_back({rel, std::move(m), manifest_sha256(dir)});
         }
     }

@@ -149,6 +149,11 @@ void run_pack(const PackToolOptions& o, Report& report) {
     }
     for (const std::string& spec : o.files) {
         const FileSpec f = parse_file_spec(spec);
+        std::error_code dir_ec;
+        if (stdfs::is_directory(f.source, dir_ec)) {
+            throw UsageError(str("--file '", spec, "': ", f.source,
+                                 " is a folder; a bundle lists files, one --file each"));
+        }
         // An unknown role is the caller's mistake, found before any work: a usage error.
         const auto& roles = roles_for(req.kind);
         if (std::none_of(roles.begin(), roles.end(),
@@ -247,6 +252,18 @@ void run_verify(const VerifyToolOptions& o, Report& report) {
 void run_index(const IndexToolOptions& o, Report& report) {
     const std::string out =
         o.output.empty() ? (stdfs::path(o.root) / "catalog.sqlite").string() : o.output;
+    // The catalogue never lands inside a bundle: pack would not list it, and verify would find
+    // it a stray file there.
+    {
+        std::error_code ec;
+        const stdfs::path root = stdfs::weakly_canonical(o.root, ec);
+        const stdfs::path rel = stdfs::weakly_canonical(out, ec).lexically_relative(root);
+        const std::string first = rel.empty() ? "" : rel.begin()->string();
+        if ((first == "fabrics" || first == "devices") && std::distance(rel.begin(), rel.end()) > 1) {
+            throw UsageError(str("-o ", out, ": inside ", root.string(), "/", first,
+                                 "/, where the bundles are; write the catalogue beside them"));
+        }
+    }
     // Declared before the bundles are read: write_catalog declares every bundle file an input,
     // so -o naming one is a usage error, not a bundle overwritten by the catalogue.
     fs::declare_output(out, "-o");

@@ -157,7 +157,11 @@ Kind kind_from_string(const std::string& name) {
 
 uint64_t Manifest::total_bytes() const {
     uint64_t sum = 0;
-    for (const FileEntry& f : files) sum += f.bytes;
+    for (const FileEntry& f : files) {
+        if (__builtin_add_overflow(sum, f.bytes, &sum)) {
+            throw Error(str("bundle '", id, "': its files' sizes add up past 2^64 bytes"));
+        }
+    }
     return sum;
 }
 

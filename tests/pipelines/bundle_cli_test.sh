@@ -44,4 +44,46 @@ expect_exit 1 "verify: a grown file" -- "$B" verify "$WORK/c" --report "$WORK/v2
 expect_stderr "material.toml: .* bytes, the manifest says" "names the file and the sizes"
 expect_true "report says failed" -- jq -e '.status == "failed" and .metrics.failed == 1' "$WORK/v2.json"
 expect_exit 1 "index refuses a broken bundle" -- "$B" index "$WORK/c"
+
+# One rule set for verify and index: a bundle in a root sits in a folder named by its id.
+cp -r "$WORK/b" "$WORK/r"
+mv "$WORK/r/fabrics/w" "$WORK/r/fabrics/renamed"
+expect_exit 1 "verify: folder name is not the id" -- "$B" verify "$WORK/r"
+expect_stderr "renamed: folder name differs from the manifest's id 'w'" "verify names the folder and the id"
+expect_exit 1 "index: the same rule" -- "$B" index "$WORK/r"
+expect_stderr "folder name differs from the manifest's id 'w'" "index says the same"
+# The catalogue never lands inside a bundle.
+expect_exit 2 "index -o inside a bundle" -- "$B" index "$WORK/b" -o "$WORK/b/fabrics/w/catalog.sqlite"
+expect_stderr "where the bundles are" "says why"
+expect_exit 0 "the bundle is untouched" -- "$B" verify "$WORK/b" -q
+# A folder given as a file is named as such.
+mkdir -p "$WORK/afolder"
+expect_exit 2 "pack: a folder as --file" -- "$B" pack --kind fabric --id w2 "${files[@]}" \
+    --file "brdf_sh_table=$WORK/afolder@brdf/table.bin" -o "$WORK/b"
+expect_stderr "afolder is a folder; a bundle lists files" "names the folder"
+
+# A reader never sees a half-replaced bundle: verify in a loop while pack replaces the bundle
+# with another content in a loop (bounded: 40 packs); every verify passes.
+cp "$WORK/mat.toml" "$WORK/mat2.toml"
+printf '# another content\n' >> "$WORK/mat2.toml"
+(
+    for i in $(seq 1 40); do
+        m="$WORK/mat.toml"
+        [ $((i % 2)) -eq 0 ] && m="$WORK/mat2.toml"
+        "$B" pack --kind fabric --id w --name "Weave" --file "albedo=$WORK/m/albedo.png" \
+            --file "normal=$WORK/m/normal.png" --file "thumbnail=$WORK/m/thumbnail.png" \
+            --file "material=$m@material.toml" -o "$WORK/b" -q || exit 1
+    done
+) &
+packer=$!
+bad=0
+runs=0
+while kill -0 "$packer" 2>/dev/null; do
+    runs=$((runs + 1))
+    "$B" verify "$WORK/b/fabrics/w" -q 2>>"$WORK/mixed.err" || bad=$((bad + 1))
+done
+wait "$packer"
+expect_true "the repack loop finished" -- test $? -eq 0
+if [ "$bad" -eq 0 ]; then pass "verify during 40 repacks: $runs runs, none saw a mixture"; else
+    fail "verify during repacks: $bad of $runs failed"; head -5 "$WORK/mixed.err"; fi
 finish
