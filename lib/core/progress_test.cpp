@@ -44,3 +44,33 @@ TEST(FormatProgress, StartAndEnd) {
 
 }  // namespace
 }  // namespace inlight
+
+#include "core/log.h"
+
+namespace inlight {
+namespace {
+
+TEST(LogCount, SingularOnlyForOne) {
+    EXPECT_EQ(log::count(1, "light"), "1 light");
+    EXPECT_EQ(log::count(0, "light"), "0 lights");
+    EXPECT_EQ(log::count(2, "bundle"), "2 bundles");
+    EXPECT_EQ(log::count(1, "view"), "1 view");
+    EXPECT_EQ(log::count(3, "entry", "entries"), "3 entries");
+    EXPECT_EQ(log::count(1, "entry", "entries"), "1 entry");
+}
+
+TEST(LogSummary, LabelledLineOnStderrSilentWhenQuiet) {
+    const log::Level before = log::level();
+    log::set_level(log::Level::kNormal);
+    testing::internal::CaptureStderr();
+    log::summary("calibrate", "RMS reprojection error", "0.21 px");
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "calibrate: RMS reprojection error: 0.21 px\n");
+    log::set_level(log::Level::kQuiet);
+    testing::internal::CaptureStderr();
+    log::summary("calibrate", "RMS reprojection error", "0.21 px");
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+    log::set_level(before);
+}
+
+}  // namespace
+}  // namespace inlight
