@@ -46,6 +46,12 @@ void summary(const std::string& tool, const std::string& what, const std::string
     info(tool + ": " + what + ": " + text);
 }
 
+std::string num(double value, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+    return buf;
+}
+
 std::string count(int64_t n, const std::string& noun, const std::string& plural_form) {
     const std::string word = n == 1 ? noun : plural_form.empty() ? noun + "s" : plural_form;
     return std::to_string(n) + " " + word;

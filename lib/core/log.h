@@ -32,6 +32,9 @@ void summary(const std::string& tool, const std::string& what, const std::string
 /// when the plural is not noun + "s").
 std::string count(int64_t n, const std::string& noun, const std::string& plural_form = "");
 
+/// `value` with `digits` significant digits (printf %g) for summaries: 0.21347 -> "0.2135" at 4.
+std::string num(double value, int digits = 4);
+
 /// Returns and clears the warnings recorded since the last call (in order of arrival).
 std::vector<std::string> take_warnings();
 

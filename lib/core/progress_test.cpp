@@ -74,3 +74,15 @@ TEST(LogSummary, LabelledLineOnStderrSilentWhenQuiet) {
 
 }  // namespace
 }  // namespace inlight
+
+namespace inlight {
+namespace {
+
+TEST(LogNum, SignificantDigits) {
+    EXPECT_EQ(log::num(0.213471, 4), "0.2135");
+    EXPECT_EQ(log::num(253.71301, 6), "253.713");
+    EXPECT_EQ(log::num(1.0, 4), "1");
+}
+
+}  // namespace
+}  // namespace inlight
