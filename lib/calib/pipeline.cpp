@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "calib/camera_yaml.h"
 #include "calib/corner_file.h"
 #include "calib/detect.h"
 #include "calib/refine.h"
@@ -82,6 +83,29 @@ double largest_theta(const DirectionMaps& maps, const Eigen::Vector3d& axis) {
         t = std::max(t, std::acos(std::clamp(d.dot(axis), -1.0, 1.0)));
     }
     return t;
+}
+
+/// The console summary (docs/calibrate.md, "Console summary"): RMS, K, distortion and views at
+/// the default verbosity, each view's RMS with -v.
+void print_summary(const Calibration& cal, size_t dropped, double fov_theta) {
+    const CameraModel& c = cal.camera;
+    const std::string tool = "calibrate";
+    log::summary(tool, "RMS reprojection error", str(log::num(cal.rms_px, 4), " px over ",
+                                                     log::count(int64_t(cal.views.size()), "view"),
+                                                     " (", dropped, " dropped)"));
+    log::summary(tool, "camera matrix K (px)",
+                 str("[", log::num(c.fx, 6), ", ", log::num(c.skew, 6), ", ", log::num(c.cx, 6),
+                     "; 0, ", log::num(c.fy, 6), ", ", log::num(c.cy, 6), "; 0, 0, 1]"));
+    std::string d;
+    for (size_t i = 0; i < c.distortion.size(); ++i)
+        d += str(i ? ", " : "", log::num(c.distortion[i], 6));
+    log::summary(tool, str("distortion (", to_string(c.type), ")"),
+                 str(c.type == ModelType::kOmnidir ? str("xi ", log::num(c.xi, 6), ", ") : "", "[", d,
+                     "]"));
+    log::summary(tool, "field of view", str(log::num(2 * fov_theta * kDeg, 4), " deg"));
+    for (const ViewError& e : cal.views)
+        log::verbose(str("calibrate: view ", e.name, ": RMS ", log::num(e.rms_px, 4), " px, max ",
+                         log::num(e.max_error_px, 4), " px over ", e.points, " points"));
 }
 
 /// Everything calibration.json states (see docs/calibrate.md for the contract).
@@ -232,7 +256,8 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     // kept in the output folder).
     const std::filesystem::path out_dir(o.output);
     for (const char* f : {"calibration.json", "directions.exr", "solid_angle.exr", "mask.png",
-                          "image_points.yml", "object_points.yml"}) {
+                          "image_points.yml", "object_points.yml", "camera_info.yaml",
+                          "opencv_camera.yml"}) {
         fs::declare_output((out_dir / f).string(), "-o");
     }
     for (const Eigen::Vector2i& s : sizes) {
@@ -391,6 +416,14 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
         const std::string cj = (out / "calibration.json").string();
         fs::write_text_atomic(cj, dump_finite(j, 2, cj));
         report.add_output(cj, "calibration");
+        const std::string ocv = (out / "opencv_camera.yml").string();
+        write_opencv_camera_yaml(ocv, cal.camera);
+        report.add_output(ocv, "camera_opencv");
+        if (has_ros_camera_info(cal.camera.type)) {
+            const std::string ros = (out / "camera_info.yaml").string();
+            fs::write_text_atomic(ros, ros_camera_info_yaml(cal.camera, "camera"));
+            report.add_output(ros, "camera_info_ros");
+        }
     }
 
     // 6. Metrics.
@@ -415,6 +448,7 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     m["image_circle_radius_px"] = circle.radius_px;
     m["solver"] = cal.solver;
 
+    print_summary(cal, dropped.size(), fov_theta);
     if (o.max_reproj_rms_px > 0 && cal.rms_px > o.max_reproj_rms_px) {
         throw app::QualityGateFailed(str("reprojection RMS ", cal.rms_px,
                                          " px > --max-reproj-rms-px ", o.max_reproj_rms_px));

@@ -42,6 +42,21 @@ void warn(const std::string& message) {
 
 void error(const std::string& message) { emit("", message); }
 
+void summary(const std::string& tool, const std::string& what, const std::string& text) {
+    info(tool + ": " + what + ": " + text);
+}
+
+std::string num(double value, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+    return buf;
+}
+
+std::string count(int64_t n, const std::string& noun, const std::string& plural_form) {
+    const std::string word = n == 1 ? noun : plural_form.empty() ? noun + "s" : plural_form;
+    return std::to_string(n) + " " + word;
+}
+
 std::vector<std::string> take_warnings() {
     std::lock_guard<std::mutex> lock(g_mutex);
     std::vector<std::string> out;

@@ -8,6 +8,7 @@
 #include "core/fs.h"
 #include "core/json_out.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "core/validators.h"
 #include "btf/compressed.h"
 #include "render/btf_shade.h"
@@ -185,7 +186,10 @@ void run_capture(const CaptureArgs& a, const std::string& fabric, const std::str
     CaptureResult r;
     {
         ScopedStage stage(report, "capture");
-        r = capture_btf(*scene, jobs, out_dir, wo, [](int done, int total) {
+        // Views finish in order on this thread (capture_btf parallelises inside a view).
+        Progress bar("capture views", static_cast<int64_t>(jobs.size()));
+        r = capture_btf(*scene, jobs, out_dir, wo, [&bar](int done, int total) {
+            bar.add();
             log::verbose(str("capture: view ", done, " / ", total));
         });
     }

@@ -31,8 +31,25 @@ expect_exit 2 "bad --image-circle" -- "$CAL" geometry "$WORK" --board 8x6 --imag
 expect_exit 0 "synthetic fisheye set" -- "$CAL" geometry "$WORK/boards" --board 9x6 --square-size-m 0.03 \
     --fov-deg 165 --downscale 240x180,120x90 -o "$WORK/out" --report "$WORK/r.json"
 O="$WORK/out"
+# The console summary (docs/calibrate.md, "Console summary") at the default verbosity.
+expect_stderr "calibrate: RMS reprojection error: [0-9.e-]* px over 20 views" "summary: RMS and views"
+expect_stderr "calibrate: camera matrix K (px): \\[" "summary: camera matrix"
+expect_stderr "calibrate: distortion (fisheye): \\[" "summary: distortion"
+# The ROS camera_info.yaml holds the solved intrinsics (17 significant digits; jq prints the
+# JSON's doubles exactly too, so 1e-12 relative is only the text round trip).
+expect_true "camera_info.yaml: equidistant model, fx and k1 as calibration.json" -- bash -c "
+    grep -q '^distortion_model: equidistant$' '$O/camera_info.yaml' &&
+    fx=\$(awk '/^camera_matrix:/{f=1} f && /data:/{gsub(/[][,]/, \" \"); print \$2; exit}' '$O/camera_info.yaml') &&
+    k1=\$(awk '/^distortion_coefficients:/{f=1} f && /data:/{gsub(/[][,]/, \" \"); print \$2; exit}' '$O/camera_info.yaml') &&
+    jq -e --argjson fx \"\$fx\" --argjson k1 \"\$k1\" \
+       '((.intrinsics.fx - \$fx) | fabs) <= 1e-12 * .intrinsics.fx and ((.intrinsics.k1 - \$k1) | fabs) <= 1e-12 * (.intrinsics.k1 | fabs)' '$O/calibration.json'"
+expect_true "opencv_camera.yml: FileStorage YAML with K and D" -- bash -c \
+    "head -1 '$O/opencv_camera.yml' | grep -q '^%YAML:1.0' && grep -q '^K: !!opencv-matrix' '$O/opencv_camera.yml' && grep -q '^D: !!opencv-matrix' '$O/opencv_camera.yml'"
+expect_exit 0 "synthetic fisheye set, -q" -- "$CAL" geometry "$WORK/boards" --board 9x6 --square-size-m 0.03 \
+    --fov-deg 165 -o "$WORK/outq" -q
+expect_true "-q keeps the summary silent" -- bash -c "! grep -q 'RMS reprojection' '$WORK/stderr'"
 for f in calibration.json directions.exr solid_angle.exr mask.png image_points.yml object_points.yml \
-         240x180/directions.exr 240x180/solid_angle.exr 240x180/mask.png \
+         camera_info.yaml opencv_camera.yml 240x180/directions.exr 240x180/solid_angle.exr 240x180/mask.png \
          120x90/directions.exr 120x90/solid_angle.exr 120x90/mask.png; do
     [ -s "$O/$f" ] || fail "missing output $f"
 done
