@@ -200,10 +200,19 @@ int main(int argc, char** argv) {
             m["chosen_sh_bands"] = chosen;
         }
         if (v) {
-            log::info(str("integration error ", v->integration_radiance_max_rel,
-                          ", interpolation ", v->interpolation_radiance_max_rel, ", truncation ",
-                          v->truncation_radiance_max_rel, ", total ", v->total_radiance_max_rel,
-                          " (radiance, relative); bake ", bake_s, " s"));
+            // Each error is the largest over the test lightings, channels and checked normals,
+            // relative to the largest exact radiance under that lighting (docs/brdf.md, 5).
+            const std::string tool = "brdf-sh-bake";
+            log::summary(tool, "table", str(o.sh_bands, " SH bands on ", brdf::to_string(grid),
+                                            ", baked in ", log::num(bake_s, 3), " s"));
+            log::summary(tool, "integration error (bake vs converged reference, at nodes)",
+                         log::num(v->integration_radiance_max_rel, 3));
+            log::summary(tool, "interpolation error (the grid's, between nodes)",
+                         log::num(v->interpolation_radiance_max_rel, 3));
+            log::summary(tool, str("SH truncation error (", o.sh_bands, " bands vs the exact lobe)"),
+                         log::num(v->truncation_radiance_max_rel, 3));
+            log::summary(tool, "total error (the table's lookup vs the exact radiance)",
+                         log::num(v->total_radiance_max_rel, 3));
             log::info(str("reference check: ", std::round(reference_s * 100) / 100, " s of this run "
                           "(--no-reference-check skips it, and these error figures)"));
         } else {

@@ -24,8 +24,8 @@ void error(const std::string& message);
 
 /// A tool's result for the user, printed as "<tool>: <what>: <text>" on stderr at the default
 /// verbosity (suppressed by -q), like OpenCV's calibration printing its RMS: the figures a run
-/// is for, with words and units, so a user need not open the JSON report. Every tool prints its
-/// summary through this one function (docs/report.md, "Console summary").
+/// is for, with words and units, so a user need not open the JSON report. Tools print their
+/// summaries through this one function (docs/report.md, "Console summary", says which do yet).
 void summary(const std::string& tool, const std::string& what, const std::string& text);
 
 /// "1 light", "2 lights", "0 lights": `n` and the noun, plural unless n == 1 (`plural_form`
