@@ -69,7 +69,7 @@ done
 
 # (satin's thetaphi:9x32 table is a 96-texel-wide texture, more than the 64 texels every ES 2.0
 # device must offer, so it gets GLSL ES 3.00 only; the report's 5x5 table gets both.)
-echo "GLES shaders (consistent and seed, highp and mediump) with their manifests:"
+echo "GLES shaders (consistent and seed, highp; docs/gles.md says which to load) with their manifests:"
 echo "  $OUT/gles/satin/index.json (ES 3.00), $OUT/gles/report_ct/index.json (ES 1.00 and 3.00),"
 echo "  $OUT/gles/patch_city/index.json (docs/gles.md)"
 

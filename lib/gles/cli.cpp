@@ -54,7 +54,8 @@ void add_export_options(CLI::App& app, ExportArgs& a) {
         ->check(app::parses_with([](const std::string& s) { shader_modes_from_string(s); },
                                  "LIST"))
         ->capture_default_str();
-    app.add_option("--gles-precisions", a.precisions, "Float precisions: highp, mediump")
+    app.add_option("--gles-precisions", a.precisions, "Float precisions: highp, mediump (mediump only on request: not validated on a "
+                   "half-float driver, docs/gles.md 'Precision')")
         ->check(app::parses_with([](const std::string& s) { precisions_from_string(s); }, "LIST"))
         ->capture_default_str();
     app.add_option("--gles-max-bands", a.max_sh_bands,

@@ -13,7 +13,7 @@ namespace inlight::gles {
 
 struct ExportArgs {
     std::string dir;  ///< --export-gles; empty = no export
-    std::string versions = "100,300", modes = "consistent,seed", precisions = "highp,mediump";
+    std::string versions = "100,300", modes = "consistent,seed", precisions = "highp";
     int max_sh_bands = 3;
     std::string lighting;  ///< --gles-lighting: a lighting file whose lights the shaders shade
     int max_texture_size = 0;  ///< --gles-max-texture-size: the device's; 0 = each version's minimum

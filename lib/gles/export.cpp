@@ -322,8 +322,10 @@ std::string pow2i_function() {
            "    for (int i = 0; i < 8; ++i) {\n"
            "        float h = floor(n * 0.5);\n"
            "        if (n - 2.0 * h > 0.5) r *= b;\n"
-           "        b *= b;\n"
            "        n = h;\n"
+           "        // Square only while bits remain: b never exceeds the result's own size\n"
+           "        // (b = 2^16 would overflow mediump's 65504 and feed inf into r).\n"
+           "        if (n > 0.5) b *= b;\n"
            "    }\n"
            "    return r;\n}\n";
 }
@@ -417,12 +419,17 @@ std::string lights_functions(const Plan& p) {
           << "    if (c < 0.5) return exp_f32(charlie_l(c));\n"
           << "    return exp_f32(" << lit(2.0 * l_half) << " - charlie_l(1.0 - c));\n}\n";
     }
+    // The lobe's grazing guard: the CPU model's 1e-9 in highp. mediump flushes 1e-9 to zero
+    // (its guaranteed range starts near 2^-14), and 4 nv nl and nv^2 must stay normal in it:
+    // 2^-6 keeps them >= 2^-12, at the cost of no specular from a light within 0.9 degrees
+    // of the horizon or a view that grazing (docs/gles.md, "Precision").
+    const std::string g = p.v->precision == Precision::kHighp ? "1e-9" : "0.015625";
     o << "// The material's " << brdf::to_string(m.specular)
       << " lobe f_s(n; VIEW, l) in 1/sr (brdf::eval_specular),\n"
       << "// from dot products only: the lobe is isotropic.\n"
       << "vec3 lobe(vec3 n, vec3 l) {\n"
       << "    float nv = dot(n, VIEW);\n    float nl = dot(n, l);\n"
-      << "    if (nv < 1e-9 || nl < 1e-9) return vec3(0.0);\n"
+      << "    if (nv < " << g << " || nl < " << g << ") return vec3(0.0);\n"
       << "    vec3 h = normalize(VIEW + l);\n"
       << "    float nh = dot(n, h);\n"
       << "    float vh = clamp(dot(VIEW, h), 0.0, 1.0);\n";
@@ -437,7 +444,7 @@ std::string lights_functions(const Plan& p) {
             o << "    if (nh <= 0.0) return vec3(0.0);\n"
               << "    float q = nh * nh * (" << a2 << " - 1.0) + 1.0;\n"
               << "    float dist = " << a2 << " / (" << lit(kPi) << " * q * q);\n"
-              << "    float co = max(nv, 1e-9);\n    float ci = max(nl, 1e-9);\n"
+              << "    float co = max(nv, " << g << ");\n    float ci = max(nl, " << g << ");\n"
               << "    float lo = 0.5 * (-1.0 + sqrt(1.0 + " << a2
               << " * max(0.0, 1.0 - co * co) / (co * co)));\n"
               << "    float li = 0.5 * (-1.0 + sqrt(1.0 + " << a2
@@ -579,7 +586,11 @@ std::string fragment_source(const Plan& p, const std::string& name) {
              "cell.w, t), f.y),\n"
           << "               mix(brdf_texel(ch, cell.y, cell.z, t), brdf_texel(ch, cell.y, "
              "cell.w, t), f.y), f.x);\n}\n"
-          << brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100);
+          // mediump flushes the shared snippet's 1e-20 guards (nadir normals) to 0.
+          << (p.v->precision == Precision::kHighp
+                  ? brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100)
+                  : std::regex_replace(brdf::glsl_grid_coord_source(t.grid, es3 ? 300 : 100),
+                                       std::regex(", 1e-20\\)"), ", 6.2e-5)"));
     }
     const bool charlie_lights = p.v->lights > 0 && p.table && mat.brdf.specular == brdf::Model::kCharlie;
     const bool unpack = p.lighting == LightingLayout::kRgba8Texture || p.scale_in_texture;
@@ -591,8 +602,9 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    vec4 b = floor(t * 255.0 + 0.5);\n"
           << "    if (b.x == 0.0) return 0.0;\n"
           << "    float neg = step(128.0, b.y);\n"
-          << "    float m = ((b.y - 128.0 * neg + 128.0) * 65536.0 + b.z * 256.0 + b.w) * "
-             "5.96046448e-8;\n"
+          << "    // The 24-bit mantissa / 2^24 as ((y + (z + w / 256) / 256) / 256): every\n"
+          << "    // step exact in highp and below 256 (mediump holds it, unlike 2^24 x 2^-24).\n"
+          << "    float m = ((b.y - 128.0 * neg + 128.0) + (b.z + b.w / 256.0) / 256.0) / 256.0;\n"
           << "    return (1.0 - 2.0 * neg) * m * pow2i(b.x - 127.0);\n}\n";
     }
     if (p.lighting == LightingLayout::kFloatTexture) {
@@ -606,7 +618,10 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    vec3 lo = floor(texture2D(u_sh_texture, vec2(x, 0.375)).rgb * 255.0 + 0.5);\n"
           << "    float scale = unpack_f32(texture2D(u_sh_texture, vec2(x, 0.625)));\n"
           << "    float offset = unpack_f32(texture2D(u_sh_texture, vec2(x, 0.875)));\n"
-          << "    return offset + scale * ((hi * 256.0 + lo) / 65535.0);\n}\n";
+          << (p.v->precision == Precision::kHighp
+                  ? "    return offset + scale * ((hi * 256.0 + lo) / 65535.0);\n}\n"
+                  : "    // (hi 256 + lo) / 65535 without forming 65535 (mediump's maximum is 65504).\n"
+                    "    return offset + scale * ((hi + lo / 256.0) * 0.00390631);\n}\n");
     }
     if (p.v->lights > 0) {
         const bool exact_cap = p.v->light_shading == envmap::LightShading::kCap;  // uses atan2
@@ -624,7 +639,11 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    vec3 x = (c + 0.055) / 1.055;\n"
           << "    vec3 y = pow(x, vec3(2.4));\n"
           << "    vec3 x3 = x * x * x;\n    vec3 x6 = x3 * x3;\n    vec3 y2 = y * y;\n"
-          << "    y = 0.8 * y + 0.2 * (x6 * x6) / (y2 * y2);\n"
+          << (p.v->precision == Precision::kHighp
+                  ? "    y = 0.8 * y + 0.2 * (x6 * x6) / (y2 * y2);\n"
+                  // x^12 and y^4 underflow half floats for dark texels (0 / 0): the same
+                  // step as (x^3 / y)^4, which stays near 1.
+                  : "    vec3 q = x3 / y;\n    q *= q;\n    y = 0.8 * y + 0.2 * q * q;\n")
           << "    vec3 lo = c / 12.92;\n"
           << "    return vec3(c.r <= 0.04045 ? lo.r : y.r, c.g <= 0.04045 ? lo.g : y.g,\n"
           << "                c.b <= 0.04045 ? lo.b : y.b);\n}\n"
@@ -654,7 +673,9 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << ", v_uv) * 2.0 - 1.0;\n"
           << "    vec3 mapped = v_tangent * c.x + cross(n, v_tangent) * c.y + n * c.z;\n"
           << "    vec3 ng = n;\n"
-          << "    if (dot(mapped, mapped) > 1e-12) n = normalize(mapped);\n"
+          << "    if (dot(mapped, mapped) > "
+          << (p.v->precision == Precision::kHighp ? "1e-12" : "6.2e-5")  // mediump: > 0
+          << ") n = normalize(mapped);\n"
           << "    if (dot(n, VIEW) <= 0.0) n = ng;\n";
     }
     if (p.scale_in_texture) {
@@ -912,6 +933,8 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
                              "' must be letters, digits, '_', '.' or '-'"));
     }
     Export e;
+    e.variant = v;
+    e.material = mat.name;
     e.name = str(mat.name, "-es", to_string(v.version), "-", to_string(v.mode), "-b", v.sh_bands,
                  v.lights > 0 ? str("-l", v.lights) : std::string(), "-", to_string(v.precision));
     const int max_bands = table ? table->sh_bands : brdf::kMaxBakeBands;
@@ -1271,6 +1294,7 @@ std::vector<std::string> write_exports(const std::string& dir, const std::vector
                                      {"table_layout", to_string(e.table_layout)},
                                      {"gl_limits_needed", e.manifest["gl_limits_needed"]}});
     }
+    index["load"] = load_choices(exports);
     paths.push_back(dir + "/index.json");
     fs::write_text_atomic(paths.back(), dump_finite(index, 2, paths.back()));
     return paths;

@@ -132,6 +132,8 @@ LightUniformArrays light_uniform_arrays(const std::vector<envmap::DirectionalLig
 /// One exported variant: sources, manifest and the BRDF data exactly as the app binds it.
 struct Export {
     std::string name;  ///< "<material>-es300-consistent-b3-highp"
+    std::string material;  ///< MaterialInputs::name
+    Variant variant;
     std::string vertex_source, fragment_source;
     nlohmann::json manifest;
     TableLayout table_layout = TableLayout::kNone;
@@ -182,7 +184,9 @@ BoundLighting bind_lighting(const Export& e, const Eigen::MatrixXd& sh);
 struct ExportSet {
     std::vector<GlslVersion> versions{GlslVersion::kEs100, GlslVersion::kEs300};
     std::vector<ShaderMode> modes{ShaderMode::kConsistent, ShaderMode::kSeed};
-    std::vector<Precision> precisions{Precision::kHighp, Precision::kMediump};
+    /// highp only by default: mediump variants are not validated on a half-float driver
+    /// (docs/gles.md, "Precision"); they are exported only when asked for.
+    std::vector<Precision> precisions{Precision::kHighp};
     int max_sh_bands = 3;  ///< consistent variants for bands 3 .. this (seed: 3 only)
     /// Dominant lights (a lighting file's, render/realtime_lights.h): the consistent variants
     /// shade this many analytically and their manifests carry these lights' uniform values.
@@ -212,6 +216,14 @@ std::vector<Export> export_material(const brdf::Table* table, const MaterialInpu
 /// Writes export_files() of every export into `dir` (atomically, inside the run's output
 /// transaction when there is one) and `dir`/index.json listing them; returns the paths written.
 std::vector<std::string> write_exports(const std::string& dir, const std::vector<Export>& exports);
+
+/// index.json's "load": per material, the variant an app loads for each capability (OpenGL ES
+/// 3.0+; ES 2.0 with GL_FRAGMENT_PRECISION_HIGH; ES 2.0 without it) and why, from `exports`:
+/// consistent before seed (the seed reproduces the report's slips), then the most bands (the
+/// closest to the truth), highp before mediump (mediump is not validated), ES 3.00 before 1.00
+/// on ES 3 (RGBA32F data, exact texel fetches). "variant" is null, with the reason, when no
+/// exported variant runs correctly on that capability.
+nlohmann::json load_choices(const std::vector<Export>& exports);
 
 /// The files of an export, name -> bytes: <name>.vert, <name>.frag, <name>.json (manifest)
 /// and <name>.brdf.bin (the table data, raw little-endian texels as the manifest describes;

@@ -462,5 +462,84 @@ TEST(ExportVariant, LightsInTheManifest) {
               exports[0].fragment_uniform_vectors);
 }
 
+// mediump variants are exported only on request: they are not validated on a half-float driver.
+TEST(ExportSet, HighpOnlyByDefault) {
+    const brdf::Table table = random_table("octa:5", 3, 1, 8);
+    MaterialInputs mat;
+    for (const Export& e : export_material(&table, mat, ExportSet{})) {
+        EXPECT_EQ(e.variant.precision, Precision::kHighp) << e.name;
+    }
+}
+
+// index.json's "load": per capability the consistent variant at the most bands, highp where the
+// context has it, and for ES 2.0 without highp a mediump variant (marked not validated) only when
+// one was asked for, else null with the reason.
+TEST(LoadChoices, NamesTheVariantPerCapability) {
+    const brdf::Table table = random_table("octa:5", 4, 1, 8);
+    MaterialInputs mat;
+    mat.name = "satin";
+    ExportSet set;
+    set.max_sh_bands = 4;
+    set.max_texture_size = 2048;  // the 4-band table fits ES 2.0 only above 64 texels
+    nlohmann::json load = load_choices(export_material(&table, mat, set));
+    ASSERT_EQ(load["satin"].size(), 3u);
+    EXPECT_EQ(load["satin"][0]["variant"], "satin-es300-consistent-b4-highp");
+    EXPECT_EQ(load["satin"][1]["variant"], "satin-es100-consistent-b4-highp");
+    EXPECT_TRUE(load["satin"][2]["variant"].is_null());
+    EXPECT_NE(load["satin"][2]["why"].get<std::string>().find("GL_FRAGMENT_PRECISION_HIGH"),
+              std::string::npos);
+    set.precisions = {Precision::kMediump, Precision::kHighp};
+    set.modes = {ShaderMode::kSeed, ShaderMode::kConsistent};
+    load = load_choices(export_material(&table, mat, set));
+    EXPECT_EQ(load["satin"][0]["variant"], "satin-es300-consistent-b4-highp");
+    EXPECT_EQ(load["satin"][1]["variant"], "satin-es100-consistent-b4-highp");
+    EXPECT_EQ(load["satin"][2]["variant"], "satin-es100-consistent-b4-mediump");
+    EXPECT_EQ(load["satin"][2]["validated"], false);
+    set.versions = {GlslVersion::kEs100};  // an ES 3 context runs GLSL ES 1.00 too
+    load = load_choices(export_material(&table, mat, set));
+    EXPECT_EQ(load["satin"][0]["variant"], "satin-es100-consistent-b4-highp");
+}
+
+// mediump's guaranteed range is |x| in [2^-14, 2^14] (half floats: up to 65504); a literal
+// outside it (other than 0) flushes or overflows on a half-float driver, e.g. the float32
+// unpack's 65536.0 x 5.96e-8 (inf x 0 = NaN) or the lobe's 1e-9 guard (0: a division by zero at
+// the horizon). llvmpipe computes mediump at 32 bits (GlesHarness.LlvmpipeComputesMediumpAt32
+// Bits), so it cannot show these; this test reads every mediump source, the variants with the
+// data in textures (unpacks) and lights (lobes) of all four lobes included.
+TEST(ExportVariant, MediumpLiteralsFitHalfFloats) {
+    const std::regex literal(R"((?:^|[^\w.])(\d+\.\d*(?:e[-+]?\d+)?|\d+e[-+]?\d+))");
+    const double kHalfMin = std::ldexp(1.0, -14), kHalfMax = 65504;
+    int sources = 0;
+    for (brdf::Model model : {brdf::Model::kGgx, brdf::Model::kCookTorranceReport,
+                              brdf::Model::kCharlie, brdf::Model::kLambert}) {
+        const brdf::Table table = random_table("octa:5", 6, 1, 8);
+        MaterialInputs mat;
+        mat.brdf.specular = model;
+        mat.albedo_texture_px = {4, 4};
+        mat.normal_texture_px = {4, 4};
+        for (const Variant& base : variants_with_lights(6)) {
+            if (base.precision != Precision::kMediump) continue;
+            for (int bands : {3, 6}) {
+                Variant v = base;
+                if (v.mode == ShaderMode::kConsistent) v.sh_bands = bands;
+                Limits limits = Limits::minimum(v.version);
+                limits.max_texture_size = 4096;
+                const bool lambert = model == brdf::Model::kLambert;  // no table: no lobe
+                const Export e = export_variant(lambert ? nullptr : &table, mat, v, limits);
+                ++sources;
+                const std::string& src = e.fragment_source;
+                for (auto it = std::sregex_iterator(src.begin(), src.end(), literal);
+                     it != std::sregex_iterator(); ++it) {
+                    const double x = std::stod((*it)[1]);
+                    if (x == 0) continue;
+                    EXPECT_TRUE(x >= kHalfMin && x <= kHalfMax)
+                        << e.name << ": literal " << (*it)[1] << " is not a normal half float";
+                }
+            }
+        }
+    }
+    EXPECT_GT(sources, 40);
+}
+
 }  // namespace
 }  // namespace inlight::gles

@@ -174,6 +174,7 @@ struct Case {
 
 struct Outcome {
     double pass_fraction = 0, worst = 0;
+    int non_finite = 0;  ///< pixels with a NaN or infinite channel (counted as failing)
 };
 
 /// Dominant lights, the material whose lobe shades them and the probe normals for them.
@@ -255,6 +256,11 @@ Outcome compare(Context& ctx, const Export& e, const Variant& v, const Case& s,
             for (int c = 0; c < 3; ++c) {
                 const double want = cpu[y * kWidth + x][c];
                 const double got = gpu.at(x, y, c);
+                if (!std::isfinite(got)) {
+                    ok = false;
+                    ++out.non_finite;
+                    continue;
+                }
                 if (format == TargetFormat::kRgba32f) {
                     const double rel = std::abs(got - want) / std::max(std::abs(want), floor);
                     out.worst = std::max(out.worst, rel);
@@ -325,6 +331,37 @@ TEST(GlesHarness, EveryVariantCompilesOnTheDriver) {
             EXPECT_NO_THROW(draw(ctx, e, b, Mesh{}, 1, 1, TargetFormat::kRgba8)) << e.name;
         }
     }
+}
+
+// What the mediump measurements on this driver mean: llvmpipe (Mesa 22.3) computes mediump
+// floats as half floats, so its mediump figures are a half-float GPU's (docs/gles.md,
+// "Precision"). 256^3 / 4096^2 = 1 at 32 bits; half floats overflow at 256^2 = 65536 > 65504.
+TEST(GlesHarness, LlvmpipeComputesMediumpInHalfFloats) {
+    Export e;
+    e.name = "mediump probe";
+    e.vertex_source =
+        "#version 100\nattribute vec3 a_position;\nattribute vec3 a_normal;\nvarying vec3 "
+        "v_normal;\nvoid main() {\n    v_normal = a_normal;\n    gl_Position = "
+        "vec4(a_position, 1.0);\n}\n";
+    e.fragment_source =
+        "#version 100\nprecision mediump float;\nvarying vec3 v_normal;\nvoid main() {\n"
+        "    float x = v_normal.z * 256.0;\n    float y = x * x * x / 4096.0 / 4096.0;\n"
+        "    gl_FragColor = vec4(y, y, y, 1.0);\n}\n";
+    e.manifest["variant"] = {{"glsl_version", "100"}, {"sh_bands", 1}};
+    e.manifest["textures"] = nlohmann::json::array();
+    Bindings b;
+    b.sh = Eigen::MatrixXd::Zero(1, 3);
+    const Mesh mesh = probe_mesh(std::vector<Eigen::Vector3d>(kWidth * kHeight,
+                                                              Eigen::Vector3d::UnitZ()),
+                                 Eigen::Vector3d::UnitX());
+    const Readback r = draw(context2(), e, b, mesh, kWidth, kHeight, TargetFormat::kRgba32f);
+    if (context2().info().renderer.find("llvmpipe") == std::string::npos) {
+        GTEST_SKIP() << "skip: a statement about llvmpipe, the renderer is "
+                     << context2().info().renderer;
+    }
+    EXPECT_TRUE(std::isinf(r.at(3, 5, 0)))
+        << "llvmpipe computes mediump at 32 bits (" << r.at(3, 5, 0)
+        << "): its mediump figures in docs/gles.md are not a half-float GPU's";
 }
 
 // The criterion for every highp variant, table layout, target and lighting level.
@@ -528,6 +565,70 @@ TEST(GlesHarness, LightsMatchTheCpuModel) {
                 }
             }
         }
+    }
+}
+
+// The mediump variants on llvmpipe, which computes them in half floats
+// (LlvmpipeComputesMediumpInHalfFloats): the same inputs as MatchesTheCpuModel and
+// LightsMatchTheCpuModel (every layout, both versions and modes, lights on all four lobes).
+// No pixel may be NaN or infinite; the figures against the CPU model are printed for
+// docs/gles.md ("Precision"), where they are quoted: mediump is exported only on request.
+TEST(GlesHarness, MediumpVariantsAreFinite) {
+    // One variant per hazard (mediump draws take ~8 s each on llvmpipe): sRGB albedo and
+    // normal map (both versions), the RGBA8 lighting texture's float32 unpack, lights on GGX
+    // and Charlie (horizon normals).
+    struct Item {
+        Case c;
+        Variant v;
+        const brdf::Material* lobe;  ///< with 3 lights, else none
+    };
+    brdf::Material ggx, charlie;
+    ggx.specular = brdf::Model::kGgx;
+    ggx.alpha = 0.25;
+    charlie.specular = brdf::Model::kCharlie;
+    charlie.alpha = 0.35;
+    const Variant es1{GlslVersion::kEs100, ShaderMode::kConsistent, 3, Precision::kMediump};
+    Variant es3 = es1, es1_b4 = es1, es1_l3 = es1, es3_l3 = es1;
+    es3.version = es3_l3.version = GlslVersion::kEs300;
+    es1_b4.sh_bands = 4;
+    es1_l3.lights = es3_l3.lights = 3;
+    const Case textured{"octa:5", 3, 3, true}, light_case{"octa:9", 3, 1, false};
+    const std::vector<Item> items = {{textured, es1, nullptr},
+                                     {textured, es3, nullptr},
+                                     {{"thetaphi:9x16", 4, 1, false}, es1_b4, nullptr},
+                                     {light_case, es3_l3, &ggx},
+                                     {light_case, es1_l3, &charlie}};
+    const std::vector<envmap::DirectionalLight> lights = {
+        make_light(direction_from_spherical(kPi / 2, kPi / 6), 0.27, {20, 19, 17}),
+        make_light(direction_from_spherical(0.01, 1.0), 12.0, {2.0, 2.2, 2.5}),
+        make_light(direction_from_spherical(1.1, -2.0), 0.0, {3, 2, 1})};
+    for (const Item& it : items) {
+        brdf::Table t = smooth_table(it.c.grid, it.c.table_bands, it.c.channels, it.lobe ? 6 : 3);
+        MaterialInputs mat;
+        mat.name = it.lobe ? brdf::to_string(it.lobe->specular) : it.c.textured ? "textured" : "probes";
+        if (it.c.textured) {
+            mat.albedo_texture_px = {12, 10};
+            mat.normal_texture_px = {9, 7};
+        }
+        LightSetup ls;
+        if (it.lobe) {
+            t.view = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
+            mat.brdf = ls.brdf = *it.lobe;
+            ls.lights = lights;
+            ls.normals = light_probe_normals(t.grid, lights);
+        }
+        Context& ctx = it.v.version == GlslVersion::kEs300 ? context3() : context2();
+        ASSERT_TRUE(ctx.info().float_color_buffer) << "NaN needs a float target";
+        Limits lim = Limits::minimum(it.v.version);  // the data in textures where it must be
+        lim.max_texture_size = 4096;
+        const Export e = export_variant(&t, mat, it.v, lim);
+        const Outcome f = compare(ctx, e, it.v, it.c, lighting(it.c.table_bands, 4),
+                                  TargetFormat::kRgba32f, it.lobe ? &ls : nullptr);
+        EXPECT_EQ(f.non_finite, 0) << e.name;
+        std::cout << "[gles mediump] " << e.name << " (" << it.c.grid << ", "
+                  << to_string(e.table_layout) << ", lighting " << to_string(e.lighting_layout)
+                  << "): " << f.pass_fraction * 100 << "% within 1e-3 of the CPU model, worst "
+                  << f.worst << ", " << f.non_finite << " non-finite pixels\n";
     }
 }
 

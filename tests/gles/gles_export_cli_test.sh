@@ -18,10 +18,19 @@ expect_true "nothing written by a usage error" -- test ! -e "$WORK/g"
 
 expect_exit 0 "brdf-sh-bake --export-gles" -- \
     "$B" "${BAKE[@]}" -o "$WORK/satin" --export-gles "$WORK/g" --report "$WORK/b.json"
-# 2 versions x 2 modes x 2 precisions at 3 bands.
-expect_true "index lists 8 variants" -- jq -e '.variants | length == 8' "$WORK/g/index.json"
+# 2 versions x 2 modes at 3 bands, highp only: mediump is exported only on request.
+expect_true "index lists 4 highp variants" -- \
+    jq -e '[.variants[].variant.precision] == ["highp", "highp", "highp", "highp"]' "$WORK/g/index.json"
 expect_true "report lists the export's files" -- \
-    jq -e '[.outputs[] | select(.kind == "gles_export")] | length == 33' "$WORK/b.json"
+    jq -e '[.outputs[] | select(.kind == "gles_export")] | length == 17' "$WORK/b.json"
+expect_true "index names the variant to load per capability, none without highp" -- jq -e \
+    '[.load.satin[].variant] == ["satin-es300-consistent-b3-highp", "satin-es100-consistent-b3-highp", null]' \
+    "$WORK/g/index.json"
+expect_exit 0 "mediump on request" -- "$B" "${BAKE[@]}" -o "$WORK/satin_m" --export-gles "$WORK/gm" \
+    --gles-precisions highp,mediump --gles-modes consistent
+expect_true "the mediump variant is named for ES 2.0 without highp, not validated" -- jq -e \
+    '.load.satin_m[2].variant == "satin_m-es100-consistent-b3-mediump" and .load.satin_m[2].validated == false' \
+    "$WORK/gm/index.json"
 for f in "$WORK"/g/*.vert "$WORK"/g/*.frag; do
     glslangValidator "$f" > "$WORK/glslang.log" 2>&1 || fail "$f: $(cat "$WORK/glslang.log")"
 done

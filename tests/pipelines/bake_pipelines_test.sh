@@ -12,7 +12,7 @@ require_blender_data
 make_fabric "$WORK/fab" "Tiny weave" 0.2
 expect_exit 0 "bake-fabric" -- "$PIPE/bake-fabric.sh" "$WORK/fab" "$WORK/out" tiny
 expect_stderr "no BTF" "says the fabric has no BTF"
-expect_stderr "8 GLES variants" "says how many shader variants it bundled (ES 1.00, 3.00 x 2 modes x 2 precisions)"
+expect_stderr "4 GLES variants" "says how many shader variants it bundled (ES 1.00, 3.00 x 2 modes, highp only by default: docs/gles.md)"
 B="$WORK/out/bundles/fabrics/tiny"
 M="$B/manifest.json"
 expect_true "fabric bundle roles" -- jq -e '([.files[].role] | unique) == ["albedo","brdf_sh_table","brdf_sh_table_json","brdf_sh_texture","material","normal","shader_data","shader_fragment","shader_index","shader_lookup","shader_manifest","shader_vertex","thumbnail"] and .version == 2' "$M"
