@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
         if (max_error > 0) {
             chosen = brdf::choose_bands(by_bands, max_error);
             o.sh_bands = chosen > 0 ? chosen : brdf::kMaxBakeBands;
-            log::info(str("--max-error ", max_error, ": ", o.sh_bands, " bands (truncation error ",
+            log::info(str("--max-error ", max_error, ": ", log::count(o.sh_bands, "band"), " (truncation error ",
                           by_bands[o.sh_bands - 1], ")"));
         }
         brdf::Table table;
@@ -203,13 +203,13 @@ int main(int argc, char** argv) {
             // Each error is the largest over the test lightings, channels and checked normals,
             // relative to the largest exact radiance under that lighting (docs/brdf.md, 5).
             const std::string tool = "brdf-sh-bake";
-            log::summary(tool, "table", str(o.sh_bands, " SH bands on ", brdf::to_string(grid),
+            log::summary(tool, "table", str(log::count(o.sh_bands, "SH band"), " on ", brdf::to_string(grid),
                                             ", baked in ", log::num(bake_s, 3), " s"));
             log::summary(tool, "integration error (bake vs converged reference, at nodes)",
                          log::num(v->integration_radiance_max_rel, 3));
             log::summary(tool, "interpolation error (the grid's, between nodes)",
                          log::num(v->interpolation_radiance_max_rel, 3));
-            log::summary(tool, str("SH truncation error (", o.sh_bands, " bands vs the exact lobe)"),
+            log::summary(tool, str("SH truncation error (", log::count(o.sh_bands, "band"), " vs the exact lobe)"),
                          log::num(v->truncation_radiance_max_rel, 3));
             log::summary(tool, "total error (the table's lookup vs the exact radiance)",
                          log::num(v->total_radiance_max_rel, 3));

@@ -69,6 +69,36 @@ image::Image frame_radiance(const Args& a, const std::string& input, nlohmann::j
     return fr.radiance;
 }
 
+// The console summary (docs/report.md, "Console summary"): what the run chose and how close it
+// came, from the figures the report holds (`m` is the input's entry of metrics.environments).
+void print_summary(const std::string& input, const nlohmann::json& m, bool validated) {
+    const std::string tool = "envmap-project";
+    const std::string name = std::filesystem::path(input).filename().string();
+    const int bands = m["sh_bands"].get<int>();
+    if (m.contains("budget")) {
+        const nlohmann::json& b = m["budget"];
+        const nlohmann::json& c = b["chosen"];
+        log::summary(tool, str(name, ": --max-error ", log::num(b["max_error"].get<double>()), " (",
+                               b["metric"].get<std::string>(), ")"),
+                     str(b["met"].get<bool>() ? "met" : "NOT met", " with ",
+                         log::count(c["sh_bands"].get<int>(), "SH band"), " + ",
+                         log::count(c["lights"].get<int>(), "light"), ": error ",
+                         log::num(c["error"].get<double>()), " over ",
+                         log::count(b["normals"].get<int>(), "normal")));
+        return;
+    }
+    log::summary(tool, str(name, ": projection"),
+                 str(log::count(bands, "SH band"), " (", log::count(bands * bands, "coefficient"),
+                     " per channel)"));
+    if (validated) {
+        const nlohmann::json& v = m["validation"];
+        log::summary(tool, str(name, ": irradiance error vs brute force (relative)"),
+                     str("mean ", log::num(v["mean_rel"].get<double>()), ", max ",
+                         log::num(v["max_rel"].get<double>()), " over ",
+                         log::count(v["normals"].get<int>(), "normal")));
+    }
+}
+
 nlohmann::json process(const Args& a, const envmap::BudgetSetup* budget, const std::string& input,
                        Report& report) {
     envmap::LoadOptions lo;
@@ -153,9 +183,8 @@ nlohmann::json process(const Args& a, const envmap::BudgetSetup* budget, const s
         m["validation"] = envmap::validation_json(env, result.coeffs_unwindowed, result.coeffs,
                                                   a.sh_bands, normals);
         m["validation"]["window"] = a.window;
-        log::info(str(input, ": irradiance error vs brute force over ", normals.size(), " normals: mean ",
-                      m["validation"]["mean_rel"].get<double>(), ", max ", m["validation"]["max_rel"].get<double>()));
     }
+    print_summary(input, m, a.validate);
 
     sh::CoefficientSet set;
     set.sh_bands = sh_bands;

@@ -248,8 +248,9 @@ int main(int argc, char** argv) {
         if (!brdf_tables.empty()) {
             const size_t n = scene->desc().materials.size();
             if (cmp.tables.size() != n) {
-                throw UsageError(str("--brdf-table: ", cmp.tables.size(), " tables for the ", n,
-                                     " materials of ", a.scene, " (one each, in scene order)"));
+                throw UsageError(str("--brdf-table: ", log::count(int64_t(cmp.tables.size()), "table"),
+                                     " for ", log::count(int64_t(n), "material"), " of ", a.scene,
+                                     " (one each, in scene order)"));
             }
             int bands = brdf::kMaxBakeBands;
             for (size_t i = 0; i < n; ++i) {
@@ -311,9 +312,11 @@ int main(int argc, char** argv) {
         m["height_px"] = scene->camera().height_px;
         m["sampler"] = a.sampler;
         m["adaptive"] = opt.adaptive;
-        log::info(str("render: ", r.spp, " spp in ", r.render_time_s, " s, ",
-                      r.rays / std::max(r.render_time_s, 1e-9) / 1e6, " Mrays/s, rel_error ",
-                      r.rel_error, " (", r.stop_reason, ")"));
+        log::summary("render", "path traced",
+                     str(r.spp, " spp in ", log::num(r.render_time_s), " s (",
+                         log::num(r.rays / std::max(r.render_time_s, 1e-9) / 1e6, 3),
+                         " Mrays/s), relative noise ", log::num(r.rel_error), " (stopped: ",
+                         r.stop_reason, ")"));
         if (a.convergence_ref_spp > 0 || a.convergence_ref_irradiance ||
             !a.convergence_ref_image.empty()) {
             ScopedStage stage(report, "convergence");
@@ -327,7 +330,8 @@ int main(int argc, char** argv) {
                     : std::move(*file_ref);
             const auto c = render::convergence_study(*scene, opt, ref, spps);
             m["convergence"] = render::to_json(c);
-            log::info(str("render: error ~ spp^", c.slope, " (expected -0.5)"));
+            log::summary("render", "convergence", str("error ~ spp^", log::num(c.slope, 3),
+                                                      " (expected -0.5)"));
         }
         if (a.compare) {
             ScopedStage stage(report, "compare");
@@ -339,6 +343,7 @@ int main(int argc, char** argv) {
                 m["realtime"]["lighting_file"] = render::compare_lighting_file(
                     *scene, r, cmp, *lighting, (p.parent_path() / p.stem()).string(), files);
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
+            render::print_compare_summary(m["realtime"]);
             files.clear();
             const std::string prefix = (p.parent_path() / p.stem()).string();
             m["realtime"]["gles"] =

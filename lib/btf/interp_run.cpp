@@ -151,10 +151,12 @@ void run_interpolation(const InterpRunOptions& o, Report& report) {
                         {"per_pair", rows}};
     if (!o.truth.empty()) m["mean_errors"] = to_json(mean);
     report.metrics()["interpolation"] = m;
-    log::info(str("[btf-pca] ", pairs.size(), " pairs interpolated (", to_string(o.scheme), ")",
-                  o.truth.empty() ? std::string()
-                                  : str(": mean MAE Lab ", mean.mae_lab, ", dE2000 ", mean.delta_e2000_mean,
-                                        ", rel. RMSE ", mean.rel_rmse)));
+    log::summary("btf-pca", "interpolated",
+                 str(log::count(int64_t(pairs.size()), "pair"), " (", to_string(o.scheme), ")",
+                     o.truth.empty() ? std::string()
+                                     : str(", vs --truth: mean MAE Lab ", log::num(mean.mae_lab),
+                                           ", mean Delta E 2000 ", log::num(mean.delta_e2000_mean),
+                                           ", relative RMSE ", log::num(mean.rel_rmse))));
 }
 
 }  // namespace inlight::btf

@@ -18,6 +18,7 @@
 #include "core/log.h"
 #include "core/memory.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "image/color.h"
 
 namespace inlight::btf {
@@ -214,7 +215,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             return true;
         };
         if (r.width != shape.width || r.height != shape.height || !same(r.lights, shape.lights) || !same(r.views, shape.views))
-            throw Error(str("--reference ", o.reference, ": ", r.n_lights(), " lights x ", r.n_views(), " views of ", r.width,
+            throw Error(str("--reference ", o.reference, ": ", log::count(r.n_lights(), "light"), " x ",
+                            log::count(r.n_views(), "view"), " of ", r.width,
                             "x", r.height, " px, the input has ", shape.n_lights(), " x ", shape.n_views(), " of ", shape.width,
                             "x", shape.height, " (or other directions)"));
     }
@@ -264,6 +266,10 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         if (report) report->add_output(dir + "/" + name, kind, kind == "btf_pca_manifest" ? manifest_color_space(o.fit_space) : "");
     };
 
+    // A bar with an ETA on a terminal, where it stands for the per-group lines (those go to -v);
+    // off a terminal (logs, CI) each group still writes its line.
+    Progress bar("[btf-pca] fit view groups",
+                 static_cast<int64_t>(view_groups(shape.views, o.pca.view_group_size).size()));
     const CompressStats stats = compress_btf(*src, pca_options, [&](GroupFit& fit) {
         const GroupPca& pca = fit.pca;
         const int C = pca.components();
@@ -444,8 +450,12 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         measure_s += seconds_since(t0);
         rec.manifest = std::move(gj);
         groups.push_back(std::move(rec));
-        log::info(str("[btf-pca] group ", fit.index + 1, "/", fit.count, ": ", C, " components (", to_string(pca.method),
-                      "), rmse ", std::sqrt(groups.back().sse.back() / (double(P) * N))));
+        const std::string line = str("[btf-pca] group ", fit.index + 1, "/", fit.count, ": ",
+                                     log::count(C, "component"), " (", to_string(pca.method), "), rmse ",
+                                     std::sqrt(groups.back().sse.back() / (double(P) * N)));
+        if (bar.drawing()) log::verbose(line);
+        else log::info(line);
+        bar.add();
     });
 
     // Stream order: components by the energy they remove, largest first, across groups.
@@ -622,6 +632,37 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     return m;
 }
 
+namespace {
+
+// The console summary (docs/report.md, "Console summary") from the run's metrics: components
+// chosen, bytes stored and the compression ratio, and the model's error against the input.
+void print_summary(const nlohmann::json& m) {
+    const std::string tool = "btf-pca";
+    const nlohmann::json& p = m["pca"];
+    const auto per = p["components_per_group"].get<std::vector<int>>();
+    const int lo = per.empty() ? 0 : *std::min_element(per.begin(), per.end());
+    const int hi = per.empty() ? 0 : *std::max_element(per.begin(), per.end());
+    const double max_rmse = p["max_rmse"].get<double>();
+    log::summary(tool, "components",
+                 str(log::count(p["components_total"].get<int64_t>(), "component"), " over ",
+                     log::count(p["groups"].get<int>(), "view group"), " (",
+                     lo == hi ? str(lo) : str(lo, " to ", hi), " per group",
+                     max_rmse >= 0 ? str(", fewest within --max-rmse ", log::num(max_rmse)) : "", ")"));
+    const nlohmann::json& b = m["bytes"];
+    log::summary(tool, "stored", str(b["stored"].get<uint64_t>(), " bytes, compression ratio ",
+                                     log::num(m["compression_ratio"]["raw_8bit_to_stored"].get<double>()),
+                                     " (raw 8-bit samples / stored bytes)"));
+    const nlohmann::json& e = m["error"];
+    log::summary(tool, "error (model vs input)",
+                 str("RMSE ", log::num(e["rmse_linear"].get<double>()), " (",
+                     m["error_space"].get<std::string>(), "), MAE Lab ",
+                     log::num(e["mae_lab"].get<double>()), ", mean Delta E 2000 ",
+                     log::num(e["delta_e2000_mean"].get<double>()), ", RMSE 8-bit ",
+                     log::num(e["rmse_rgb8"].get<double>()), " codes"));
+}
+
+}  // namespace
+
 void run_pca(const PcaRunOptions& o, Report& report) {
     std::error_code ec;
     const stdfs::path in = stdfs::weakly_canonical(o.input, ec), out = stdfs::weakly_canonical(o.output, ec);
@@ -647,7 +688,8 @@ void run_pca(const PcaRunOptions& o, Report& report) {
         btf = FolderBtf::open(o.input, o.open);
     }
     const auto& idx = btf->index();
-    log::info(str("[btf-pca] ", o.input, ": ", idx.shape.n_lights(), " lights x ", idx.shape.n_views(), " views of ",
+    log::info(str("[btf-pca] ", o.input, ": ", log::count(idx.shape.n_lights(), "light"), " x ",
+                  log::count(idx.shape.n_views(), "view"), " of ",
                   idx.shape.width, "x", idx.shape.height, " px (", idx.format, ", ", idx.bits_per_channel, "-bit)"));
     std::unique_ptr<FolderBtf> ref;
     if (!o.reference.empty()) {
@@ -658,6 +700,7 @@ void run_pca(const PcaRunOptions& o, Report& report) {
     nlohmann::json m = compress_to_folder(*btf, o, idx.stored_bytes, &report, ref.get());
     m["input"] = {{"path", o.input}, {"format", idx.format}, {"bits_per_channel", idx.bits_per_channel},
                   {"zip", idx.is_zip}, {"stored_bytes", idx.stored_bytes}, {"ignored_files", idx.ignored.size()}};
+    print_summary(m);
     report.metrics() = m;
 }
 

@@ -192,7 +192,8 @@ void run_pack(const PackToolOptions& o, Report& report) {
     j["file_count"] = m.files.size();
     j["total_bytes"] = m.total_bytes();
     j["manifest_sha256"] = manifest_sha256(dest);
-    log::info(str("bundle: ", dest, ": ", m.files.size(), " files, ", m.total_bytes(), " bytes"));
+    log::summary("bundle", "packed", str(o.kind, " ", m.id, ": ", log::count(int64_t(m.files.size()), "file"),
+                                          ", ", log::count(int64_t(m.total_bytes()), "byte"), ", in ", dest));
 }
 
 void run_verify(const VerifyToolOptions& o, Report& report) {
@@ -242,11 +243,13 @@ void run_verify(const VerifyToolOptions& o, Report& report) {
     j["failed"] = failures.size();
     j["total_bytes"] = bytes;
     if (!failures.empty()) {
-        std::string msg = str(failures.size(), " of ", dirs.size(), " bundles failed verification:");
+        std::string msg = str(failures.size(), " of ", log::count(int64_t(dirs.size()), "bundle"),
+                              " failed verification:");
         for (const auto& f : failures) msg += "\n  " + f;
         throw Error(msg);
     }
-    log::info(str("bundle: ", dirs.size(), " bundles verified, ", bytes, " bytes"));
+    log::summary("bundle", "verified", str("OK, ", log::count(int64_t(dirs.size()), "bundle"), ", ",
+                                            log::count(int64_t(bytes), "byte")));
 }
 
 void run_index(const IndexToolOptions& o, Report& report) {
@@ -286,7 +289,9 @@ void run_index(const IndexToolOptions& o, Report& report) {
     j["fabrics"] = fabrics;
     j["devices"] = devices;
     j["entries"] = list;
-    log::info(str("bundle: ", out, ": ", fabrics, " fabrics, ", devices, " devices"));
+    log::summary("bundle", "catalogue", str(log::count(int64_t(rows.size()), "bundle"), " (",
+                                             log::count(fabrics, "fabric"), ", ",
+                                             log::count(devices, "device"), ") in ", out));
 }
 
 }  // namespace inlight::bundle

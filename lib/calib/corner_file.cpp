@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/log.h"
 
 namespace inlight::calib {
 
@@ -165,7 +166,7 @@ CornerSet read_checked(const std::string& image_points_path, const std::string& 
         cv::FileStorage fo = open_read(object_points_path);
         objects = read_nodes(fo, object_points_path, 3);
         if (objects.size() != images.size()) {
-            throw Error(str(object_points_path, ": ", objects.size(), " views, but ",
+            throw Error(str(object_points_path, ": ", log::count(int64_t(objects.size()), "view"), ", but ",
                             image_points_path, " has ", images.size()));
         }
     }

@@ -308,7 +308,7 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
     }
     if (views.empty()) {
         throw Error(str("no chessboard of ", board.cols, "x", board.rows,
-                        " inner corners found in any of the ", inputs, " images",
+                        " inner corners found in ", inputs == 1 ? "the one image" : str("any of the ", inputs, " images"),
                         list_dropped(dropped)));
     }
     if (static_cast<int>(views.size()) < co.min_views) {
@@ -461,7 +461,8 @@ void run_response(const ResponseToolOptions& o, uint64_t seed, Report& report) {
     if (o.images.size() < 2) throw UsageError("--images needs at least two exposures");
     if (o.images.size() != o.exposure_s.size()) {
         throw UsageError(
-            str(o.images.size(), " images but ", o.exposure_s.size(), " --exposure-s values"));
+            str(log::count(int64_t(o.images.size()), "image"), " but ",
+                log::count(int64_t(o.exposure_s.size()), "--exposure-s value")));
     }
     for (const std::string& p : o.images) fs::declare_input(p, "--images");
     fs::declare_output(o.output, "-o");

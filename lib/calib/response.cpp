@@ -8,11 +8,12 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "core/json_in.h"
 #include "core/check.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_in.h"
 #include "core/json_out.h"
+#include "core/log.h"
 
 namespace inlight::calib {
 
@@ -34,7 +35,8 @@ void check_codes(const image::Image& img, const std::string& what) {
 void check_bracket(const std::vector<image::Image>& codes, const std::vector<double>& exposures_s) {
     if (codes.size() < 2) throw Error(str("need at least 2 exposures, got ", codes.size()));
     if (codes.size() != exposures_s.size()) {
-        throw Error(str(codes.size(), " images but ", exposures_s.size(), " exposure times"));
+        throw Error(str(log::count(int64_t(codes.size()), "image"), " but ",
+                        log::count(int64_t(exposures_s.size()), "exposure time")));
     }
     for (size_t j = 0; j < codes.size(); ++j) {
         if (!(exposures_s[j] > 0)) {

@@ -198,7 +198,7 @@ Solution fisheye_fallback(const std::vector<const View*>& views, int width, int 
     s.camera = best->camera;
     s.solver = "opencv-subset+bundle";
     log::verbose(str("fisheye fallback: OpenCV solved the ", subset.size(), " most central of ",
-                     views.size(), " views (", first_error, ")"));
+                     log::count(int64_t(views.size()), "view"), " (", first_error, ")"));
     for (size_t v = 0; v < views.size(); ++v) {
         const auto it = std::find(subset.begin(), subset.end(), v);
         if (it != subset.end()) {

@@ -9,6 +9,7 @@ namespace {
 
 std::atomic<int> g_level{static_cast<int>(Level::kNormal)};
 std::mutex g_mutex;  // serialises stderr lines and the warning list
+std::atomic<bool> g_bar_on_screen{false};
 
 std::vector<std::string>& warnings() {
     static std::vector<std::string> list;
@@ -17,11 +18,14 @@ std::vector<std::string>& warnings() {
 
 void emit(const char* prefix, const std::string& message) {
     std::lock_guard<std::mutex> lock(g_mutex);
+    if (g_bar_on_screen.exchange(false)) std::fputs("\r\033[K", stderr);
     std::fprintf(stderr, "%s%s\n", prefix, message.c_str());
     std::fflush(stderr);
 }
 
 }  // namespace
+
+void set_bar_on_screen(bool on) { g_bar_on_screen = on; }
 
 void set_level(Level l) { g_level = static_cast<int>(l); }
 Level level() { return static_cast<Level>(g_level.load()); }

@@ -35,6 +35,10 @@ std::string count(int64_t n, const std::string& noun, const std::string& plural_
 /// `value` with `digits` significant digits (printf %g) for summaries: 0.21347 -> "0.2135" at 4.
 std::string num(double value, int digits = 4);
 
+/// Set by Progress while its bar is on the terminal's last line: the next message clears that
+/// line first (the bar comes back at its next redraw), so no line runs on from the bar.
+void set_bar_on_screen(bool on);
+
 /// Returns and clears the warnings recorded since the last call (in order of arrival).
 std::vector<std::string> take_warnings();
 

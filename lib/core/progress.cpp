@@ -48,7 +48,10 @@ Progress::Progress(std::string label, int64_t total)
       m_enabled(::isatty(STDERR_FILENO) && log::level() != log::Level::kQuiet) {}
 
 Progress::~Progress() {
-    if (m_enabled && m_shown_percent >= 0) std::fprintf(stderr, "\r\033[K");
+    if (m_enabled && m_shown_percent >= 0) {
+        std::fprintf(stderr, "\r\033[K");
+        log::set_bar_on_screen(false);
+    }
 }
 
 void Progress::add(int64_t n) {
@@ -71,6 +74,7 @@ void Progress::add(int64_t n) {
     }
     std::fprintf(stderr, "\r%s\033[K", format_progress(m_label, done, m_total, elapsed).c_str());
     std::fflush(stderr);
+    log::set_bar_on_screen(true);
 }
 
 }  // namespace inlight

@@ -30,6 +30,9 @@ class Progress {
     ~Progress();
     /// Adds `n` finished items (callable from worker threads).
     void add(int64_t n = 1);
+    /// True when the bar is drawn (stderr is a terminal and not -q): callers may then move
+    /// per-item lines to -v, the bar standing for them.
+    bool drawing() const { return m_enabled; }
 
   private:
     std::string m_label;

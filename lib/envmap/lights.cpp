@@ -8,6 +8,7 @@
 #include "core/conventions.h"
 #include "core/enum_names.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "envmap/validate.h"
 
 namespace inlight::envmap {
@@ -351,7 +352,7 @@ Extraction extract_lights(const Environment& env, const ExtractOptions& options,
 Environment residual_environment(const Environment& env, const Extraction& extraction, int count) {
     if (count < 0 || count > static_cast<int>(extraction.lights.size()))
         throw UsageError(
-            str("residual: ", count, " lights asked, ", extraction.lights.size(), " found"));
+            str("residual: ", log::count(count, "light"), " asked, ", extraction.lights.size(), " found"));
     Environment out = env;
     const int ch = out.radiance.channels;
     for (int l = 0; l < count; ++l) {

@@ -130,7 +130,7 @@ void check_capture_folder(const std::string& out_dir) {
             throw UsageError(str("-o '", out_dir, "' is an existing file: a capture writes a folder"));
         }
         if (const size_t stale = fs::remove_stale_temporaries(out_dir); stale > 0) {
-            log::info(str("render: removed ", stale, " temporary file", stale == 1 ? "" : "s",
+            log::info(str("render: removed ", log::count(int64_t(stale), "temporary file"),
                           " that a killed capture left in ", out_dir));
         }
         for (stdfs::recursive_directory_iterator it(out_dir, ec), end; !ec && it != end;
@@ -221,8 +221,11 @@ void run_capture(const CaptureArgs& a, const std::string& fabric, const std::str
     m["capture"]["segments"] = scene->segments();
     m["capture"]["margin_mm"] = scene->margin_mm();
     m["capture"]["period_mm"] = {w.period_x_mm, w.period_y_mm};
-    log::info(str("capture: ", r.images, " images in ", r.wall_time_s, " s (", r.images_per_s,
-                  " images/s), rel_error median ", r.rel_error_median, ", p90 ", r.rel_error_p90));
+    log::summary("render", "captured",
+                 str(log::count(r.images, "image"), " (", log::count(int64_t(jobs.size()), "view"),
+                     ") in ", log::num(r.wall_time_s, 3), " s (", log::num(r.images_per_s, 3),
+                     " images/s), relative noise median ", log::num(r.rel_error_median), ", p90 ",
+                     log::num(r.rel_error_p90)));
 }
 
 void add_shade_options(CLI::App& app, ShadeArgs& a) {

@@ -46,6 +46,18 @@ Comparison compare_images(const image::Image& truth, const image::Image& test, d
     return c;
 }
 
+void print_compare_summary(const nlohmann::json& realtime) {
+    for (const auto& [mode, e] : realtime["modes"].items()) {
+        const double de = e["mean_de2000"].get<double>();
+        log::summary("render", str("real-time model vs path-traced truth (", mode, ", 3 SH bands)"),
+                     str("mean relative error ", log::num(e["mean_rel"].get<double>()),
+                         ", max ", log::num(e["max_rel"].get<double>()), ", mean Delta E 2000 ",
+                         log::num(de), ": ",
+                         de <= kJndDe2000 ? "below a just-noticeable difference"
+                                          : "visible (above 1 Delta E 2000)"));
+    }
+}
+
 nlohmann::json metrics_json(const image::Metrics& m) {
     return {{"mae", m.mae},
             {"rmse", m.rmse},

@@ -76,4 +76,13 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
                                 const CompareOptions& options, const std::string& prefix,
                                 std::vector<WrittenFile>& written);
 
+/// The console summary of compare_realtime's JSON (docs/report.md, "Console summary"): per
+/// shading mode the model's error against the path-traced truth and a verdict from the mean
+/// CIEDE2000: "below a just-noticeable difference" up to kJndDe2000, "visible" above it.
+void print_compare_summary(const nlohmann::json& realtime);
+
+/// The mean CIEDE2000 taken as one just-noticeable difference (Sharma et al. 2005: a Delta E
+/// 2000 of 1 is about the smallest difference an observer sees side by side).
+constexpr double kJndDe2000 = 1.0;
+
 }  // namespace inlight::render

@@ -7,6 +7,7 @@
 #include "core/conventions.h"
 #include "core/enum_names.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "core/parallel.h"
 #include "envmap/project.h"
 #include "render/realtime_lights.h"
@@ -147,8 +148,8 @@ Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& 
 image::Image render_realtime(const Scene& scene, const RealtimeLighting& lighting,
                              const RealtimeOptions& options) {
     if (options.sh_bands < 1 || sh::count(options.sh_bands) > lighting.coeffs.rows()) {
-        throw UsageError(str("real-time model: ", options.sh_bands, " bands asked, lighting has ",
-                             lighting.coeffs.rows(), " coefficients"));
+        throw UsageError(str("real-time model: ", log::count(options.sh_bands, "band"),
+                             " asked, lighting has ", log::count(lighting.coeffs.rows(), "coefficient")));
     }
     if (options.mode == RealtimeMode::kSeed && options.sh_bands != 3) {
         throw UsageError(

@@ -36,6 +36,7 @@ expect_true "the image of an off-grid pair exists in UBO2003 naming" -- \
 # On-grid pairs against the BTF itself as truth: exact for the raw BTF.
 expect_exit 0 "on-grid pairs against the BTF" -- "$PCA" "$WORK/btf" "${DIRS[@]}" --interpolate "$WORK/ongrid.txt" \
     --truth "$WORK/btf" -o "$WORK/on" --report "$WORK/on.json"
+expect_summary_number "summary: pair count is the report's" "btf-pca: interpolated: ([0-9]+) pairs? " "$WORK/on.json" '.metrics.interpolation.pairs'
 expect_true "raw BTF on the grid: zero error, one direction each" -- jq -e '.metrics.interpolation |
     .mean_errors.rmse < 1e-6 and .mean_errors.delta_e2000_mean < 1e-4 and all(.per_pair[]; (.light.directions | length) == 1)' "$WORK/on.json"
 

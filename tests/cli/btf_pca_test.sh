@@ -18,6 +18,23 @@ for opt in --view-group-size --components --max-rmse --method --format --light-d
 done
 
 expect_exit 0 "compress k=3 C=4" -- "$PCA" "$WORK/btf" -o "$WORK/out" -k 3 -c 4 "${DIRS[@]}" --report "$WORK/r.json"
+# The console summary (docs/report.md): components, bytes, ratio and errors as in the report.
+expect_stderr "btf-pca: components: 8 components over 2 view groups (4 per group)" "summary: components per group"
+expect_summary_number "summary: stored bytes are the report's" "btf-pca: stored: ([0-9]+) bytes" "$WORK/r.json" '.metrics.bytes.stored'
+expect_summary_number "summary: compression ratio is the report's" "compression ratio ([0-9.e+-]+) " \
+    "$WORK/r.json" '.metrics.compression_ratio.raw_8bit_to_stored'
+expect_summary_number "summary: RMSE is the report's" "error \\(model vs input\\): RMSE ([0-9.e+-]+) " "$WORK/r.json" '.metrics.error.rmse_linear'
+expect_summary_number "summary: MAE Lab is the report's" "MAE Lab ([0-9.e+-]+)," "$WORK/r.json" '.metrics.error.mae_lab'
+expect_summary_number "summary: mean Delta E 2000 is the report's" "mean Delta E 2000 ([0-9.e+-]+)," "$WORK/r.json" '.metrics.error.delta_e2000_mean'
+expect_true "off a terminal no progress bar is drawn (no carriage return)" -- bash -c "! grep -q \$'\\r' '$WORK/stderr'"
+# On a terminal (script(1) gives the run a pseudo-terminal) the group fits draw a bar with an ETA.
+if command -v script >/dev/null; then
+    script -qec "'$PCA' '$WORK/btf' -o '$WORK/tty' -k 3 -c 4 ${DIRS[*]}" /dev/null >"$WORK/tty.log" 2>&1
+    expect_true "on a terminal: a progress bar with elapsed time and ETA" -- grep -q "fit view groups \[#*.*ETA" "$WORK/tty.log"
+    expect_true "on a terminal: the per-group lines make way for the bar" -- bash -c "! grep -q 'group 1/2:' '$WORK/tty.log'"
+else
+    skip "script(1) absent: the progress bar on a terminal"
+fi
 expect_true "5 views in groups of 3: 2 groups of 4 components" -- \
     jq -e '.status == "ok" and .metrics.pca.groups == 2 and .metrics.pca.components_per_group == [4, 4]' "$WORK/r.json"
 expect_true "one mean and 4 component PNGs per group, manifest, weights, streaming table and plot" -- \

@@ -19,6 +19,13 @@ expect_exit 0 "sun: budget 1%" -- "$EP" "$WORK/sun.exr" -o "$WORK/sun_sh.json" -
     --report "$WORK/sun.json"
 expect_true "one light chosen over 1 band" -- \
     jq -e '.metrics.environments[0].budget | .met and .chosen.lights == 1 and .chosen.sh_bands == 1' "$WORK/sun.json"
+# The console summary says what the budget chose, in the singular where it is one.
+expect_stderr "envmap-project: sun.exr: --max-error 0.01 (abs-over-mean): met with 1 SH band + 1 light: error " \
+    "summary: budget, metric and choice, singular nouns"
+expect_summary_number "summary: the achieved error is the report's" "met with .*: error ([0-9.e+-]+) over" \
+    "$WORK/sun.json" '.metrics.environments[0].budget.chosen.error'
+expect_summary_number "summary: the normals it was measured on are the report's" "error [0-9.e+-]+ over ([0-9]+) normals" \
+    "$WORK/sun.json" '.metrics.environments[0].budget.normals'
 expect_true "the light is in the output, the SH are of the residual" -- \
     jq -e '(.lights | length) == 1 and .sh_bands == 1 and (.lights[0].flux | length) == 3' "$WORK/sun_sh.json"
 expect_true "binary holds the chosen bands (20 + 1*3*4 bytes)" -- test "$(stat -c %s "$WORK/sun_sh.bin")" -eq 32

@@ -25,6 +25,14 @@ expect_exit 2 "bands out of range" -- "$EP" "$WORK/const.exr" -o "$WORK/x.json" 
 FLOAT_B=1.0133e-6
 expect_exit 0 "constant map" -- "$EP" "$WORK/const.exr" -o "$WORK/const_sh.json" --sh-bands 4 \
     --validate --report "$WORK/r.json"
+# The console summary (docs/report.md): bands, and the validation's errors as in the report.
+expect_stderr "envmap-project: const.exr: projection: 4 SH bands (16 coefficients per channel)" "summary: bands"
+expect_summary_number "summary: mean relative error is the report's" \
+    "irradiance error vs brute force \\(relative\\): mean ([0-9.e+-]+)," "$WORK/r.json" '.metrics.environments[0].validation.mean_rel'
+expect_summary_number "summary: max relative error is the report's" \
+    "irradiance error vs brute force \\(relative\\): .*, max ([0-9.e+-]+) over" "$WORK/r.json" '.metrics.environments[0].validation.max_rel'
+expect_summary_number "summary: normal count is the report's" \
+    "irradiance error vs brute force .* over ([0-9]+) normals" "$WORK/r.json" '.metrics.environments[0].validation.normals'
 # shellcheck disable=SC2016  # $l00 and $b are jq variables
 expect_true "L00 = 2 sqrt(pi) v within the float bound B L00" -- \
     jq -e --argjson b "$FLOAT_B" '(2*(3.141592653589793|sqrt)*0.75) as $l00 | (.coefficients[0][0] - $l00 | fabs) <= $b * $l00' "$WORK/const_sh.json"

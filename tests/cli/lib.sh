@@ -26,6 +26,27 @@ expect_stderr() {  # expect_stderr PATTERN DESCRIPTION
     if grep -q -- "$1" "$WORK/stderr"; then pass "$2"; else fail "$2: stderr lacks '$1'"; sed 's/^/    /' "$WORK/stderr" | head -10; fi
 }
 
+# expect_summary_number DESCRIPTION ERE JSON JQ: the number that ERE's one group captures in the
+# last expect_exit's stderr (a console summary line, docs/report.md) equals the report's JQ value
+# to the summary's precision: log::num prints 4 significant digits, so a relative 5e-4 (half a
+# unit in the 4th digit) plus 1e-12 for a value of 0; integers match exactly under the same rule.
+expect_summary_number() {
+    local what=$1 re=$2 json=$3 expr=$4 got want
+    got=$(sed -nE "s/.*${re}.*/\1/p" "$WORK/stderr" | head -1)
+    want=$(jq -r "$expr" "$json")
+    if [ -z "$got" ] || [ -z "$want" ] || [ "$want" = null ]; then
+        fail "$what: summary '$got' (pattern $re), report '$want' ($expr)"
+        sed 's/^/    /' "$WORK/stderr" | head -10
+        return
+    fi
+    if awk -v g="$got" -v w="$want" 'BEGIN { d = g - w; if (d < 0) d = -d; a = w < 0 ? -w : w
+                                            exit !(d <= 5e-4 * a + 1e-12) }'; then
+        pass "$what (summary $got, report $want)"
+    else
+        fail "$what: summary $got, report $want"
+    fi
+}
+
 expect_true() {  # expect_true DESCRIPTION -- command...
     local what=$1
     shift 2

@@ -31,11 +31,19 @@ expect_stderr "--id: '../w'" "names the option and the id"
 expect_true "a refused id makes no folder" -- test ! -e "$WORK/b/w"
 expect_exit 0 "pack" -- "$B" pack --kind fabric --id w --name "Weave" "${files[@]}" \
     --property sh_bands=3 --property note=plain -o "$WORK/b" --report "$WORK/pack.json"
+# The console summary (docs/report.md) says what was packed, with the report's counts.
+expect_stderr "bundle: packed: fabric w: " "summary: kind and id"
+expect_summary_number "summary: file count is the report's" "packed: .*: ([0-9]+) files?," "$WORK/pack.json" '.metrics.file_count'
+expect_summary_number "summary: bytes are the report's" "packed: .*, ([0-9]+) bytes" "$WORK/pack.json" '.metrics.total_bytes'
 expect_true "manifest properties typed (3 is a number, plain a string)" -- \
     jq -e '.properties.sh_bands == 3 and .properties.note == "plain"' "$WORK/b/fabrics/w/manifest.json"
 expect_exit 0 "verify" -- "$B" verify "$WORK/b" --report "$WORK/v.json"
 expect_true "verify report lists the bundle" -- jq -e '.metrics.verified == 1 and .metrics.failed == 0' "$WORK/v.json"
-expect_exit 0 "index" -- "$B" index "$WORK/b"
+expect_stderr "bundle: verified: OK, 1 bundle, " "summary: OK and one bundle, in the singular"
+expect_summary_number "summary: verified count is the report's" "verified: OK, ([0-9]+) bundles?," "$WORK/v.json" '.metrics.verified'
+expect_exit 0 "index" -- "$B" index "$WORK/b" --report "$WORK/i.json"
+expect_stderr "bundle: catalogue: 1 bundle (1 fabric, 0 devices) in " "summary: the catalogue's bundles by kind"
+expect_summary_number "summary: catalogue count is the report's" "catalogue: ([0-9]+) bundles? " "$WORK/i.json" '.metrics.entries | length'
 expect_true "catalogue row" -- test "$(sqlite3 "$WORK/b/catalog.sqlite" 'SELECT name FROM fabrics')" = "Weave"
 
 cp -r "$WORK/b" "$WORK/c"

@@ -11,6 +11,7 @@ TINY=(--width-px 4 --height-px 4 --spp 1)
 
 expect_exit 0 "full dome at 4x4" -- "$R" "$FABRICS/denim-plain.toml" --btf-capture -o "$WORK/dome" \
     "${TINY[@]}" --report "$WORK/dome.json"
+expect_summary_number "summary: image count is the report's" "render: captured: ([0-9]+) images? " "$WORK/dome.json" '.metrics.capture.images'
 expect_true "81 view folders" -- test "$(find "$WORK/dome" -mindepth 1 -maxdepth 1 -type d | wc -l)" -eq 81
 expect_true "6561 PNG images" -- test "$(find "$WORK/dome" -name '*.png' | wc -l)" -eq 6561
 expect_true "UBO2003 names in per-view folders" -- test -s "$WORK/dome/tv075_pv345/tl075 pl345 tv075 pv345.png"

@@ -28,6 +28,10 @@ expect_exit 2 "adaptive-min-spp 1 is a usage error" -- "$R" "$FURNACE" -o "$WORK
 
 # White furnace through the tool: every pixel is 1 within noise; the report carries the figures.
 expect_exit 0 "furnace" -- "$R" "$FURNACE" -o "$WORK/f.exr" "${SMALL[@]}" --spp 256 --report "$WORK/f.json"
+# The console summary (docs/report.md): samples, time and noise as in the report.
+expect_summary_number "summary: spp is the report's" "render: path traced: ([0-9]+) spp in" "$WORK/f.json" '.metrics.spp'
+expect_summary_number "summary: render time is the report's" "spp in ([0-9.e+-]+) s" "$WORK/f.json" '.metrics.render_time_s'
+expect_summary_number "summary: relative noise is the report's" "relative noise ([0-9.e+-]+) " "$WORK/f.json" '.metrics.rel_error'
 for key in spp rays samples rays_per_s samples_per_s render_time_s rel_error stop_reason; do
     jq -e ".metrics | has(\"$key\")" "$WORK/f.json" >/dev/null || fail "report lacks metrics.$key"
 done
@@ -70,6 +74,12 @@ if have_package_file /usr/share/blender/datafiles/studiolights/world/courtyard.e
         test -s "$WORK/p_$f" || fail "compare output p_$f missing"
     done
     pass "compare writes images, maps and PNGs"
+    expect_summary_number "summary: the seed mode's mean relative error is the report's" \
+        "truth \\(seed, 3 SH bands\\): mean relative error ([0-9.e+-]+)," "$WORK/p.json" '.metrics.realtime.modes.seed.mean_rel'
+    expect_summary_number "summary: the consistent mode's mean Delta E 2000 is the report's" \
+        "truth \\(consistent, 3 SH bands\\): .*mean Delta E 2000 ([0-9.e+-]+):" "$WORK/p.json" '.metrics.realtime.modes.consistent.mean_de2000'
+    verdict=$(jq -r 'if .metrics.realtime.modes.consistent.mean_de2000 <= 1 then "below a just-noticeable difference" else "visible" end' "$WORK/p.json")
+    expect_stderr "truth (consistent, 3 SH bands): .*: $verdict" "summary: the verdict follows the report's mean Delta E 2000"
     expect_true "both modes and 4 band counts in the report" -- \
         jq -e '.metrics.realtime | (.modes | has("consistent") and has("seed")) and (.consistent_by_sh_bands | length == 4)' "$WORK/p.json"
     expect_true "stated exposure and frame time" -- \
@@ -107,7 +117,7 @@ if have_package_file /usr/share/blender/datafiles/studiolights/world/courtyard.e
     expect_stderr "tables have 3 SH bands" "says the table's bands"
     expect_exit 2 "two tables for one material" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/px.exr" \
         "${SMALL[@]}" --spp 4 --compare --brdf-table "$WORK/t3.bin" --brdf-table "$WORK/t4.bin"
-    expect_stderr "2 tables for the 1 materials" "counts tables and materials"
+    expect_stderr "2 tables for 1 material of" "counts tables and materials (in the singular for one)"
     expect_true "refused before the render: no image" -- test ! -e "$WORK/px.exr"
     expect_exit 2 "--brdf-table with --rt-grid" -- "$R" "$SCENES/patch_report.toml" -o "$WORK/px.exr" \
         --compare --brdf-table "$WORK/t3.bin" --rt-grid octa:9
