@@ -40,7 +40,7 @@ for m in "${maps[@]}"; do
     # Exit 3 = the 1% budget is not met within 9 bands and 3 lights; the candidates are reported.
     rc=0
     "$EP" "$m" -o "$RUNS/${name}_sh.json" --max-error "$GOAL" --max-lights "$MAX_LIGHTS" --budget-max-bands 9 \
-        --error-metric "$METRIC" --sh-fit "$SH_FIT" --validate-normals "$VALIDATE_NORMALS" \
+        --error-metric "$METRIC" --sh-fit "$SH_FIT" --budget-normals "$VALIDATE_NORMALS" \
         --report "$RUNS/$name.json" -q || rc=$?
     [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || { echo "budget-tradeoff: envmap-project failed on $m" >&2; exit 1; }
     jq -r --arg n "$name" '.metrics.environments[0].budget.candidates[]
