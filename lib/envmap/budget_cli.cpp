@@ -36,6 +36,19 @@ void add_budget_options(CLI::App& app, BudgetArgs& a) {
                    "(docs/budget.md)")
         ->check(CLI::Range(1, 100000))
         ->capture_default_str();
+    app.add_option("--budget-margin", a.margin,
+                   "Budget: a candidate meets --max-error E when its error on the budget's normals "
+                   "is at most E (1 - this), so that it holds on normals it was not scored on "
+                   "(the default is twice the largest excess measured on held-out normals: "
+                   "docs/budget.md)")
+        ->check(app::finite_range(0.0, 0.49))
+        ->capture_default_str();
+    app.add_option("--holdout-normals", a.holdout_normals,
+                   "Budget: after the choice, score it again against brute force on this many "
+                   "normals that it was neither scored nor fitted on (a turned Fibonacci set), "
+                   "reported as budget.holdout (0 = off)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
     app.add_option("--light-fit-normals", a.fit_normals,
                    "Budget: fit each candidate's lights by least squares against the brute-force "
                    "irradiance at this many normals (other than the validation normals; "
@@ -76,6 +89,8 @@ BudgetSetup::BudgetSetup(const BudgetArgs& a) {
     m_options.light_shading = light_shading_from_string(a.light_shading);
     m_options.sh_fit = sh_fit_from_string(a.sh_fit);
     m_options.validate_normals = a.check_normals;
+    m_options.holdout_normals = a.holdout_normals;
+    m_options.scoring_margin = a.margin;
     if (!a.brdf_table.empty()) {
         m_radiance = std::make_unique<RadianceCheck>();
         m_radiance->table = brdf::read_binary(a.brdf_table);

@@ -21,6 +21,8 @@ struct BudgetArgs {
     /// --validate-normals, which is --validate's own); docs/budget.md, "What the plain command
     /// guarantees".
     int check_normals = kDefaultBudgetNormals;
+    double margin = kDefaultBudgetMargin;  ///< --budget-margin
+    int holdout_normals = 0;  ///< --holdout-normals: score the choice again off its own normals
     std::string light_shading = "smooth-cap";  ///< --light-shading: cap | smooth-cap
     std::string sh_fit = "projection";         ///< --sh-fit: projection | metric
     std::string brdf_table;  ///< brdf-sh-bake .bin table (with --material)
@@ -30,7 +32,7 @@ struct BudgetArgs {
 };
 
 /// Registers --max-error, --error-metric, --max-lights, --budget-max-bands, --budget-normals,
-/// --light-fit-normals, --brdf-table and --material on `app`.
+/// --budget-margin, --holdout-normals, --light-fit-normals, --brdf-table and --material on `app`.
 void add_budget_options(CLI::App& app, BudgetArgs& args);
 
 /// BudgetOptions built from the flags (options().project is left for the caller), owning the
