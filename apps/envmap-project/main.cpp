@@ -265,7 +265,7 @@ int main(int argc, char** argv) {
     auto* validate = cli.add_flag("--validate", a.validate, "Compare SH irradiance with brute-force integration of "
                  "the map, for every band count up to --sh-bands");
     cli.add_option("--validate-normals", a.validate_normals, "Fibonacci normals (+6 axes) for "
-                   "--validate")->check(CLI::Range(1, 100000))->capture_default_str();
+                   "--validate only (the budget's are --budget-normals)")->check(CLI::Range(1, 100000))->capture_default_str();
     auto* gate = cli.add_option("--max-mean-rel-error", a.max_mean_rel_error, "Quality gate on the validated "
                    "mean relative irradiance error (exit 3 above it; implies --validate; off unless given)")
         ->check(app::finite_non_negative());
@@ -288,7 +288,7 @@ int main(int argc, char** argv) {
         double worst = 0;
         int unmet = 0;
         std::unique_ptr<envmap::BudgetSetup> setup;  // reads --brdf-table and --material first
-        if (budget.enabled()) setup = std::make_unique<envmap::BudgetSetup>(budget, a.validate_normals);
+        if (budget.enabled()) setup = std::make_unique<envmap::BudgetSetup>(budget);
         for (const auto& input : a.inputs) {
             per_input.push_back(process(a, setup.get(), input, report));
             if (a.validate) worst = std::max(worst, per_input.back()["validation"]["mean_rel"].get<double>());

@@ -281,6 +281,10 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
         throw UsageError(
             str("budget: max_bands must be in [1, ", sh::kMaxBands, "], got ", options.max_bands));
     if (options.validate_normals < 1) throw UsageError("budget: validate_normals must be >= 1");
+    if (options.holdout_normals < 0) throw UsageError("budget: holdout_normals must be >= 0");
+    if (!(options.scoring_margin >= 0 && options.scoring_margin < 0.5))
+        throw UsageError(str("budget: scoring_margin must be in [0, 0.5), got ",
+                             options.scoring_margin));
     if (options.radiance && !env.full_sphere())
         throw UsageError(
             str(env.source, ": the radiance check (--brdf-table) needs a full-sphere map"));
@@ -478,7 +482,7 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
                 c.error = std::max(c.error, metric_value(c.radiance, options.metric));
             }
             c.cost = shader_cost(b, k, cost_model);
-            c.meets = c.error <= options.max_error;
+            c.meets = c.error <= options.max_error * (1 - options.scoring_margin);
             plan.candidates.push_back(c);
         }
     }
@@ -504,6 +508,33 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
     plan.chosen_lights = best.light_set;
     plan.projection =
         proj[static_cast<size_t>(best.lights)][static_cast<size_t>(best.sh_bands - 1)];
+    if (options.holdout_normals > 0) {
+        // The choice scored again, off every normal it was scored or fitted on.
+        const auto held =
+            holdout_normals(options.holdout_normals, env.full_sphere() ? 4.0 : kPi / 3);
+        plan.holdout_count = static_cast<int>(held.size());
+        const Eigen::MatrixXd& coeffs = plan.projection.coeffs;
+        const Eigen::MatrixXd e_model =
+            lights_irradiance(best.light_set, plan.lights, held) +
+            (observed ? (*observed)(coeffs, plan.sh_bands, held)
+                      : sh_irradiance(coeffs, plan.sh_bands, held));
+        plan.holdout_irradiance = irradiance_error(e_model, brute_force_irradiance(env, held));
+        plan.holdout_error = metric_value(plan.holdout_irradiance, options.metric);
+        if (options.radiance) {
+            std::vector<Eigen::Vector3d> held_facing;
+            for (const auto& n : held)
+                if (n.dot(options.radiance->table.view) > 0) held_facing.push_back(n);
+            if (!held_facing.empty())
+                plan.holdout_error = std::max(
+                    plan.holdout_error,
+                    metric_value(irradiance_error(model_radiance(coeffs, plan.sh_bands,
+                                                                 best.light_set,
+                                                                 *options.radiance, held_facing),
+                                                  brute_force_radiance(env, *options.radiance,
+                                                                       held_facing)),
+                                 options.metric));
+        }
+    }
     for (int j = 0; j < plan.lights; ++j) {
         const DirectionalLight& l = plan.chosen_lights[static_cast<size_t>(j)];
         if (!l.flux_is_lower_bound) continue;
@@ -568,6 +599,8 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
     const BudgetCandidate& best = plan.candidates[static_cast<size_t>(plan.chosen)];
     return {{"metric", to_string(options.metric)},
             {"max_error", options.max_error},
+            {"scoring_margin", options.scoring_margin},
+            {"scored_limit", options.max_error * (1 - options.scoring_margin)},
             {"met", plan.met},
             {"chosen",
              {{"sh_bands", plan.sh_bands},
@@ -576,6 +609,12 @@ nlohmann::json to_json(const BudgetPlan& plan, const BudgetOptions& options) {
               {"lights_fitted", best.lights_fitted},
               {"sh_fitted", best.sh_fitted},
               {"cost", cost_json(best.cost)}}},
+            {"holdout",
+             plan.holdout_count > 0
+                 ? nlohmann::json{{"normals", plan.holdout_count},
+                                  {"error", plan.holdout_error},
+                                  {"irradiance", error_json(plan.holdout_irradiance)}}
+                 : nlohmann::json(nullptr)},
             {"lights_found", lights},
             {"light_shading", to_string(options.light_shading)},
             {"sh_fit", to_string(options.sh_fit)},

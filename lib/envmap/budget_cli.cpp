@@ -29,6 +29,26 @@ void add_budget_options(CLI::App& app, BudgetArgs& a) {
     app.add_option("--budget-max-bands", a.max_bands, "Budget: largest SH band count considered")
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
+    app.add_option("--budget-normals", a.check_normals,
+                   "Budget: Fibonacci normals (+6 axes) at which every candidate's error is "
+                   "measured against brute force (fisheye: within 60 deg of the axis); the "
+                   "default is dense enough that the choice holds on other dense sets "
+                   "(docs/budget.md)")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    app.add_option("--budget-margin", a.margin,
+                   "Budget: a candidate meets --max-error E when its error on the budget's normals "
+                   "is at most E (1 - this), so that it holds on normals it was not scored on "
+                   "(the default is twice the largest excess measured on held-out normals: "
+                   "docs/budget.md)")
+        ->check(app::finite_range(0.0, 0.49))
+        ->capture_default_str();
+    app.add_option("--holdout-normals", a.holdout_normals,
+                   "Budget: after the choice, score it again against brute force on this many "
+                   "normals that it was neither scored nor fitted on (a turned Fibonacci set), "
+                   "reported as budget.holdout (0 = off)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
     app.add_option("--light-fit-normals", a.fit_normals,
                    "Budget: fit each candidate's lights by least squares against the brute-force "
                    "irradiance at this many normals (other than the validation normals; "
@@ -60,7 +80,7 @@ void add_budget_options(CLI::App& app, BudgetArgs& a) {
     table->needs(max_error);
 }
 
-BudgetSetup::BudgetSetup(const BudgetArgs& a, int validate_normals) {
+BudgetSetup::BudgetSetup(const BudgetArgs& a) {
     m_options.max_error = a.max_error;
     m_options.metric = error_metric_from_string(a.metric);
     m_options.max_bands = a.max_bands;
@@ -68,7 +88,9 @@ BudgetSetup::BudgetSetup(const BudgetArgs& a, int validate_normals) {
     m_options.fit_normals = a.fit_normals;
     m_options.light_shading = light_shading_from_string(a.light_shading);
     m_options.sh_fit = sh_fit_from_string(a.sh_fit);
-    m_options.validate_normals = validate_normals;
+    m_options.validate_normals = a.check_normals;
+    m_options.holdout_normals = a.holdout_normals;
+    m_options.scoring_margin = a.margin;
     if (!a.brdf_table.empty()) {
         m_radiance = std::make_unique<RadianceCheck>();
         m_radiance->table = brdf::read_binary(a.brdf_table);

@@ -13,6 +13,8 @@
 #include "brdf/grid.h"
 #include "core/conventions.h"
 #include "envmap/envmap_testing.h"
+#include "envmap/light_fit.h"
+#include "envmap/validate.h"
 #include "sh/sh.h"
 #include "testing/testing.h"
 
@@ -86,6 +88,82 @@ TEST(PlanBudget, SunThirtyThousandTimesTheSkyIsOneLightOverOneBand) {
     EXPECT_GT(p.candidates[8].irradiance.abs_over_mean, 1e-2);
     EXPECT_LT(p.candidates[static_cast<size_t>(p.chosen)].cost.operations,
               shader_cost(3, 0, {}).operations);
+}
+
+TEST(HoldoutNormals, AreUnitAndNoneIsAScoringOrFitNormal) {
+    const auto held = holdout_normals(2000);
+    ASSERT_EQ(held.size(), 2000u);  // no axes, nothing dropped on the full sphere
+    std::vector<Eigen::Vector3d> seen = validation_normals(kDefaultBudgetNormals);
+    for (const auto& n : fit_normals(512)) seen.push_back(n);
+    double closest = 2;  // least distance between a held-out and a scored or fitted normal
+    for (const auto& h : held) {
+        EXPECT_NEAR(h.norm(), 1.0, 1e-12);  // a rotation of unit vectors, double rounding
+        for (const auto& n : seen) closest = std::min(closest, (h - n).norm());
+    }
+    // Within 1e-9 rad of another normal would be the same normal; the sets are 2000 and 1548
+    // points, so chance neighbours lie ~1e-3 rad apart, far above that.
+    EXPECT_GT(closest, 1e-9);
+    // A fisheye frame keeps only the held-out normals within 60 deg of +z.
+    for (const auto& h : holdout_normals(500, kPi / 3)) EXPECT_GE(h.z(), 0.5 - 1e-12);
+}
+
+TEST(PlanBudget, HoldoutScoresTheChosenModelOffItsNormalsWithoutChangingTheChoice) {
+    // A sun on a sky with a gradient: the choice needs a light and a few bands.
+    const Eigen::Vector3d sun = direction_from_spherical(70 * kPi / 180, 200 * kPi / 180);
+    const Environment env = latlong(256, 128, [&](const Eigen::Vector3d& d) {
+        return Eigen::Vector3d::Constant(d.dot(sun) > std::cos(2.0 * kPi / 180) ? 2e3
+                                                                               : 1.0 + 0.5 * d.z());
+    });
+    BudgetOptions o;
+    o.max_error = 3e-3;
+    o.validate_normals = 200;
+    const BudgetPlan plain = plan_budget(env, o);
+    o.holdout_normals = 700;
+    const BudgetPlan p = plan_budget(env, o);
+    // The check only reads the choice.
+    ASSERT_EQ(p.chosen, plain.chosen);
+    EXPECT_EQ(p.candidates[static_cast<size_t>(p.chosen)].error,
+              plain.candidates[static_cast<size_t>(plain.chosen)].error);
+    EXPECT_EQ(plain.holdout_count, 0);
+    ASSERT_EQ(p.holdout_count, 700);
+    // It scores what ships (the chosen lights and the written coefficients), recomputed here
+    // from the model's definition: SH irradiance of the residual + every light's cap.
+    const auto held = holdout_normals(700);
+    Eigen::MatrixXd model = sh_irradiance(p.projection.coeffs, p.sh_bands, held);
+    for (size_t i = 0; i < held.size(); ++i)
+        for (const auto& l : p.chosen_lights)
+            model.row(static_cast<Eigen::Index>(i)) += light_irradiance(l, held[i]).transpose();
+    const double expected =
+        metric_value(irradiance_error(model, brute_force_irradiance(env, held)), o.metric);
+    EXPECT_NEAR(p.holdout_error, expected, 1e-12 * expected);  // same sums, summed in another order
+    EXPECT_GT(p.lights, 0);
+}
+
+TEST(PlanBudget, MarginRefusesACandidateJustUnderTheBudget) {
+    // Pure SH of a gradient sky with a soft blob: the error falls with every odd band count.
+    const Eigen::Vector3d blob = direction_from_spherical(40 * kPi / 180, 100 * kPi / 180);
+    const Environment env = latlong(128, 64, [&](const Eigen::Vector3d& d) {
+        return Eigen::Vector3d::Constant(1.0 + 0.5 * d.z() + 4 * std::pow(std::max(0.0, d.dot(blob)), 8));
+    });
+    BudgetOptions o;
+    o.extract.max_lights = 0;
+    o.validate_normals = 128;
+    o.max_error = 1.0;
+    o.scoring_margin = 0;
+    const BudgetPlan all = plan_budget(env, o);
+    // A budget equal to the 3-band candidate's error: met by it without a margin, and by a
+    // costlier candidate (or none) with one.
+    o.max_error = all.candidates[2].error;
+    ASSERT_GT(all.candidates[1].error, o.max_error);  // 2 bands miss it: 3 is the cheapest
+    const BudgetPlan exact = plan_budget(env, o);
+    ASSERT_TRUE(exact.met);
+    EXPECT_EQ(exact.sh_bands, 3);
+    o.scoring_margin = kDefaultBudgetMargin;
+    const BudgetPlan margin = plan_budget(env, o);
+    EXPECT_GT(margin.sh_bands, 3);
+    if (margin.met)
+        EXPECT_LE(margin.candidates[static_cast<size_t>(margin.chosen)].error,
+                  o.max_error * (1 - kDefaultBudgetMargin));
 }
 
 TEST(PlanBudget, TwoSunsAreTwoLightsOverOneBand) {

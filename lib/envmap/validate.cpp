@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "core/conventions.h"
 #include "core/parallel.h"
 #include "core/progress.h"
@@ -27,6 +29,21 @@ std::vector<Eigen::Vector3d> validation_normals(int count, double max_angle_from
         if (n.z() >= cos_max) kept.push_back(n);
     }
     return kept;
+}
+
+std::vector<Eigen::Vector3d> holdout_normals(int count, double max_angle_from_z) {
+    // A rotation other than fit_normals' (0.3 rad about (1, 2, 3)): any that moves the lattice
+    // off the other two sets will do.
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(1.1, Eigen::Vector3d(-2, 1, 4).normalized()).toRotationMatrix();
+    std::vector<Eigen::Vector3d> out;
+    const std::vector<Eigen::Vector3d> lattice = validation_normals(count);
+    const double cos_max = std::cos(max_angle_from_z);
+    for (size_t i = 6; i < lattice.size(); ++i) {
+        const Eigen::Vector3d n = turn * lattice[i];
+        if (max_angle_from_z >= kPi || n.z() >= cos_max) out.push_back(n);
+    }
+    return out;
 }
 
 Eigen::MatrixXd brute_force_irradiance(const Environment& env,

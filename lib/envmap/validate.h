@@ -16,6 +16,12 @@ namespace inlight::envmap {
 /// (the screen's side, for fisheye frames) are kept.
 std::vector<Eigen::Vector3d> validation_normals(int count, double max_angle_from_z = 4.0);
 
+/// Unit normals that neither the scoring set (validation_normals) nor the fit set (fit_normals)
+/// contains: a Fibonacci sphere of `count` points turned by its own rotation, without the axes.
+/// The held-out check of a budget's choice (budget.h) scores on these. `max_angle_from_z` as in
+/// validation_normals.
+std::vector<Eigen::Vector3d> holdout_normals(int count, double max_angle_from_z = 4.0);
+
 /// E_c(n) = sum_i L_c(w_i) dw_i max(0, n . w_i) over every sample of the environment, in double,
 /// deterministic for any thread count. Returns normals x 3.
 Eigen::MatrixXd brute_force_irradiance(const Environment& env,

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # envmap-project --max-error on real maps: the extracted lights fitted by least squares against the
 # brute-force irradiance (--light-fit-normals, docs/budget.md "The fit") meet 1% with one light over
-# 3 bands where the extracted region's cap and 5 bands of pure SH do not, and grace with three
+# 3 bands where the extracted region's cap and 5 bands of pure SH do not, and grace with two
 # (figures: docs/budget/tradeoff.md).
 # shellcheck disable=SC2016  # $vars in the single-quoted jq programs are jq's own
 # shellcheck source=tests/cli/lib.sh
@@ -58,14 +58,16 @@ if have_package_file "$INTERIOR" blender-data; then
 fi
 
 # grace (a cathedral: a wide skylight, two lamps side by side, further windows): 1% within the
-# cost of 5 bands of pure SH needs the third light to start from a region beyond the three
-# strongest (docs/budget.md, "Where the fit starts"): 3 lights over 3 bands, 108 operations.
+# cost of 5 bands of pure SH. Scored on the default 1030 normals, two smooth-cap lights over 3
+# bands (90 operations) meet it with the margin (0.956% against the 0.975% limit; docs/budget.md,
+# "What the plain command guarantees"); the three-light candidate still needs its third light to
+# start from a region beyond the three strongest (docs/budget.md, "Where the fit starts").
 if have_shared_data probes-latlong/grace.hdr; then
     expect_exit 0 "grace: 1% met" -- "$EP" "$INLIGHT_SHARED_DIR/data/probes-latlong/grace.hdr" \
         -o "$WORK/grace_sh.json" --max-error 0.01 --budget-max-bands 5 --report "$WORK/grace.json" -q
-    expect_true "grace: 3 smooth-cap lights over 3 bands (108 operations <= 129), within 1%" -- \
-        jq -e '.metrics.environments[0].budget | .met and .chosen.lights == 3 and .chosen.sh_bands == 3
-          and .chosen.cost.operations == 108 and .chosen.error <= 0.01' "$WORK/grace.json"
+    expect_true "grace: 2 smooth-cap lights over 3 bands (90 operations <= 129), within the margin's limit" -- \
+        jq -e '.metrics.environments[0].budget | .met and .chosen.lights == 2 and .chosen.sh_bands == 3
+          and .chosen.cost.operations == 90 and .chosen.error <= .scored_limit and .scored_limit < .max_error' "$WORK/grace.json"
     expect_true "grace: the third light started from a region beyond the three strongest" -- \
         jq -e '.metrics.environments[0].budget.candidates[] | select(.lights == 3 and .sh_bands == 3)
           | .start_regions | max >= 3' "$WORK/grace.json"

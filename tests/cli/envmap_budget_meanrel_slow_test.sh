@@ -19,7 +19,7 @@ meets() {
     local name=$1 map=$2
     expect_exit 0 "$name: 1% mean-rel met" -- "$EP" "$map" -o "$WORK/${name}_sh.json" \
         --max-error 0.01 --error-metric mean-rel --sh-fit metric --max-lights 4 --budget-max-bands 5 \
-        --validate-normals 1024 --report "$WORK/$name.json" -q
+        --budget-normals 1024 --report "$WORK/$name.json" -q
     expect_true "$name: chosen within 129 operations (5 bands of pure SH), mean-rel <= 1%" -- \
         jq -e '.metrics.environments[0].budget | .met and .metric == "mean-rel" and .normals == 1030
           and .chosen.error <= 0.01 and .chosen.cost.operations <= ([.candidates[]
