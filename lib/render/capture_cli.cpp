@@ -361,7 +361,7 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
             image::write_image(base + "_btf.exr", shaded, exr);
             image::write_image(base + "_truth.exr", truth, exr);
             image::write_image(base + "_relerr.exr", c.rel_error, exr);
-            image::write_image(base + "_compare.png", c.side_by_side);
+            image::write_image(base + "_compare.png", comparison_figure(c, "shaded BTF", compare));
             report.add_output(base + "_btf.exr", "radiance", "linear_srgb");
             report.add_output(base + "_truth.exr", "radiance", "linear_srgb");
             report.add_output(base + "_relerr.exr", "relative_error", "data");
