@@ -366,9 +366,11 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
             image::write_image(prefix + "_compare3_" + name + ".png",
                                render::comparison_figure(c, "GLES", options, {{&cpu_panel, "CPU model"}}));
             written.push_back({prefix + "_compare3_" + name + ".png", "side_by_side", "srgb"});
-            log::info(str("compare gles ", name, ": mean rel ", c.metrics.mean_rel, ", mean dE2000 ",
-                          c.metrics.mean_de2000, ", ", 100.0 * within / n,
-                          "% of pixels within 1e-3 of the CPU model, ", frame.frame_ms, " ms/frame"));
+            log::summary("render", str("GLES ", name, " vs path-traced truth"),
+                         str("mean relative error ", log::num(c.metrics.mean_rel), ", mean Delta E 2000 ",
+                             log::num(c.metrics.mean_de2000), "; ", log::num(100.0 * within / n),
+                             "% of pixels within 1e-3 of the CPU model, ",
+                             log::num(frame.frame_ms, 3), " ms/frame"));
         }
     }
     return out;
