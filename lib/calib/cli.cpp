@@ -103,7 +103,8 @@ void add_geometry_options(CLI::App& app, GeometryOptions& o) {
                            ? std::string()
                            : "'" + v + "' is not a ROS camera name (only letters, digits and '_')";
             },
-            "NAME"));
+            ""))
+        ->type_name("NAME");
 }
 
 void add_response_options(CLI::App& app, ResponseToolOptions& o) {
