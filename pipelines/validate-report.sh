@@ -363,7 +363,7 @@ btf_view_table() {
 body{font-family:sans-serif;margin:1.5em;max-width:1200px}
 table{border-collapse:collapse;font-size:90%}td,th{border:1px solid #ccc;padding:3px 6px}
 .good{background:#c8f0c8}.marginal{background:#f8e8a0}.poor{background:#f4b8b8}
-img.pair{image-rendering:pixelated;height:128px}
+img.pair{max-width:900px;height:auto}
 </style></head><body>
 <h1>Validation: the app's real-time model against path-traced truth</h1>
 HTML

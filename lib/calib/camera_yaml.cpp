@@ -2,8 +2,9 @@
 
 #include <opencv2/core.hpp>
 
-#include <cctype>
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "core/check.h"
@@ -34,11 +35,52 @@ bool has_ros_camera_info(ModelType type) {
     return type == ModelType::kFisheye || type == ModelType::kPinhole;
 }
 
+namespace {
+
+bool ros_name_char(char ch) {
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+           ch == '_';
+}
+
+}  // namespace
+
+bool is_ros_camera_name(const std::string& name) {
+    return !name.empty() && std::all_of(name.begin(), name.end(), ros_name_char);
+}
+
+std::string ros_camera_name(const std::string& text) {
+    std::string name = text.empty() ? "camera" : text;
+    for (char& ch : name)
+        if (!ros_name_char(ch)) ch = '_';
+    return name;
+}
+
+std::string default_camera_name(const std::vector<std::string>& inputs,
+                                const std::string& image_points) {
+    namespace stdfs = std::filesystem;
+    std::string name;
+    if (inputs.empty()) {
+        name = stdfs::path(image_points).stem().string();
+    } else {
+        // A trailing '/' leaves an empty filename: lexically_normal + parent of "dir/." fixes it.
+        stdfs::path first = stdfs::path(inputs.front()).lexically_normal();
+        if (first.filename().empty()) first = first.parent_path();
+        std::error_code ec;
+        if (stdfs::is_directory(first, ec)) {
+            name = stdfs::absolute(first, ec).lexically_normal().filename().string();
+            if (name.empty() || name == ".") name = stdfs::current_path(ec).filename().string();
+        } else if (inputs.size() == 1) {
+            name = first.stem().string();
+        } else {
+            name = stdfs::absolute(first, ec).parent_path().filename().string();
+        }
+    }
+    return ros_camera_name(name);
+}
+
 std::string ros_camera_info_yaml(const CameraModel& c, const std::string& camera_name) {
     INLIGHT_CHECK(has_ros_camera_info(c.type)) << to_string(c.type);
-    std::string name = camera_name.empty() ? "camera" : camera_name;
-    for (char& ch : name)
-        if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_' && ch != '-') ch = '_';
+    const std::string name = ros_camera_name(camera_name);
     const std::vector<double> k = {c.fx, c.skew, c.cx, 0, c.fy, c.cy, 0, 0, 1};
     const std::vector<double> p = {c.fx, c.skew, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0};
     std::ostringstream s;

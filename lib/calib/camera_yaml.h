@@ -12,6 +12,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "calib/camera_model.h"
 
@@ -20,8 +21,22 @@ namespace inlight::calib {
 /// True when ROS's camera_info has a distortion model for `type` (fisheye, pinhole).
 bool has_ros_camera_info(ModelType type);
 
-/// The text of camera_info.yaml for `camera`, named `camera_name` (letters, digits, '_', '-';
-/// anything else becomes '_'). Requires has_ros_camera_info(camera.type).
+/// True when `name` is a camera name ROS's camera_info_manager accepts: not empty, only ASCII
+/// letters, digits and '_' (setCameraName refuses anything else, '-' included).
+bool is_ros_camera_name(const std::string& name);
+
+/// `text` made a ROS camera name: every other character becomes '_'; "" gives "camera".
+std::string ros_camera_name(const std::string& text);
+
+/// The camera name calibrate writes when --camera-name is not given, from what the images are
+/// known by: the first input when it is a folder (its name), else one input file's stem, else
+/// the folder holding the input files; with a corner file (no inputs), that file's stem.
+/// Made a ROS name by ros_camera_name().
+std::string default_camera_name(const std::vector<std::string>& inputs,
+                                const std::string& image_points);
+
+/// The text of camera_info.yaml for `camera`, named ros_camera_name(camera_name).
+/// Requires has_ros_camera_info(camera.type).
 std::string ros_camera_info_yaml(const CameraModel& camera, const std::string& camera_name);
 
 /// Writes opencv_camera.yml for `camera` to `path` atomically (fs::write_atomic). Throws Error

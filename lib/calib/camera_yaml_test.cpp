@@ -1,6 +1,9 @@
 #include "calib/camera_yaml.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
 #include <opencv2/core.hpp>
 
 #include "testing/testing.h"
@@ -85,6 +88,28 @@ TEST(CameraYaml, NoRosModelForOmnidir) {
     EXPECT_TRUE(has_ros_camera_info(ModelType::kFisheye));
     EXPECT_TRUE(has_ros_camera_info(ModelType::kPinhole));
     EXPECT_FALSE(has_ros_camera_info(ModelType::kOmnidir));
+}
+
+// ROS's camera_info_manager accepts only letters, digits and '_' (setCameraName), so '-', '.',
+// spaces and non-ASCII bytes (here the two of UTF-8 'e'-acute) become '_'.
+TEST(CameraYaml, CameraNamesAreWhatRosAccepts) {
+    EXPECT_TRUE(is_ros_camera_name("left_cam2"));
+    for (const char* bad : {"", "left-cam", "left cam", "a.b", "caf\xc3\xa9"})
+        EXPECT_FALSE(is_ros_camera_name(bad)) << bad;
+    EXPECT_EQ(ros_camera_name("fisheye-ros-mono"), "fisheye_ros_mono");
+    EXPECT_EQ(ros_camera_name("caf\xc3\xa9"), "caf__");
+    EXPECT_EQ(ros_camera_name(""), "camera");
+}
+
+TEST(CameraYaml, DefaultCameraNameIsTheInputsName) {
+    const std::string dir = testing::temp_dir("camera_yaml_names") + "/fisheye-ros mono";
+    std::filesystem::create_directories(dir);
+    for (const char* f : {"/a.png", "/b.png"}) std::ofstream(dir + f) << "x";
+    EXPECT_EQ(default_camera_name({dir}, ""), "fisheye_ros_mono");       // a folder: its name
+    EXPECT_EQ(default_camera_name({dir + "/"}, ""), "fisheye_ros_mono");  // trailing slash
+    EXPECT_EQ(default_camera_name({dir + "/a.png"}, ""), "a");           // one file: its stem
+    EXPECT_EQ(default_camera_name({dir + "/a.png", dir + "/b.png"}, ""), "fisheye_ros_mono");
+    EXPECT_EQ(default_camera_name({}, "/x/left-corners.xml"), "left_corners");  // corner file
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "calib/cli.h"
 
 #include "calib/board.h"
+#include "calib/camera_yaml.h"
 #include "core/validators.h"
 
 namespace inlight::calib {
@@ -93,6 +94,17 @@ void add_geometry_options(CLI::App& app, GeometryOptions& o) {
                    "Output folder: calibration.json, directions.exr, solid_angle.exr, mask.png, "
                    "<W>x<H>/ downscaled maps, image_points.yml, object_points.yml")
         ->required();
+    app.add_option("--camera-name", o.camera_name,
+                   "camera_name in camera_info.yaml (ROS: letters, digits and '_'); default: the "
+                   "input folder's name, or the one input file's stem, other characters as '_'")
+        ->check(CLI::Validator(
+            [](std::string& v) {
+                return is_ros_camera_name(v)
+                           ? std::string()
+                           : "'" + v + "' is not a ROS camera name (only letters, digits and '_')";
+            },
+            ""))
+        ->type_name("NAME");
 }
 
 void add_response_options(CLI::App& app, ResponseToolOptions& o) {

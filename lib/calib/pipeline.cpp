@@ -421,7 +421,10 @@ nlohmann::json run_geometry(const GeometryOptions& o, Report& report) {
         report.add_output(ocv, "camera_opencv");
         if (has_ros_camera_info(cal.camera.type)) {
             const std::string ros = (out / "camera_info.yaml").string();
-            fs::write_text_atomic(ros, ros_camera_info_yaml(cal.camera, "camera"));
+            const std::string name = o.camera_name.empty()
+                                         ? default_camera_name(o.inputs, o.image_points)
+                                         : o.camera_name;
+            fs::write_text_atomic(ros, ros_camera_info_yaml(cal.camera, name));
             report.add_output(ros, "camera_info_ros");
         }
     }

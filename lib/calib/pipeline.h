@@ -36,6 +36,8 @@ struct GeometryOptions {
     std::string downscale;                    ///< "WxH,..."; "" = 1/4 and 1/8 of the full size
     double max_reproj_rms_px = 0;             ///< quality gate (0 = none)
     std::string output;                       ///< output folder
+    /// camera_info.yaml's camera_name (ROS: letters, digits, '_'); "" = default_camera_name().
+    std::string camera_name;
 };
 
 /// Parses --image-circle "CX,CY,R" (pixels; finite, R > 0). Throws UsageError naming the option.

@@ -359,22 +359,18 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
             written.push_back({base + "_de2000.exr", "delta_e2000", "data"});
             // truth | CPU model | GLES | GLES relative-error heat map.
             const int w = cpu.width;
-            image::Image panel(4 * w, cpu.height, 3, image::ColorSpace::kLinearSrgb);
-            for (int y = 0; y < cpu.height; ++y) {
-                for (int x = 0; x < w; ++x) {
-                    for (int ch = 0; ch < 3; ++ch) {
-                        panel.at(x, y, ch) = c.side_by_side.at(x, y, ch);
-                        panel.at(w + x, y, ch) = c_cpu.side_by_side.at(w + x, y, ch);
-                        panel.at(2 * w + x, y, ch) = c.side_by_side.at(w + x, y, ch);
-                        panel.at(3 * w + x, y, ch) = c.side_by_side.at(2 * w + x, y, ch);
-                    }
-                }
-            }
-            image::write_image(prefix + "_compare3_" + name + ".png", panel);
+            image::Image cpu_panel(w, cpu.height, 3, image::ColorSpace::kLinearSrgb);
+            for (int y = 0; y < cpu.height; ++y)
+                for (int x = 0; x < w; ++x)
+                    for (int ch = 0; ch < 3; ++ch) cpu_panel.at(x, y, ch) = c_cpu.side_by_side.at(w + x, y, ch);
+            image::write_image(prefix + "_compare3_" + name + ".png",
+                               render::comparison_figure(c, "GLES", options, {{&cpu_panel, "CPU model"}}));
             written.push_back({prefix + "_compare3_" + name + ".png", "side_by_side", "srgb"});
-            log::info(str("compare gles ", name, ": mean rel ", c.metrics.mean_rel, ", mean dE2000 ",
-                          c.metrics.mean_de2000, ", ", 100.0 * within / n,
-                          "% of pixels within 1e-3 of the CPU model, ", frame.frame_ms, " ms/frame"));
+            log::summary("render", str("GLES ", name, " vs path-traced truth"),
+                         str("mean relative error ", log::num(c.metrics.mean_rel), ", mean Delta E 2000 ",
+                             log::num(c.metrics.mean_de2000), "; ", log::num(100.0 * within / n),
+                             "% of pixels within 1e-3 of the CPU model, ",
+                             log::num(frame.frame_ms, 3), " ms/frame"));
         }
     }
     return out;

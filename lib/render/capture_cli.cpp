@@ -361,7 +361,7 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
             image::write_image(base + "_btf.exr", shaded, exr);
             image::write_image(base + "_truth.exr", truth, exr);
             image::write_image(base + "_relerr.exr", c.rel_error, exr);
-            image::write_image(base + "_compare.png", c.side_by_side);
+            image::write_image(base + "_compare.png", comparison_figure(c, "shaded BTF", compare));
             report.add_output(base + "_btf.exr", "radiance", "linear_srgb");
             report.add_output(base + "_truth.exr", "radiance", "linear_srgb");
             report.add_output(base + "_relerr.exr", "relative_error", "data");
@@ -415,10 +415,11 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
                                     std::accumulate(lighting.weight.begin(), lighting.weight.end(),
                                                     Eigen::Vector3d(Eigen::Vector3d::Zero()))
                                         .sum());
-            log::info(str("btf-shade ", stem, " view ", view.theta_deg, "/", view.phi_deg,
-                          ": mean_rel ", c.metrics.mean_rel, ", mean luminance ",
-                          100 * (by - ty) / std::max(ty, 1e-30), "% vs truth (truth noise ",
-                          truth_noise, ")"));
+            log::summary("render", str("shaded BTF vs path-traced truth (", stem, ", view ",
+                                       view.theta_deg, "/", view.phi_deg, ")"),
+                         str("mean relative error ", log::num(c.metrics.mean_rel),
+                             ", mean luminance ", log::num(100 * (by - ty) / std::max(ty, 1e-30), 3),
+                             "% off (truth noise ", log::num(truth_noise, 3), ")"));
             results.push_back(j);
         }
     }

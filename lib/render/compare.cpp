@@ -58,6 +58,23 @@ void print_compare_summary(const nlohmann::json& realtime) {
     }
 }
 
+image::Image comparison_figure(const Comparison& c, const std::string& model,
+                               const CompareOptions& options,
+                               const std::vector<image::FigurePanel>& extra) {
+    const int w = c.side_by_side.width / 3, h = c.side_by_side.height;
+    std::vector<image::Image> parts(3, image::Image(w, h, 3, image::ColorSpace::kLinearSrgb));
+    for (int i = 0; i < 3; ++i)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int ch = 0; ch < 3; ++ch) parts[i].at(x, y, ch) = c.side_by_side.at(i * w + x, y, ch);
+    std::vector<image::FigurePanel> panels = {{&parts[0], "path-traced truth"}};
+    panels.insert(panels.end(), extra.begin(), extra.end());
+    panels.push_back({&parts[1], model});
+    panels.push_back({&parts[2], "relative error"});
+    const image::ColorBar bar{options.heat_max_rel, "rel. error"};
+    return image::figure(str("relative error |", model, " - truth| / truth"), panels, &bar);
+}
+
 nlohmann::json metrics_json(const image::Metrics& m) {
     return {{"mae", m.mae},
             {"rmse", m.rmse},
@@ -189,7 +206,8 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
         const std::string name = to_string(mode);
         image::write_image(prefix + "_rt_" + name + ".exr", rt);
         written.push_back({prefix + "_rt_" + name + ".exr", "realtime_radiance", "linear_srgb"});
-        image::write_image(prefix + "_compare_" + name + ".png", c.side_by_side);
+        image::write_image(prefix + "_compare_" + name + ".png",
+                           comparison_figure(c, str("model (", name, ")"), options));
         written.push_back({prefix + "_compare_" + name + ".png", "side_by_side", "srgb"});
         image::write_image(prefix + "_relerr_" + name + ".exr", c.rel_error);
         written.push_back({prefix + "_relerr_" + name + ".exr", "relative_error", "data"});

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "brdf/bake.h"
+#include "image/figure.h"
 #include "image/image.h"
 #include "image/metrics.h"
 #include "render/path_tracer.h"
@@ -55,6 +56,15 @@ struct Comparison {
 };
 Comparison compare_images(const image::Image& truth, const image::Image& test, double exposure,
                           const CompareOptions& options);
+
+/// The side-by-side PNG as people read it (docs/render.md, "Comparison images"): c.side_by_side's
+/// panels (truth | `model` | relative-error heat map) captioned, enlarged to >= 256 px
+/// (image::figure), under a title saying what is compared, with the heat map's colour bar
+/// (0 to options.heat_max_rel, relative error). `extra` panels (same height) go between the
+/// truth and the model, e.g. the CPU model before the GLES one.
+image::Image comparison_figure(const Comparison& c, const std::string& model,
+                               const CompareOptions& options,
+                               const std::vector<image::FigurePanel>& extra = {});
 
 /// Report form of image::Metrics (PSNR null when infinite).
 nlohmann::json metrics_json(const image::Metrics& m);

@@ -56,7 +56,8 @@ nlohmann::json compare_lighting_file(const Scene& scene, const RenderResult& tru
     const Comparison with = compare_images(truth.radiance, rt, exposure, options);
     image::write_image(prefix + "_rt_lights.exr", rt);
     written.push_back({prefix + "_rt_lights.exr", "realtime_radiance", "linear_srgb"});
-    image::write_image(prefix + "_compare_lights.png", with.side_by_side);
+    image::write_image(prefix + "_compare_lights.png",
+                       comparison_figure(with, "model (SH + lights)", options));
     written.push_back({prefix + "_compare_lights.png", "side_by_side", "srgb"});
 
     const Comparison without =

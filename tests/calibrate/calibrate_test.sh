@@ -43,11 +43,20 @@ expect_true "camera_info.yaml: equidistant model, fx and k1 as calibration.json"
     k1=\$(awk '/^distortion_coefficients:/{f=1} f && /data:/{gsub(/[][,]/, \" \"); print \$2; exit}' '$O/camera_info.yaml') &&
     jq -e --argjson fx \"\$fx\" --argjson k1 \"\$k1\" \
        '((.intrinsics.fx - \$fx) | fabs) <= 1e-12 * .intrinsics.fx and ((.intrinsics.k1 - \$k1) | fabs) <= 1e-12 * (.intrinsics.k1 | fabs)' '$O/calibration.json'"
+expect_true "camera_info.yaml: camera_name is the input folder's name" -- grep -qx 'camera_name: boards' "$O/camera_info.yaml"
 expect_true "opencv_camera.yml: FileStorage YAML with K and D" -- bash -c \
     "head -1 '$O/opencv_camera.yml' | grep -q '^%YAML:1.0' && grep -q '^K: !!opencv-matrix' '$O/opencv_camera.yml' && grep -q '^D: !!opencv-matrix' '$O/opencv_camera.yml'"
 expect_exit 0 "synthetic fisheye set, -q" -- "$CAL" geometry "$WORK/boards" --board 9x6 --square-size-m 0.03 \
     --fov-deg 165 -o "$WORK/outq" -q
 expect_true "-q keeps the summary silent" -- bash -c "! grep -q 'RMS reprojection' '$WORK/stderr'"
+# --camera-name names the camera in camera_info.yaml; a name ROS would refuse is a usage error.
+expect_exit 0 "--camera-name" -- "$CAL" geometry "$WORK/boards" --board 9x6 --fov-deg 165 \
+    --downscale 120x90 --camera-name left_fisheye -o "$WORK/named" -q
+expect_true "camera_info.yaml: camera_name as given" -- grep -qx 'camera_name: left_fisheye' "$WORK/named/camera_info.yaml"
+expect_exit 2 "--camera-name with a '-' (ROS refuses it)" -- "$CAL" geometry "$WORK/boards" --board 9x6 \
+    --camera-name left-fisheye -o "$WORK/badname"
+expect_stderr "--camera-name.*'left-fisheye' is not a ROS camera name" "names the option, the value and the rule"
+expect_true "no output after the usage error" -- test ! -e "$WORK/badname"
 for f in calibration.json directions.exr solid_angle.exr mask.png image_points.yml object_points.yml \
          camera_info.yaml opencv_camera.yml 240x180/directions.exr 240x180/solid_angle.exr 240x180/mask.png \
          120x90/directions.exr 120x90/solid_angle.exr 120x90/mask.png; do

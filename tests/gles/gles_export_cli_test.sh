@@ -175,6 +175,9 @@ if [ -e /usr/share/blender/datafiles/studiolights/world/city.exr ]; then
         -o "$WORK/c.exr" --spp 4 --width-px 24 --height-px 24 --compare --rt-max-bands 4 \
         --rt-bake-samples 256 --rt-grid octa:9 --report "$WORK/c.json"
     expect_true "6 GLES variants compared" -- jq -e '.metrics.realtime.gles.variants | length == 6' "$WORK/c.json"
+    expect_summary_number "summary: a GLES variant's mean relative error is the report's" \
+        "render: GLES es300-seed-b3-highp vs path-traced truth: mean relative error ([0-9.e+-]+)," "$WORK/c.json" \
+        '.metrics.realtime.gles.variants[] | select(.variant == "es300-seed-b3-highp") | .mean_rel'
     expect_true "every variant matches the CPU model on >= 99.9% of pixels" -- jq -e \
         '[.metrics.realtime.gles.variants[] | .["cpu_model_fraction_within_1e-3"] >= 0.999] | all' "$WORK/c.json"
     expect_true "GLES error against the truth is reported" -- jq -e \

@@ -29,6 +29,9 @@ for f in btf.exr truth.exr relerr.exr compare.png; do
     expect_true "shade output $f" -- test -s "$WORK/sh_sun_tv045_pv040_$f"
 done
 expect_true "metrics per environment and view" -- jq -e '.metrics.btf_shade.results | length == 6' "$WORK/sh.json"
+expect_summary_number "summary: the first shading's mean relative error is the report's" \
+    "render: shaded BTF vs path-traced truth \\([^)]+\\): mean relative error ([0-9.e+-]+)," "$WORK/sh.json" \
+    '.metrics.btf_shade.results[0].mean_rel'
 expect_true "metrics as render --compare, plus the mean's bias" -- \
     jq -e '.metrics.btf_shade.results[0] | has("mean_rel") and has("mean_de2000") and has("mean_luminance_rel_diff")' "$WORK/sh.json"
 expect_exit 2 "btf-shade needs an environment" -- "$R" "$FABRICS/denim-plain.toml" --btf-shade "$WORK/dome" -o "$WORK/y"

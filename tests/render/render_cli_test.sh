@@ -84,8 +84,13 @@ if have_package_file /usr/share/blender/datafiles/studiolights/world/courtyard.e
         jq -e '.metrics.realtime | (.modes | has("consistent") and has("seed")) and (.consistent_by_sh_bands | length == 4)' "$WORK/p.json"
     expect_true "stated exposure and frame time" -- \
         jq -e '.metrics.realtime.exposure > 0 and .metrics.realtime.consistent_by_sh_bands[2].frame_time_ms > 0' "$WORK/p.json"
-    expect_true "side-by-side PNG is three panels wide" -- \
-        bash -c "oiiotool --info '$WORK/p_compare_seed.png' | grep -Eq '48 x +16,'"
+    # The PNG people look at: 16 px panels enlarged 16x to 256 px (image/figure.h) under a title and
+    # captions; the three panels and the colour bar side by side (the bar's ramp and the labels are
+    # checked pixel by pixel in lib/image/figure_test.cpp).
+    expect_true "side-by-side PNG: three 256 px panels, labelled above" -- \
+        bash -c "oiiotool --info '$WORK/p_compare_seed.png' | awk '{ w = \$3; h = \$5; sub(/,/, \"\", h); exit !(w > 3 * 256 && h > 256) }'"
+    expect_true "the numeric maps keep the render's size (16 x 16)" -- \
+        bash -c "oiiotool --info '$WORK/p_relerr_seed.exr' | grep -Eq '16 x +16,'"
     expect_true "the report says the compare baked its own table, and why" -- \
         jq -e '.metrics.realtime.inputs.brdf_tables.source == "baked" and (.metrics.realtime.inputs.brdf_tables.why | test("--brdf-table"))' "$WORK/p.json"
 
