@@ -2,7 +2,7 @@
 # capture-btf: a captured-BTF fabric's synthetic capture (render capture-btf, docs/btf.md).
 #   pipelines/capture-btf.sh FABRIC_DIR OUTDIR        (binaries from ${INLIGHT_BIN:-ROOT/build/bin})
 # FABRIC_DIR holds weave.toml (a render fabric file: configs/fabrics/ has more) and capture.toml
-# (render's options for the capture: width-px, height-px, spp, seed, btf-format, ...). Writes
+# (render capture-btf's options: width-px, height-px, spp, seed, btf-format, ...). Writes
 # OUTDIR/btf/ (UBO2003 layout, 81 view folders) and OUTDIR/capture.json (render's report);
 # render's output transaction makes the folder appear whole or not at all.
 set -euo pipefail
