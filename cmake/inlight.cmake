@@ -45,10 +45,11 @@ function(inlight_add_module name)
     endif()
 endfunction()
 
-# inlight_add_tool(name DEPS ...): apps/<name>/main.cpp -> build/bin/<name>
+# inlight_add_tool(name [SOURCES ...] DEPS ...): apps/<name>/main.cpp (and a subcommand per
+# SOURCES file) -> build/bin/<name>
 function(inlight_add_tool name)
-    cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
-    add_executable(${name} main.cpp)
+    cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+    add_executable(${name} main.cpp ${ARG_SOURCES})
     target_link_libraries(${name} PRIVATE ${ARG_DEPS} inlight::core inlight_warnings)
 endfunction()
 

@@ -134,7 +134,7 @@ content_key("validate", [VALIDATE_CONFIG, tool("render"), tool("bundle"), tool("
 content_key("report", script("validate-report.sh"))
 content_key("index", [tool("bundle")])
 
-# The error decomposition (render --rt-decompose) runs on each fabric's first environment: it
+# The error decomposition (render compare --decompose) runs on each fabric's first environment: it
 # costs about as much again as the pair's comparison, and one environment per fabric shows where
 # that fabric's error comes from.
 DECOMPOSE_ENV = sorted(ENVS)[0] if ENVS else None

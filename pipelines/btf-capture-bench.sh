@@ -13,7 +13,7 @@ FABRIC=${4:-$ROOT/configs/fabrics/wool-twill.toml}
 OUT=${5:-$(mktemp -d)/capture}
 echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(date -u +%F), load $(cut -d' ' -f1-3 /proc/loadavg)"
 /usr/bin/time -f "cpu: user %U s, sys %S s, wall %e s, max rss %M KB" \
-    "$BUILD/bin/render" "$FABRIC" --btf-capture -o "$OUT" --width-px "$SIZE" --height-px "$SIZE" \
+    "$BUILD/bin/render" capture-btf "$FABRIC" -o "$OUT" --width-px "$SIZE" --height-px "$SIZE" \
     --spp "$SPP" --threads 2 --report "$OUT.json" -q
 jq '.metrics.capture' "$OUT.json"
 echo "images: $(find "$OUT" -name '*.png' | wc -l) in $OUT ($(du -sh "$OUT" | cut -f1))"

@@ -2,7 +2,7 @@
 # The Table 7.1-style evaluation of btf-pca (docs/btf.md), one Markdown table per fabric for k in
 # {1,3,9,81} and C in {1,2,4,8,16,32}, the streaming curve of k=3 C=32 (table and gnuplot SVG)
 # and every run's report under $OUT:
-#  - woven: the fabrics of configs/fabrics/ captured with render --btf-capture (UBO2003 dome,
+#  - woven: the fabrics of configs/fabrics/ captured with render capture-btf (UBO2003 dome,
 #    81 x 81, CAP_PX^2, CAP_SPP paths per pixel, 8-bit sRGB PNG); the fabrics in NOISE_FABRICS are
 #    captured a second time with another seed, and their tables add the error against that
 #    independent capture (btf-pca --reference): the capture noise, the floor no model can go
@@ -152,7 +152,7 @@ capture() {
     fi
     [ -e "$dir" ] && { say "$dir: no finished capture (its report is missing or not ok): capturing again"; rm -rf "$dir"; }
     say "capturing $(basename "$toml") (seed $seed, ${CAP_PX}x${CAP_PX} px, $CAP_SPP spp, 6561 images)"
-    "$BIN/render" "$toml" --btf-capture -o "$dir" --width-px "$CAP_PX" --height-px "$CAP_PX" --spp "$CAP_SPP" \
+    "$BIN/render" capture-btf "$toml" -o "$dir" --width-px "$CAP_PX" --height-px "$CAP_PX" --spp "$CAP_SPP" \
         --seed "$seed" -q --report "$dir.json"
 }
 

@@ -22,9 +22,9 @@ P="$BUILD/bin/btf-pca"
 CAP=(--width-px "$SIZE" --height-px "$SIZE" --spp "$SPP" --btf-format exr --threads 2 -q)
 mkdir -p "$OUT"
 [ -s "$OUT/grid/capture.json" ] ||
-    "$R" "$FABRIC" --btf-capture -o "$OUT/grid" "${CAP[@]}" --seed 1 --report "$OUT/grid.json"
+    "$R" capture-btf "$FABRIC" -o "$OUT/grid" "${CAP[@]}" --seed 1 --report "$OUT/grid.json"
 for s in offgrid beyond ongrid; do
-    [ -s "$OUT/$s/capture.json" ] || "$R" "$FABRIC" --btf-capture -o "$OUT/$s" \
+    [ -s "$OUT/$s/capture.json" ] || "$R" capture-btf "$FABRIC" -o "$OUT/$s" \
         --btf-pairs "$ROOT/configs/btf/interp-$s-pairs.txt" "${CAP[@]}" --seed 2 --report "$OUT/$s.json"
 done
 for c in "$C" 4; do
@@ -49,7 +49,7 @@ ENVS=("$@")
 [ ${#ENVS[@]} -gt 0 ] || ENVS=("$W/city.exr" "$W/forest.exr")
 args=()
 for e in "${ENVS[@]}"; do args+=(--environment "$e"); done
-[ -s "$OUT/shade.json" ] || "$R" "$FABRIC" --btf-shade "$OUT/grid" --btf-compressed "$OUT/pca$C" \
+[ -s "$OUT/shade.json" ] || "$R" shade-btf "$FABRIC" --btf "$OUT/grid" --btf-compressed "$OUT/pca$C" \
     --btf-compressed "$OUT/pca4" "${args[@]}" -o "$OUT/shade" --spp "$TSPP" --threads 2 --report "$OUT/shade.json" -q
 echo
 echo "| environment | view (deg) | BTF | stored MiB | mean rel. error vs truth | mean dE2000 vs truth | mean luminance vs truth | rel. RMSE vs raw BTF |"
@@ -64,7 +64,7 @@ echo "| --- | --- | --- | --- | --- |"
 for blend in "--view-neighbours 1" "--view-neighbours 3" "--view-interp thesis" "--view-interp delaunay"; do
     tag=${blend// /_}
     # shellcheck disable=SC2086  # $blend is an option and its value
-    [ -s "$OUT/views$tag.json" ] || "$R" "$FABRIC" --btf-shade "$OUT/grid" --environment "${ENVS[0]}" $blend \
+    [ -s "$OUT/views$tag.json" ] || "$R" shade-btf "$FABRIC" --btf "$OUT/grid" --environment "${ENVS[0]}" $blend \
         --shade-views "$ROOT/configs/btf/interp-shade-views.txt" -o "$OUT/views$tag" --spp "$TSPP" --threads 2 \
         --report "$OUT/views$tag.json" -q
     jq -r --arg b "$blend" '.metrics.btf_shade.results[] |
@@ -75,7 +75,7 @@ done
 echo
 echo "| view (deg) | components sent | MiB sent | mean rel. error vs truth | mean dE2000 vs truth | mean luminance vs truth | rel. RMSE vs raw BTF |"
 echo "| --- | --- | --- | --- | --- | --- | --- |"
-[ -s "$OUT/stream.json" ] || "$R" "$FABRIC" --btf-shade "$OUT/grid" --btf-compressed "$OUT/pca$C" \
+[ -s "$OUT/stream.json" ] || "$R" shade-btf "$FABRIC" --btf "$OUT/grid" --btf-compressed "$OUT/pca$C" \
     --shade-stream 0,27,54,108,216,432 --environment "${ENVS[0]}" -o "$OUT/stream" --spp "$TSPP" --threads 2 \
     --report "$OUT/stream.json" -q
 jq -r '.metrics.btf_shade.results[] | . as $r | $r.compressed[0].stream[] |

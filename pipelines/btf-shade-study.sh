@@ -24,14 +24,14 @@ if [ ${#ENVS[@]} -eq 0 ]; then
     ENVS=("$W/city.exr" "$W/forest.exr" "$W/studio.exr" "$W/sunrise.exr" "$OUT/sun.exr")
 fi
 if [ ! -s "$OUT/btf/capture.json" ]; then
-    "$BUILD/bin/render" "$FABRIC" --btf-capture -o "$OUT/btf" --btf-format exr \
+    "$BUILD/bin/render" capture-btf "$FABRIC" -o "$OUT/btf" --btf-format exr \
         --width-px "$SIZE" --height-px "$SIZE" --spp "$CSPP" --threads 2 --report "$OUT/capture.json" -q
 fi
 args=()
 for e in "${ENVS[@]}"; do args+=(--environment "$e"); done
 # BTF_SHADE_ARGS: more render options for the shading, e.g. "--light-cells constant".
 read -r -a extra <<<"${BTF_SHADE_ARGS:-}"
-"$BUILD/bin/render" "$FABRIC" --btf-shade "$OUT/btf" "${args[@]}" -o "$OUT/shade" --spp "$TSPP" \
+"$BUILD/bin/render" shade-btf "$FABRIC" --btf "$OUT/btf" "${args[@]}" -o "$OUT/shade" --spp "$TSPP" \
     --threads 2 --report "$OUT/shade.json" -q "${extra[@]}"
 echo "| environment | view (deg) | mean rel. error | mean dE2000 | mean luminance, BTF vs truth | truth noise |"
 echo "| --- | --- | --- | --- | --- | --- |"

@@ -75,8 +75,10 @@ echo "  $OUT/gles/patch_city/index.json (docs/gles.md)"
 
 # 3. Ground truth against the app's real-time model (CPU) and its exported GLES shaders run
 #    through EGL: the satin patch under the city HDRI, three columns.
-"$BIN/render" "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/render/patch_city.exr" --spp 256 \
-    --compare --export-gles "$OUT/gles/patch_city" -q --report "$OUT/render/patch_city_report.json"
+"$BIN/render" compare "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/render/patch_city.exr" \
+    --spp 256 -q --report "$OUT/render/patch_city_report.json"
+"$BIN/render" export-gles "$ROOT/configs/scenes/patch_city.toml" -o "$OUT/gles/patch_city" -q \
+    --report "$OUT/render/patch_city_gles_report.json"
 echo
 echo "render: the app's real-time model against the path-traced ground truth (patch_city)"
 jq -r '"  ground truth: \(.metrics.spp) spp, relative noise \(.metrics.rel_error * 1e4 | round / 1e4), \(.metrics.rays_per_s / 1e6 * 100 | round / 100) Mrays/s",

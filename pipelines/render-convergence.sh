@@ -6,7 +6,7 @@
 # Scenes (docs/benchmarks.md):
 #   sphere: configs/scenes/sphere_city.toml (Lambert sphere under city.exr), SPHERE_PX^2 pixel
 #           centres (--no-jitter) against the exact image from brute-force irradiance
-#           (--convergence-ref-irradiance): mean relative error and relative RMSE;
+#           (render convergence --ref-irradiance): mean relative error and relative RMSE;
 #   patch:  configs/scenes/patch_city.toml (textured GGX satin), PATCH_PX^2 box-filtered pixels
 #           against one converged render of PATCH_REF_SPP spp shared by the three modes
 #           (its own noise subtracted).
@@ -55,42 +55,42 @@ has_scene() { [[ " ${SCENE_LIST[*]} " == *" $1 "* ]]; }
 MACHINE="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), load $(cut -d' ' -f1-3 /proc/loadavg), $(date -u '+%F %H:%M') UTC"
 echo "render-convergence: $MACHINE"
 
-# run NAME SCENE ARGS...: renders SCENE into OUT/NAME.exr with the report OUT/NAME.json. With
+# run NAME SUBCOMMAND SCENE ARGS...: renders SCENE with `render SUBCOMMAND` into OUT/NAME.exr with the report OUT/NAME.json. With
 # RESUME=1 an "ok" report whose OUT/NAME.key matches this binary, scene file and command is kept.
 # A failed run leaves a report (status "failed") and no key; it is always done again.
 RENDER_SHA=$(sha256sum "$BIN/render" | cut -d' ' -f1)
 REUSED=0
 run() {
-    local name=$1 scene=$2 key
-    shift 2
-    key=$(printf '%s\n' "render $RENDER_SHA" "scene $(sha256sum "$scene" | cut -d' ' -f1)" "threads $THREADS" "$scene" "$@")
+    local name=$1 sub=$2 scene=$3 key
+    shift 3
+    key=$(printf '%s\n' "render $RENDER_SHA" "scene $(sha256sum "$scene" | cut -d' ' -f1)" "threads $THREADS" "$sub" "$scene" "$@")
     if [ "${RESUME:-0}" = 1 ] && [ -f "$OUT/$name.json" ] && [ "$(jq -r .status "$OUT/$name.json")" = ok ] \
         && [ -f "$OUT/$name.key" ] && [ "$(cat "$OUT/$name.key")" = "$key" ]; then
         REUSED=$((REUSED + 1))
         return
     fi
     rm -f "$OUT/$name.key"
-    "$BIN/render" "$scene" -o "$OUT/$name.exr" --threads "$THREADS" -q --report "$OUT/$name.json" "$@"
+    "$BIN/render" "$sub" "$scene" -o "$OUT/$name.exr" --threads "$THREADS" -q --report "$OUT/$name.json" "$@"
     printf '%s\n' "$key" > "$OUT/$name.key"
 }
 # The patch's reference: one converged render for every mode.
 REF="$OUT/patch_ref_${PATCH_PX}px_${PATCH_REF}spp.exr"
 if has_scene patch; then
-    run "patch_ref_${PATCH_PX}px_${PATCH_REF}spp" "$ROOT/configs/scenes/patch_city.toml" \
+    run "patch_ref_${PATCH_PX}px_${PATCH_REF}spp" trace "$ROOT/configs/scenes/patch_city.toml" \
         --spp "$PATCH_REF" --width-px "$PATCH_PX" --height-px "$PATCH_PX" --seed 1000
 fi
 for mode in "${MODES[@]}"; do
     if has_scene sphere; then
         # shellcheck disable=SC2046 # mode_args is a list of words
-        run "sphere_$mode" "$ROOT/configs/scenes/sphere_city.toml" \
+        run "sphere_$mode" convergence "$ROOT/configs/scenes/sphere_city.toml" \
             --spp "$MAX_SPP" --width-px "$SPHERE_PX" --height-px "$SPHERE_PX" --no-jitter \
-            --convergence-ref-irradiance $(mode_args "$mode")
+            --ref-irradiance $(mode_args "$mode")
     fi
     if has_scene patch; then
         # shellcheck disable=SC2046
-        run "patch_$mode" "$ROOT/configs/scenes/patch_city.toml" \
+        run "patch_$mode" convergence "$ROOT/configs/scenes/patch_city.toml" \
             --spp "$MAX_SPP" --width-px "$PATCH_PX" --height-px "$PATCH_PX" \
-            --convergence-ref-image "$REF" $(mode_args "$mode")
+            --ref-image "$REF" $(mode_args "$mode")
     fi
 done
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # render-decompose: the real-time model's error taken apart on the provided scenes (render
-# --compare --rt-decompose; docs/render.md "Where the error comes from"), for pure SH at 1 ..
+# compare --decompose; docs/render.md "Where the error comes from"), for pure SH at 1 ..
 # MAX_BANDS bands and for the SH + dominant lights model envmap-project --max-error chooses for
 # the scene's environment (--rt-lighting; LIGHTS=0 leaves it out). The truth samples pixel
 # centres (--no-jitter), so the model and every exact counterpart see the same points, and runs
@@ -61,9 +61,9 @@ if [ "${PLOT_ONLY:-0}" != 1 ]; then
             [ "$rc" -eq 0 ] || [ "$rc" -eq 3 ] || { echo "render-decompose: envmap-project failed on $env" >&2; exit 1; }
             lit=(--rt-lighting "$RUNS/${s}_lights.json")
         fi
-        "$R" "$scene" -o "$RUNS/$s.exr" --width-px "$PX" --height-px "$PX" --no-jitter \
+        "$R" compare "$scene" -o "$RUNS/$s.exr" --width-px "$PX" --height-px "$PX" --no-jitter \
             --spp 1048576 --target-rel-error "$TARGET" --time-budget-s "$BUDGET_S" --seed 1 \
-            --compare --rt-decompose --rt-max-bands "$MAX_BANDS" --rt-supersample 1 "${lit[@]}" \
+            --decompose --rt-max-bands "$MAX_BANDS" --rt-supersample 1 "${lit[@]}" \
             --report "$RUNS/$s.json" -q
         jq -r --arg s "$s" '.metrics as $m | $m.realtime.decomposition as $d | "sh" as $model
             | $d.by_sh_bands[] | '"$ROW" "$RUNS/$s.json" >> "$OUT/decomposition.tsv"

@@ -12,9 +12,9 @@
 #   - the band budget (VALIDATE_MAX_ERROR, default 0.01; 0 = off): envmap-project --max-error on
 #     the environment with the bundle's BRDF table, i.e. the fewest SH bands and dominant lights
 #     whose irradiance and outgoing-radiance error meet the budget (docs/budget.md);
-#   - the error decomposition (VALIDATE_DECOMPOSE=1): render --compare --rt-decompose, the model's
+#   - the error decomposition (VALIDATE_DECOMPOSE=1): render compare --decompose, the model's
 #     error split into grid, SH truncation, fixed view and visibility (docs/render.md).
-# A bundle that ships a BTF is also shaded as a BTF (render --btf-shade), when RAW_BTF, the
+# A bundle that ships a BTF is also shaded as a BTF (render shade-btf), when RAW_BTF, the
 # capture it was compressed from, is given: the woven geometry (WEAVE, default the fabric file
 # the capture names) path-traced under the environment through the BTF's rectified camera is the
 # truth; the raw BTF, the bundle's compressed BTF and each prefix of its stream are shaded and
@@ -65,8 +65,8 @@ uv=$(jq --argjson w "$PATCH_WIDTH_M" '$w / .properties.tile_size_m' "$M")
 } > "$OUTDIR/scene.toml"
 
 decompose=()
-[ "${VALIDATE_DECOMPOSE:-0}" = 1 ] && decompose=(--rt-decompose)
-"$BIN/render" "$OUTDIR/scene.toml" -o "$OUTDIR/render.exr" --config "$CONFIG" --compare \
+[ "${VALIDATE_DECOMPOSE:-0}" = 1 ] && decompose=(--decompose)
+"$BIN/render" compare "$OUTDIR/scene.toml" -o "$OUTDIR/render.exr" --config "$CONFIG" \
     "${decompose[@]}" --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
     --rt-bake-samples "$(jq '.properties.brdf_samples_per_normal' "$M")" \
     -q --report "$OUTDIR/render.json"
@@ -119,13 +119,13 @@ if [ -n "$(role btf_manifest)" ] && [ $# -ge 4 ]; then
     points=$(jq -rn --argjson n "$n" --argjson g "$g" '[range(0; $n; $g), $n] | unique | join(",")')
     views=${VALIDATE_BTF_VIEWS:-$OUTDIR/btf-views.txt}
     [ -n "${VALIDATE_BTF_VIEWS:-}" ] || printf '0 0\n45 40\n' > "$views"
-    "$BIN/render" "$WEAVE" --btf-shade "$RAW_BTF" --btf-compressed "$S" --shade-stream "$points" \
+    "$BIN/render" shade-btf "$WEAVE" --btf "$RAW_BTF" --btf-compressed "$S" --shade-stream "$points" \
         --environment "$ENV_MAP" --shade-views "$views" --spp "${VALIDATE_BTF_SPP:-256}" \
         -o "$OUTDIR/btf" -q --report "$OUTDIR/btf.json.tmp"
 fi
 mv "$OUTDIR/btf.json.tmp" "$OUTDIR/btf.json"
 
-# GLES output: render --compare also draws the scene with the exported shaders through
+# GLES output: render compare also draws the scene with the exported shaders through
 # EGL (metrics.realtime.gles): the third column, beside the CPU model and the truth.
 jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_name" \
     --arg envpath "$ENV_MAP" --slurpfile budget "$OUTDIR/budget.json" --slurpfile btf "$OUTDIR/btf.json" '
@@ -153,8 +153,8 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
                by_sh_bands} else null end),
      has_btf: ([$bundle.files[] | select(.role == "btf_manifest")] | length > 0),
      btf: ($btf[0].metrics.btf_shade // null | if . then
-              {spp, raw_btf: $btf[0].argv[($btf[0].argv | index("--btf-shade")) + 1],
-               weave: $btf[0].argv[1], bytes_shipped: .results[0].compressed[0].stored_bytes,
+              {spp, raw_btf: $btf[0].argv[($btf[0].argv | index("--btf")) + 1],
+               weave: $btf[0].argv[2], bytes_shipped: .results[0].compressed[0].stored_bytes,
                components_per_group: .results[0].compressed[0].components_per_group,
                views: [[$btf[0].outputs[] | select(.kind == "comparison") | .path | split("/") | last] as $png
                        | .results | to_entries[] | .key as $i | .value | .compressed[0] as $c |

@@ -10,7 +10,7 @@
 # error is marked noise-limited. Where the pair has them: the GLES column (the exported shader
 # the bundle ships, consistent mode, highp, drawn through EGL), the band budget (what
 # envmap-project --max-error chooses for this environment and table) and the error decomposition
-# at the shipped band count (render --compare --rt-decompose).
+# at the shipped band count (render compare --decompose).
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -182,7 +182,7 @@ plot "$P/pairs.dat" using 3:4 with points pt 7 title "consistent model", \
      "$P/pairs.dat" using 3:7 with points pt 6 title "the report's seed shader"
 GNUPLOT
 
-# Where the error comes from, per decomposed pair (render --rt-decompose at the shipped bands):
+# Where the error comes from, per decomposed pair (render compare --decompose at the shipped bands):
 # the parts of the model's error, stacked (their sum bounds the total), and the truth's noise.
 jq -r '.[] | select(.error_parts) | [.fabric + "/" + .environment, .error_parts.grid, .error_parts.sh_diffuse,
        .error_parts.sh_specular, .error_parts.fixed_view, .error_parts.visibility, .error_parts.truth_noise,
@@ -191,7 +191,7 @@ if [ -s "$P/parts.dat" ]; then
     gnuplot <<GNUPLOT3
 set terminal pngcairo size 900,560 font "sans,10"
 set output "$P/error_parts.png"
-set title "Where the model's error comes from (shipped SH bands; render --rt-decompose)"
+set title "Where the model's error comes from (shipped SH bands; render compare --decompose)"
 set ylabel "relative RMS of luminance"
 set style data histograms
 set style histogram rowstacked
@@ -231,7 +231,7 @@ if [ "${#BTF_KEYS[@]}" -gt 0 ]; then
         {
             echo "set terminal pngcairo size 1000,$((nb * 380 + 40)) font 'sans,9'"
             echo "set output '$P/btf_error_vs_$axis.png'"
-            echo "set multiplot layout $nb,2 title 'BTF fabrics: the shipped BTF stream shaded under each environment, view along the normal (render --btf-shade --shade-stream)'"
+            echo "set multiplot layout $nb,2 title 'BTF fabrics: the shipped BTF stream shaded under each environment, view along the normal (render shade-btf --shade-stream)'"
             echo "set grid; set key top right font 'sans,7'; set xlabel '$xl'"
             i=0
             for f in "${BTF_FABRICS[@]}"; do
@@ -259,7 +259,7 @@ BTF_VIEWS_TEXT=$(jq -r "$JQ_DEFS"' [.[] | .btf.views // [] | .[].view_deg] | uni
 # What each BTF comparison measures (the Markdown summary and the page say it once).
 btf_measures_text() {
     echo "Each BTF fabric's BTF is shaded under the environment as the app would shade it (render"
-    echo "--btf-shade) at each of these views: $BTF_VIEWS_TEXT (theta from the normal). Theta 0 is the"
+    echo "shade-btf) at each of these views: $BTF_VIEWS_TEXT (theta from the normal). Theta 0 is the"
     echo "pair's own camera: the per-pair table, the stream table and the plots are at it; the view table"
     echo "sets the views side by side. Each is measured against a truth of its own: the woven"
     echo "geometry the BTF was captured from, path-traced under the same environment through the BTF's"
@@ -325,7 +325,7 @@ btf_view_table() {
     echo "rt-supersample: where GLES agrees with the model but its dE2000 is higher, the gap is the pixel"
     echo "footprint (the weave texture aliasing), which MSAA or mipmaps on the phone would remove."
     echo "Budget: envmap-project --max-error's choice for this environment and table."
-    echo "Largest part: of the model's error at the shipped bands (render --rt-decompose), where run."
+    echo "Largest part: of the model's error at the shipped bands (render compare --decompose), where run."
     echo
     echo "| fabric | environment | verdict | dE2000 CPU model | GLES dE2000 (agrees) | rel. error | seed shader dE2000 | truth noise | budget | largest part | advice |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
@@ -378,7 +378,7 @@ HTML
     echo "the pixel footprint, texture aliasing that MSAA or mipmaps would remove). <b>Budget</b>:"
     echo "the fewest SH bands and dominant lights envmap-project --max-error finds for this environment"
     echo "and the bundle's table. <b>Largest part</b>: of the model's error at the shipped bands"
-    echo "(render --rt-decompose: grid, SH diffuse/specular truncation, fixed view, visibility).</p>"
+    echo "(render compare --decompose: grid, SH diffuse/specular truncation, fixed view, visibility).</p>"
     echo "<h2>Verdicts</h2><table><tr><th>fabric</th><th>environment</th><th>verdict</th><th>dE2000 CPU model</th><th>GLES dE2000 (agrees)</th><th>seed shader dE2000</th><th>truth noise</th><th>budget</th><th>largest part</th><th>advice</th><th>truth | model | error</th><th>truth | CPU | GLES | error</th></tr>"
     jq -r 'def r(n): . * n | round / n; .[] | "<tr class=\"\(.verdict)\"><td>\(.fabric)</td><td>\(.environment)</td><td>\(.verdict)\(if .noise_limited then " (noise-limited)" else "" end)</td><td>\(.shipped.mean_de2000 | r(100))</td><td>\(if .gles_shipped then "\(.gles_shipped.mean_de2000 | r(100)) (\(.gles_shipped.cpu_model_fraction_within_1e_3 * 100 | round)%)" else "-" end)</td><td>\(.seed.mean_de2000 | r(100))</td><td>\(.truth.rel_noise | r(1000))</td><td>\(.budget_text // "-")</td><td>\(if .largest_part then "\(.largest_part) \(.error_parts[.largest_part] | r(1000))" else "-" end)</td><td>\(.advice)</td><td><img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/\(.images.compare_consistent)\" alt=\"\(.fabric) \(.environment)\"></td><td>\(if .gles_shipped then "<img class=\"pair\" src=\"pairs/\(.fabric)/\(.environment)/render_compare3_\(.gles_shipped.variant).png\" alt=\"GLES\">" else "-" end)</td></tr>"' "$V/summary.json"
     echo "</table>"

@@ -3,11 +3,12 @@
 //   bundle pack:        files into a bundle folder with a versioned, hashed manifest
 //   bundle verify:      check bundles (schema, paths, sizes, SHA-256); exit 1 on any failure
 //   bundle index:       the SQLite catalogue of a bundle root
-#include <iostream>
 #include <string>
+#include <vector>
 
 #include "bundle/cli.h"
 #include "core/app.h"
+#include "core/modes.h"
 
 namespace {
 
@@ -65,23 +66,9 @@ int main(int argc, char** argv) {
         });
     }
 
-    CLI::App app{"bundle: asset bundles and the catalogue for the app", "bundle"};
-    std::string examples;
-    for (const Mode& md : kModes) {
-        app.add_subcommand(md.name, md.purpose);
-        examples += std::string("\n  ") + md.example;
-    }
-    app.require_subcommand(1);
-    app.add_flag_callback(
-        "--version",
-        [] {
-            std::cout << version_line("bundle") << "\n";
-            throw CLI::Success();
-        },
-        "Print the version and exit");
-    app.footer("Run `bundle <mode> --help` for a mode's options.\nExamples:" + examples +
-               "\nExit codes: 0 ok, 1 runtime error (a bundle failed verification), 2 usage "
-               "error.");
-    if (auto code = app::parse(app, argc, argv)) return *code;
-    return app::kExitUsage;
+    std::vector<app::ModeHelp> modes;
+    for (const Mode& md : kModes) modes.push_back({md.name, md.purpose, md.example});
+    return app::list_modes("bundle", "bundle: asset bundles and the catalogue for the app", modes,
+                           "0 ok, 1 runtime error (a bundle failed verification), 2 usage error.",
+                           argc, argv);
 }

@@ -2,11 +2,11 @@
 //   calibrate geometry: chessboard photographs (or corner files) -> intrinsics, direction,
 //                       solid-angle and mask maps (docs/calibrate.md).
 //   calibrate response: an exposure bracket -> the camera's response curve (Debevec-Malik).
-#include <iostream>
 #include <string>
 
 #include "calib/cli.h"
 #include "core/app.h"
+#include "core/modes.h"
 
 namespace {
 
@@ -47,20 +47,9 @@ int main(int argc, char** argv) {
     }
 
     // No mode (or an unknown one): list the modes.
-    CLI::App app{"calibrate: camera calibration for lighting from a camera frame", "calibrate"};
-    app.add_subcommand("geometry", kGeometryPurpose);
-    app.add_subcommand("response", kResponsePurpose);
-    app.require_subcommand(1);
-    app.add_flag_callback(
-        "--version",
-        [] {
-            std::cout << version_line("calibrate") << "\n";
-            throw CLI::Success();
-        },
-        "Print the version and exit");
-    app.footer(std::string("Run `calibrate <mode> --help` for a mode's options.\nExamples:\n  ") +
-               calib::kGeometryExample + "\n  " + calib::kResponseExample +
-               "\nExit codes: 0 ok, 1 runtime error, 2 usage error, 3 quality gate failed.");
-    if (auto code = app::parse(app, argc, argv)) return *code;
-    return app::kExitUsage;
+    return app::list_modes(
+        "calibrate", "calibrate: camera calibration for lighting from a camera frame",
+        {{"geometry", kGeometryPurpose, calib::kGeometryExample},
+         {"response", kResponsePurpose, calib::kResponseExample}},
+        "0 ok, 1 runtime error, 2 usage error, 3 quality gate failed.", argc, argv);
 }

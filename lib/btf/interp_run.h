@@ -1,7 +1,7 @@
 // btf/interp_run.h: `btf-pca INPUT --interpolate PAIRS -o DIR`: a BTF, raw (folder or Bonn zip)
 // or compressed (a btf-pca output folder), evaluated at arbitrary (light, view) pairs by angular
 // interpolation (btf/interp.h), written as images in UBO2003 naming, and, given a capture of the
-// same pairs (`render FABRIC --btf-capture --btf-pairs PAIRS`), compared with that truth.
+// same pairs (`render capture-btf FABRIC --btf-pairs PAIRS`), compared with that truth.
 //
 // Errors per pair, then averaged over the pairs (each pair weighs the same):
 //  - rmse: linear_srgb values (the images' units: radiance at the capture's irradiance, or btf);

@@ -126,7 +126,7 @@ TEST(OutputTransaction, RefusesOutputsThatAreInputs) {
 }
 
 TEST(OutputTransaction, RefusesAnOutputBelowAnExistingFile) {
-    // render --export-gles scene.toml: the folder is an existing file. Refused when declared,
+    // render export-gles SCENE -o scene.toml: the folder is an existing file. Refused when declared,
     // before any work, naming the option and the file (it failed only when writing, at the end).
     const std::string dir = testing::temp_dir("txn_below_file");
     fs::write_text_atomic(dir + "/scene.toml", "x");

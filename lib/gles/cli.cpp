@@ -27,25 +27,28 @@ ExportSet ExportArgs::set() const {
 }
 
 ExportSet ExportArgs::prepare(Report& report) const {
-    fs::declare_output(dir + "/index.json", "--export-gles");
+    fs::declare_output(dir + "/index.json", dir_option);
     if (!lighting.empty()) report.add_input(lighting);
     return set();
 }
 
-void check_before_work(const std::function<void()>& check) {
+void check_before_work(const std::function<void()>& check, const std::string& option) {
+    const std::string prefix = option.empty() ? "" : option + ": ";
     try {
         check();
     } catch (const UsageError& e) {
-        throw UsageError(str("--export-gles: ", e.what()));
+        throw UsageError(prefix + e.what());
     } catch (const Error& e) {
-        throw Error(str("--export-gles: ", e.what()));
+        throw Error(prefix + e.what());
     }
 }
 
-void add_export_options(CLI::App& app, ExportArgs& a) {
-    app.add_option("--export-gles", a.dir,
-                   "Also write GLES vertex + fragment shaders, manifests and BRDF data of every "
-                   "variant into this folder (docs/gles.md)");
+void add_export_options(CLI::App& app, ExportArgs& a, bool with_dir) {
+    if (with_dir) {
+        app.add_option("--export-gles", a.dir,
+                       "Also write GLES vertex + fragment shaders, manifests and BRDF data of "
+                       "every variant into this folder (docs/gles.md)");
+    }
     app.add_option("--gles-versions", a.versions, "GLSL ES versions to export: 100, 300")
         ->check(app::parses_with([](const std::string& s) { glsl_versions_from_string(s); },
                                  "LIST"))

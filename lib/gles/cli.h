@@ -1,5 +1,5 @@
-// gles/cli.h: the --export-gles options shared by render and brdf-sh-bake, so both tools spell
-// and validate them alike.
+// gles/cli.h: the GLES export options shared by render (export-gles) and brdf-sh-bake
+// (--export-gles), so both tools spell and validate them alike.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -12,7 +12,8 @@
 namespace inlight::gles {
 
 struct ExportArgs {
-    std::string dir;  ///< --export-gles; empty = no export
+    std::string dir;  ///< --export-gles (render export-gles: -o); empty = no export
+    std::string dir_option = "--export-gles";  ///< the option naming `dir`, for messages
     std::string versions = "100,300", modes = "consistent,seed", precisions = "highp";
     int max_sh_bands = 3;
     std::string lighting;  ///< --gles-lighting: a lighting file whose lights the shaders shade
@@ -26,11 +27,14 @@ struct ExportArgs {
 };
 
 /// Runs `check` (the export on tables of the baked shape, before any bake or rendering) and
-/// names --export-gles in what it throws, keeping the type (UsageError: exit 2, Error: exit 1).
-void check_before_work(const std::function<void()>& check);
+/// names `option` (when not empty) in what it throws, keeping the type (UsageError: exit 2,
+/// Error: exit 1).
+void check_before_work(const std::function<void()>& check,
+                       const std::string& option = "--export-gles");
 
-/// Adds --export-gles DIR, --gles-versions, --gles-modes, --gles-precisions, --gles-max-bands,
-/// --gles-lighting FILE, --gles-max-texture-size N.
-void add_export_options(CLI::App& app, ExportArgs& args);
+/// Adds --gles-versions, --gles-modes, --gles-precisions, --gles-max-bands, --gles-lighting
+/// FILE, --gles-max-texture-size N, and (when `with_dir`) --export-gles DIR; without it the
+/// tool fills args.dir and args.dir_option itself.
+void add_export_options(CLI::App& app, ExportArgs& args, bool with_dir = true);
 
 }  // namespace inlight::gles

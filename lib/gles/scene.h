@@ -1,5 +1,5 @@
-// gles/scene.h: the GLES exports of a render scene's materials (render --export-gles): one BRDF
-// table per material, baked for the view toward the camera (as render --compare's real-time
+// gles/scene.h: the GLES exports of a render scene's materials (render export-gles): one BRDF
+// table per material, baked for the view toward the camera (as render compare's real-time
 // model does), and every variant of an ExportSet for it.
 #pragma once
 
@@ -51,13 +51,13 @@ SceneFrame render_scene(const Context& context, const render::Scene& scene,
                         const std::vector<Export>& per_material, const Eigen::MatrixXd& coeffs,
                         int repeat = 1, const std::vector<envmap::DirectionalLight>& lights = {});
 
-/// render --compare's GLES column: for ES 1.00 and 3.00 (highp), both modes at 3 bands and the
+/// render compare's GLES column: for ES 1.00 and 3.00 (highp), both modes at 3 bands and the
 /// consistent mode at 3 .. options.max_bands, the scene drawn on the driver (frame time: the
 /// least of 3 draws, after the first compiles) against the ground
 /// truth (the same metrics, heat maps and PNGs as the CPU model: <prefix>_gles_<variant>_*)
 /// and against the CPU model with one fragment per pixel (fraction of pixels within 1e-3
 /// relative). Writes <prefix>_compare3_<variant>.png: truth | CPU model | GLES | GLES error.
-/// With `lighting` (render --compare --rt-lighting FILE): also the consistent variants at the
+/// With `lighting` (render compare --rt-lighting FILE): also the consistent variants at the
 /// file's bands (at least 3) with its lights, lit by its residual SH, beside the CPU model
 /// lit the same way (render/realtime_lights.h); a file above the bake's 8 bands is reported
 /// as skipped, never truncated.

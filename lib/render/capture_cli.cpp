@@ -88,38 +88,27 @@ nlohmann::json compressed_vs_raw(const image::Image& c, const image::Image& raw)
 }  // namespace
 
 void add_capture_options(CLI::App& app, CaptureArgs& a) {
-    auto* cap = app.add_flag(
-        "--btf-capture", a.enabled,
-        "Synthetic BTF capture: the positional input is a fabric file (configs/fabrics/*.toml), "
-        "-o a folder; one image per (light, view) in UBO2003 naming, one folder per view "
-        "(docs/btf.md). --width-px/--height-px (default 128), --spp (default 16), --max-depth, "
-        "--rr-depth, --no-jitter, --seed apply");
     app.add_option("--btf-lights", a.lights,
                    "Capture: light directions file (theta_deg phi_deg or x y z per line; default "
                    "the UBO2003 dome)")
-        ->check(CLI::ExistingFile)
-        ->needs(cap);
+        ->check(CLI::ExistingFile);
     app.add_option("--btf-views", a.views, "Capture: view directions file (default the dome)")
-        ->check(CLI::ExistingFile)
-        ->needs(cap);
+        ->check(CLI::ExistingFile);
     app.add_option("--btf-pairs", a.pairs,
                    "Capture: (light, view) pairs file (theta_l phi_l theta_v phi_v per line) "
                    "instead of every light for every view")
         ->check(CLI::ExistingFile)
-        ->needs(cap)
         ->excludes("--btf-lights")
         ->excludes("--btf-views");
     app.add_option("--btf-format", a.format,
                    "Capture: png (8-bit sRGB, as Bonn ships) or exr (float, linear_srgb)")
         ->check(CLI::IsMember({"png", "exr"}))
-        ->capture_default_str()
-        ->needs(cap);
+        ->capture_default_str();
     app.add_option("--irradiance-w-m2", a.irradiance_w_m2,
                    "Capture: the point light's irradiance perpendicular to it; images hold "
                    "radiance, btf = image / irradiance (default pi: a white Lambertian plate lit "
                    "from the normal reads 1)")
-        ->check(app::finite_range(1e-6, 1e6))
-        ->needs(cap);
+        ->check(app::finite_range(1e-6, 1e6));
 }
 
 void check_capture_folder(const std::string& out_dir) {
@@ -229,31 +218,26 @@ void run_capture(const CaptureArgs& a, const std::string& fabric, const std::str
 }
 
 void add_shade_options(CLI::App& app, ShadeArgs& a) {
-    auto* shade = app.add_option(
-                          "--btf-shade", a.btf,
-                          "Shade a raw captured BTF (a --btf-capture folder of the positional "
-                          "fabric) under each --environment and compare it with the path-traced "
-                          "truth of the same geometry; -o is a file prefix (docs/btf.md)")
-                      ->check(CLI::ExistingDirectory)
-                      ->excludes("--btf-capture");
+    app.add_option("--btf", a.btf,
+                   "The raw captured BTF: a `render capture-btf` folder of the positional fabric "
+                   "(docs/btf.md)")
+        ->required()
+        ->check(CLI::ExistingDirectory);
     app.add_option("--environment", a.environments,
                    "BTF shading: lat-long environment (EXR/HDR, +z the fabric normal); repeatable")
-        ->check(CLI::ExistingFile)
-        ->needs(shade);
+        ->required()
+        ->check(CLI::ExistingFile);
     app.add_option("--shade-views", a.views,
                    "BTF shading: view directions file (default (0,0), (45,40), (75,0) deg)")
-        ->check(CLI::ExistingFile)
-        ->needs(shade);
+        ->check(CLI::ExistingFile);
     app.add_option("--view-neighbours", a.view_neighbours,
                    "BTF shading: BTF views blended per view (1 nearest, 3 by inverse angle)")
         ->check(CLI::IsMember({1, 3}))
-        ->capture_default_str()
-        ->needs(shade);
+        ->capture_default_str();
     app.add_option("--view-interp", a.view_interp,
                    "BTF shading: blend the BTF's views by angular interpolation instead (thesis: "
                    "three closest per ring; delaunay: spherical Delaunay triangle)")
         ->check(CLI::IsMember({"thesis", "delaunay"}))
-        ->needs(shade)
         ->excludes("--view-neighbours");
     app.add_option("--light-cells", a.cell_rule,
                    "BTF shading: a light direction's weight: cosine (the cosine inside its image "
@@ -262,25 +246,21 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
                    "where light comes from near the horizon) or barycentric (images linear over "
                    "the light directions' triangles, black at the horizon); docs/btf.md")
         ->check(CLI::IsMember({"constant", "cosine", "barycentric"}))
-        ->capture_default_str()
-        ->needs(shade);
+        ->capture_default_str();
     app.add_option("--cell-subsamples", a.subsamples,
                    "BTF shading: directions per map pixel side when integrating light cells")
         ->check(CLI::Range(1, 64))
-        ->capture_default_str()
-        ->needs(shade);
+        ->capture_default_str();
     app.add_option("--btf-compressed", a.compressed,
                    "BTF shading: a btf-pca output folder of the same BTF, shaded beside the raw one "
                    "(environment folded into component weights) and compared; repeatable")
-        ->check(CLI::ExistingDirectory)
-        ->needs(shade);
+        ->check(CLI::ExistingDirectory);
     app.add_option("--shade-stream", a.stream_points,
                    "BTF shading: also shade each --btf-compressed folder from the first n components "
                    "of its stream, for each n in this list (error against bytes sent)")
         ->delimiter(',')
         ->check(CLI::Range(int64_t(0), int64_t(1) << 40))
         ->needs("--btf-compressed");
-    shade->needs(app.get_option("--environment"));
 }
 
 void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string& prefix,
@@ -324,7 +304,7 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
     auto weave = std::make_shared<weave::Weave>(weave::build(weave::load_weave(fabric)));
     if (std::abs(weave->period_x_mm - window[2]) > 1e-9 ||
         std::abs(weave->period_y_mm - window[3]) > 1e-9) {
-        throw UsageError(str("--btf-shade: ", a.btf, " was captured from a ", window[2], " x ",
+        throw UsageError(str("--btf: ", a.btf, " was captured from a ", window[2], " x ",
                              window[3], " mm repeat, not ", fabric, "'s ", weave->period_x_mm,
                              " x ", weave->period_y_mm, " mm"));
     }

@@ -1,5 +1,6 @@
-// render/capture_cli.h: render's synthetic BTF capture mode (render FABRIC.toml --btf-capture -o
-// DIR), registered here so apps/render/main.cpp only maps flags to options (docs/btf.md).
+// render/capture_cli.h: render's synthetic BTF capture and raw-BTF shading subcommands
+// (render capture-btf FABRIC.toml -o DIR, render shade-btf FABRIC.toml --btf DIR ...), registered
+// here so apps/render only maps flags to options (docs/btf.md).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -14,7 +15,6 @@ namespace inlight::render {
 
 /// The capture flags, as given.
 struct CaptureArgs {
-    bool enabled = false;     ///< --btf-capture
     std::string lights;       ///< --btf-lights: direction file; "" = the UBO2003 dome
     std::string views;        ///< --btf-views: direction file; "" = the UBO2003 dome
     std::string pairs;        ///< --btf-pairs: (light, view) pair file instead of lights x views
@@ -23,8 +23,8 @@ struct CaptureArgs {
     int default_spp = 16;  ///< used when --spp is not given
 };
 
-/// Registers --btf-capture, --btf-lights, --btf-views, --btf-pairs, --btf-format and
-/// --irradiance-w-m2 on `app`.
+/// Registers --btf-lights, --btf-views, --btf-pairs, --btf-format and --irradiance-w-m2 on
+/// `app` (render capture-btf).
 void add_capture_options(CLI::App& app, CaptureArgs& args);
 
 /// Checks a capture's -o folder before any work: a new folder, or an existing one without files
@@ -40,11 +40,11 @@ void check_capture_folder(const std::string& out_dir);
 void run_capture(const CaptureArgs& args, const std::string& fabric, const std::string& out_dir,
                  const CaptureOptions& options, Report& report);
 
-/// The raw-BTF shading flags (render FABRIC.toml --btf-shade BTF_DIR --environment ENV.exr
+/// The raw-BTF shading flags (render shade-btf FABRIC.toml --btf BTF_DIR --environment ENV.exr
 /// -o PREFIX): the BTF captured from FABRIC shaded under each environment and compared with the
 /// path-traced truth of the same geometry (render/btf_shade.h).
 struct ShadeArgs {
-    std::string btf;                        ///< --btf-shade: a capture folder (capture.json)
+    std::string btf;                        ///< --btf: a capture folder (capture.json)
     std::vector<std::string> environments;  ///< --environment (repeatable): lat-long EXR/HDR
     std::string views;  ///< --shade-views: direction file; "" = (0, 0), (45, 40), (75, 0)
     int view_neighbours = 1;  ///< --view-neighbours: BTF views blended per view (1 or 3)
@@ -62,7 +62,7 @@ void add_shade_options(CLI::App& app, ShadeArgs& args);
 
 /// Writes, per environment and view, <prefix>_<env>_tv<theta>_pv<phi>_{btf,truth}.exr, _relerr.exr
 /// and _compare.png (truth | BTF | heat map of the relative error), and the metrics (as render
-/// --compare reports them, plus the relative difference of the mean luminance) into the report.
+/// compare reports them, plus the relative difference of the mean luminance) into the report.
 void run_shade(const ShadeArgs& args, const std::string& fabric, const std::string& prefix,
                const CaptureOptions& truth_options, const CompareOptions& compare, Report& report);
 

@@ -1,4 +1,4 @@
-// render/compare_lights.h: render --compare --rt-lighting: the real-time model lit by what
+// render/compare_lights.h: render compare --rt-lighting: the real-time model lit by what
 // envmap-project --max-error chose (SH of the residual map + extracted lights, shaded
 // analytically: render/realtime_lights.h) against the ground truth, beside pure SH of the
 // scene's environment at the same band count, with the shader cost of each (envmap/budget.h).

@@ -1,5 +1,5 @@
 // render/decompose.h: the real-time model's error against the path tracer taken apart (render
-// --compare --rt-decompose; docs/render.md "Where the error comes from").
+// compare --decompose; docs/render.md "Where the error comes from").
 //
 // At every fragment the compare renders (same rays, same supersampling), a chain of models
 // replaces one approximation at a time by its exact counterpart:

@@ -63,7 +63,7 @@ bad 1 "huge_window.exr: .*more than its .* chunks\|huge_window.exr: header claim
 # file or read by a loader: a data error. (timeout: a regression fails instead of hanging.)
 mkfifo "$WORK/fifo.exr" "$WORK/fifo.yml"
 bad 2 "fifo.exr' is a FIFO" "FIFO as an input image" -- timeout 60 "$EP" "$WORK/fifo.exr" -o "$OUT/f_sh.json"
-bad 2 "/dev/zero' is a character device" "/dev/zero as render's scene" -- timeout 60 "$R" /dev/zero -o "$OUT/z.exr"
+bad 2 "/dev/zero' is a character device" "/dev/zero as render's scene" -- timeout 60 "$R" trace /dev/zero -o "$OUT/z.exr"
 bad 2 "/dev/zero' is a character device" "/dev/zero as a material" -- timeout 60 "$BAKE" --material /dev/zero -o "$OUT/z"
 bad 2 "/dev/zero: is a character device" "/dev/zero as --config" -- \
     timeout 60 "$EP" "$WORK/env.exr" -o "$OUT/c_sh.json" --config /dev/zero
@@ -71,7 +71,7 @@ bad 1 "fifo.yml: is a FIFO" "FIFO as a corner file" -- \
     timeout 60 "$CAL" geometry --image-points "$WORK/fifo.yml" --board 3x2 -o "$OUT/cal"
 printf '[environment]\npath = "/dev/zero"\n[camera]\nwidth_px = 8\nheight_px = 8\n[material.m]\nspecular = "lambert"\n[[object]]\nmaterial = "m"\nshape = "sphere"\n' > "$WORK/zero_env.toml"
 bad 1 "/dev/zero: is a character device" "scene whose environment map is /dev/zero" -- \
-    timeout 60 "$R" "$WORK/zero_env.toml" -o "$OUT/z.exr"
+    timeout 60 "$R" trace "$WORK/zero_env.toml" -o "$OUT/z.exr"
 
 # --config: a TOML syntax error names file, line and column; a binary file says it is binary.
 printf 'sh-bands = 3\nvalidate = = true\n' > "$WORK/syntax.toml"
@@ -108,20 +108,20 @@ scene() {  # scene FILE ENV_LINES MATERIAL_LINES OBJECT_LINES
         "$2" "$3" "$4" > "$1"
 }
 scene "$WORK/ok.toml" '' 'specular = "lambert"' 'shape = "sphere"'
-expect_exit 0 "the scene the bad ones derive from renders" -- "$R" "$WORK/ok.toml" -o "$WORK/ok.exr" --spp 1
+expect_exit 0 "the scene the bad ones derive from renders" -- "$R" trace "$WORK/ok.toml" -o "$WORK/ok.exr" --spp 1
 scene "$WORK/rotnan.toml" 'rotation = "z=nan"' 'specular = "lambert"' 'shape = "sphere"'
-bad 1 "rotnan.toml:.*rotation" "scene rotation z=nan" -- "$R" "$WORK/rotnan.toml" -o "$OUT/s.exr"
+bad 1 "rotnan.toml:.*rotation" "scene rotation z=nan" -- "$R" trace "$WORK/rotnan.toml" -o "$OUT/s.exr"
 scene "$WORK/nospec_scene.toml" '' 'albedo = 0.5' 'shape = "sphere"'
 bad 1 "nospec_scene.toml:.*\[material.m\] specular: required key is missing" "scene material without specular" -- \
-    "$R" "$WORK/nospec_scene.toml" -o "$OUT/s.exr"
+    "$R" trace "$WORK/nospec_scene.toml" -o "$OUT/s.exr"
 printf '[environment]\nradiance = 1\n[camera\n' > "$WORK/ssyntax.toml"
-bad 1 "ssyntax.toml:3:[0-9]*: TOML syntax error" "scene syntax error" -- "$R" "$WORK/ssyntax.toml" -o "$OUT/s.exr"
+bad 1 "ssyntax.toml:3:[0-9]*: TOML syntax error" "scene syntax error" -- "$R" trace "$WORK/ssyntax.toml" -o "$OUT/s.exr"
 bad_mesh() {  # bad_mesh FILE CONTENT PATTERN DESCRIPTION [ROTATION]: a scene with that mesh fails
     printf '%b' "$2" > "$WORK/$1"
     scene "$WORK/$1.toml" '' 'specular = "lambert"' "shape = \"mesh\"
 path = \"$WORK/$1\"
 rotation = \"${5:-none}\""
-    bad 1 "$3" "$4" -- "$R" "$WORK/$1.toml" -o "$OUT/s.exr"
+    bad 1 "$3" "$4" -- "$R" trace "$WORK/$1.toml" -o "$OUT/s.exr"
 }
 bad_mesh nan.obj 'v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n' "nan.obj:3" "OBJ vertex with NaN"
 bad_mesh index.obj 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n' "index.obj:4" "OBJ face index out of range"

@@ -32,10 +32,10 @@ bad 2 "view-deg.*nan" "brdf-sh-bake --view-deg nan" -- "$BAKE" --material "$MAT"
 bad 2 "max-error.*nan" "brdf-sh-bake --max-error nan" -- "$BAKE" --material "$MAT" -o "$OUT/b" --max-error nan
 bad 2 "view" "view behind the screen (--view 0,0,-1)" -- "$BAKE" --material "$MAT" -o "$OUT/b" --view 0,0,-1
 bad 2 "view-deg" "view behind the screen (--view-deg 120)" -- "$BAKE" --material "$MAT" -o "$OUT/b" --view-deg 120
-bad 2 "time-budget-s.*nan" "stop rule --time-budget-s nan" -- "$R" "$FURNACE" -o "$OUT/f.exr" --time-budget-s nan
-bad 2 "target-rel-error.*nan" "stop rule --target-rel-error nan" -- "$R" "$FURNACE" -o "$OUT/f.exr" --target-rel-error nan
-bad 2 "max-rel-error.*nan" "gate --max-rel-error nan" -- "$R" "$FURNACE" -o "$OUT/f.exr" --max-rel-error nan
-bad 2 "max-rel-error" "negative gate --max-rel-error -0.5" -- "$R" "$FURNACE" -o "$OUT/f.exr" --max-rel-error -0.5
+bad 2 "time-budget-s.*nan" "stop rule --time-budget-s nan" -- "$R" trace "$FURNACE" -o "$OUT/f.exr" --time-budget-s nan
+bad 2 "target-rel-error.*nan" "stop rule --target-rel-error nan" -- "$R" trace "$FURNACE" -o "$OUT/f.exr" --target-rel-error nan
+bad 2 "max-rel-error.*nan" "gate --max-rel-error nan" -- "$R" trace "$FURNACE" -o "$OUT/f.exr" --max-rel-error nan
+bad 2 "max-rel-error" "negative gate --max-rel-error -0.5" -- "$R" trace "$FURNACE" -o "$OUT/f.exr" --max-rel-error -0.5
 bad 2 "fov-deg.*nan" "calibrate --fov-deg nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --fov-deg nan
 bad 2 "outlier-factor.*nan" "calibrate --outlier-factor nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --outlier-factor nan
 bad 2 "device-from-camera" "calibrate --device-from-camera z=nan" -- "$CAL" geometry "$WORK" --board 9x6 -o "$OUT/cal" --device-from-camera z=nan
@@ -55,7 +55,7 @@ bad 2 "property.*1e999.*not a finite number" "bundle pack --property tile_size_m
 printf 'intensity = nan\n' > "$WORK/nan.toml"
 bad 2 "intensity.*nan" "intensity = nan in --config" -- "$EP" "${ENV[@]}" --config "$WORK/nan.toml"
 printf 'max-rel-error = -inf\n' > "$WORK/inf.toml"
-bad 2 "max-rel-error" "max-rel-error = -inf in --config" -- "$R" "$FURNACE" -o "$OUT/f.exr" --config "$WORK/inf.toml"
+bad 2 "max-rel-error" "max-rel-error = -inf in --config" -- "$R" trace "$FURNACE" -o "$OUT/f.exr" --config "$WORK/inf.toml"
 
 # Unclear messages: sizes that cannot be allocated or are empty, and a negative seed.
 bad 2 "board.*100000x100000" "--board 100000x100000" -- "$CAL" geometry "$WORK" --board 100000x100000 -o "$OUT/cal"
@@ -72,11 +72,11 @@ bad 2 "^--board: 'nan': expected COLSxROWS" "--board nan named once" -- "$CAL" g
 # before anything is allocated; it was zeroed page by page until the kernel killed the process.
 if [ "$(awk '/MemTotal/ {print int($2 / 1048576)}' /proc/meminfo)" -lt 50 ]; then
     bad 1 "16384x16384 image needs about .* GiB .* more than this machine's" "render 16384x16384 (memory)" -- \
-        "$R" "$FURNACE" -o "$OUT/f.exr" --width-px 16384 --height-px 16384 --spp 1
+        "$R" trace "$FURNACE" -o "$OUT/f.exr" --width-px 16384 --height-px 16384 --spp 1
 else
     echo "note: render 16384x16384 not tried: this machine has 50 GiB or more, the size fits"
 fi
-bad 2 "rt-grid" "render --rt-grid hex:4 (rejected before any path tracing)" -- "$R" "$FURNACE" -o "$OUT/f.exr" --compare --rt-grid hex:4
+bad 2 "rt-grid" "render --rt-grid hex:4 (rejected before any path tracing)" -- "$R" compare "$FURNACE" -o "$OUT/f.exr" --rt-grid hex:4
 
 # Reports: a run the parser rejects still writes its report, status failed, the error in it.
 bad 2 "intensity" "report of a parse failure" -- "$EP" "${ENV[@]}" --intensity nan --report "$WORK/r.json"
@@ -89,5 +89,5 @@ expect_true "report from --config written: failed, exit 2" -- \
     jq -e '.status == "failed" and .exit_code == 2 and (.error | test("intensity"))' "$WORK/cr.json"
 # Empty paths: -o '' wrote ".bin", ".json" into the working folder (brdf-sh-bake).
 bad 2 "output.*an empty path" "brdf-sh-bake -o ''" -- "$BAKE" --material "$MAT" -o ""
-bad 2 "output.*an empty path" "render -o ''" -- "$R" "$FURNACE" -o ""
+bad 2 "output.*an empty path" "render -o ''" -- "$R" trace "$FURNACE" -o ""
 finish

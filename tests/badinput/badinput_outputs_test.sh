@@ -24,32 +24,32 @@ same_file "$WORK/a.png" "$WORK/a_orig.png" "the input image is untouched"
 "$MK" "$WORK/sky.exr" 32 16 1
 cp "$WORK/sky.exr" "$WORK/sky_orig.exr"
 printf '[environment]\npath = "sky.exr"\n[camera]\nwidth_px = 8\nheight_px = 8\n[material.m]\nspecular = "lambert"\n[[object]]\nmaterial = "m"\nshape = "sphere"\n' > "$WORK/scene.toml"
-bad 2 "sky.exr" "render -o naming the scene's environment map" -- "$BIN/render" "$WORK/scene.toml" -o "$WORK/sky.exr" --spp 1
+bad 2 "sky.exr" "render -o naming the scene's environment map" -- "$BIN/render" trace "$WORK/scene.toml" -o "$WORK/sky.exr" --spp 1
 same_file "$WORK/sky.exr" "$WORK/sky_orig.exr" "the environment map is untouched"
 
 # An output folder that exists as a file (here the scene itself): refused before rendering, not
 # when the shaders are written at the end.
 cp "$WORK/scene.toml" "$WORK/scene_orig.toml"
-bad 2 "(--export-gles) needs the folder .*scene.toml', which is an existing file" \
-    "render --export-gles naming the scene file" -- \
-    "$BIN/render" "$WORK/scene.toml" -o "$OUT/g.exr" --spp 1 --export-gles "$WORK/scene.toml"
+bad 2 "(-o) needs the folder .*scene.toml', which is an existing file" \
+    "render export-gles -o naming the scene file" -- \
+    "$BIN/render" export-gles "$WORK/scene.toml" -o "$WORK/scene.toml"
 same_file "$WORK/scene.toml" "$WORK/scene_orig.toml" "the scene file is untouched"
 
 # render's --convergence-ref-image: -o naming it was not caught as an input, and a reference of
 # the wrong size was found only after path tracing.
 "$MK" "$WORK/ref.exr" 8 8 1
 cp "$WORK/ref.exr" "$WORK/ref_orig.exr"
-bad 2 "ref.exr.*is the input" "render -o naming its --convergence-ref-image" -- \
-    "$BIN/render" "$WORK/scene.toml" -o "$WORK/ref.exr" --spp 4 --convergence-ref-image "$WORK/ref.exr"
+bad 2 "ref.exr.*is the input" "render convergence -o naming its --ref-image" -- \
+    "$BIN/render" convergence "$WORK/scene.toml" -o "$WORK/ref.exr" --spp 4 --ref-image "$WORK/ref.exr"
 same_file "$WORK/ref.exr" "$WORK/ref_orig.exr" "the reference image is untouched"
 "$MK" "$WORK/ref_small.exr" 4 4 1
-bad 1 "ref_small.exr: reference is 4x4" "render --convergence-ref-image of another size" -- \
-    "$BIN/render" "$WORK/scene.toml" -o "$OUT/r.exr" --spp 4 --convergence-ref-image "$WORK/ref_small.exr"
+bad 1 "ref_small.exr: reference is 4x4" "render convergence --ref-image of another size" -- \
+    "$BIN/render" convergence "$WORK/scene.toml" -o "$OUT/r.exr" --spp 4 --ref-image "$WORK/ref_small.exr"
 expect_true "refused before the render stage" -- bash -c "! grep -q 'render done' '$WORK/stderr'"
 
 # Two outputs of one run on one path.
 bad 2 "stderr-output" "render --stderr-output equal to -o" -- \
-    "$BIN/render" "$WORK/scene.toml" -o "$OUT/x.exr" --stderr-output "$OUT/x.exr" --spp 1
+    "$BIN/render" trace "$WORK/scene.toml" -o "$OUT/x.exr" --stderr-output "$OUT/x.exr" --spp 1
 mkdir -p "$WORK/d1" "$WORK/d2"
 "$MK" "$WORK/d1/sky.exr" 32 16 1
 "$MK" "$WORK/d2/sky.exr" 32 16 2
@@ -70,7 +70,7 @@ bad 2 "\-o '.*out/': names a folder, not a file stem" "brdf-sh-bake -o naming a 
     "$BIN/brdf-sh-bake" --material "$SRC/configs/materials/satin-ggx.toml" -o "$OUT/" --grid report5x5 --samples 64
 # render's -o without an image extension failed only after path tracing.
 bad 2 "\-o: .*unsupported extension" "render -o without an image extension" -- \
-    "$BIN/render" "$WORK/scene.toml" -o "$OUT/picture" --spp 1
+    "$BIN/render" trace "$WORK/scene.toml" -o "$OUT/picture" --spp 1
 expect_true "refused before the render stage" -- bash -c "! grep -q 'render done' '$WORK/stderr'"
 
 # Pipelines: an id that is not a bundle id (from a folder named "My Fabric") failed at `bundle

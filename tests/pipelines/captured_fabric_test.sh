@@ -34,7 +34,7 @@ expect_stderr "stream order" "says the stream order differs"
 
 printf 'spp = 8\nwidth-px = 16\nheight-px = 16\nrt-max-bands = 4\nrt-supersample = 1\n' > "$WORK/v.toml"
 
-# The BTF shaded as a BTF (render --btf-shade from the raw capture, the bundle's stream prefixes
+# The BTF shaded as a BTF (render shade-btf from the raw capture, the bundle's stream prefixes
 # 0, 3, ..., 48 beside it: multiples of the 3 groups).
 RAW="$WORK/out/work/fabrics/cap/capture/btf"
 expect_exit 0 "validate-pair with the raw BTF" -- env VALIDATE_RENDER_CONFIG="$WORK/v.toml" VALIDATE_MAX_ERROR=0 \

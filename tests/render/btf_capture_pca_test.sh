@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# btf-pca on a tiny woven capture (render --btf-capture, 8 x 8 px, the full 81 x 81 dome): the
+# btf-pca on a tiny woven capture (render capture-btf, 8 x 8 px, the full 81 x 81 dome): the
 # Table 7.1 rows fall with C, and with C at the data's rank (P = 64 pixels: every group's
 # centred matrix has rank <= 64) the only error left is the 8-bit quantisation of the stored
 # columns of L, which is predicted exactly from the manifest's scales:
@@ -16,8 +16,8 @@
 source "$(dirname "$0")/../cli/lib.sh"
 FABRICS="${INLIGHT_SOURCE_DIR:?}/configs/fabrics"
 
-expect_exit 0 "capture wool-twill, 81 x 81 at 8x8, 2 spp" -- "$BIN/render" "$FABRICS/wool-twill.toml" \
-    --btf-capture -o "$WORK/cap" --width-px 8 --height-px 8 --spp 2 -q
+expect_exit 0 "capture wool-twill, 81 x 81 at 8x8, 2 spp" -- "$BIN/render" capture-btf "$FABRICS/wool-twill.toml" \
+    -o "$WORK/cap" --width-px 8 --height-px 8 --spp 2 -q
 for k in 1 81; do
     expect_exit 0 "btf-pca k=$k C=64 with Table 7.1 rows" -- "$BIN/btf-pca" "$WORK/cap" -o "$WORK/k$k" -k "$k" \
         -c 64 --table-components 1,2,4,8,16,64 -q --report "$WORK/k$k.json"

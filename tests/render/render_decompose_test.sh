@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# render --compare --rt-decompose: the model's error by cause in the report (docs/render.md
+# render compare --decompose: the model's error by cause in the report (docs/render.md
 # "Where the error comes from"); usage errors before any work.
 # shellcheck source=tests/cli/lib.sh
 source "$(dirname "$0")/../cli/lib.sh"
@@ -9,12 +9,12 @@ if [ ! -e /usr/share/blender/datafiles/studiolights/world/city.exr ]; then
     echo "skip: blender-data city.exr not installed"
     exit 0
 fi
-expect_exit 2 "--rt-decompose needs --compare" -- "$R" "$SCENES/sphere_city.toml" -o "$WORK/x.exr" --rt-decompose
-expect_exit 2 "--rt-decompose-map-height out of range" -- "$R" "$SCENES/sphere_city.toml" -o "$WORK/x.exr" \
-    --compare --rt-decompose --rt-decompose-map-height 2
-expect_exit 0 "decompose a Lambert sphere in perspective" -- "$R" "$SCENES/sphere_city.toml" -o "$WORK/s.exr" \
-    --width-px 12 --height-px 12 --spp 32 --no-jitter --compare --rt-decompose --rt-max-bands 3 \
-    --rt-bake-samples 64 --rt-decompose-map-height 32 --report "$WORK/s.json"
+expect_exit 2 "--decompose is compare's, not trace's" -- "$R" trace "$SCENES/sphere_city.toml" -o "$WORK/x.exr" --decompose
+expect_exit 2 "--decompose-map-height out of range" -- "$R" compare "$SCENES/sphere_city.toml" -o "$WORK/x.exr" \
+    --decompose --decompose-map-height 2
+expect_exit 0 "decompose a Lambert sphere in perspective" -- "$R" compare "$SCENES/sphere_city.toml" -o "$WORK/s.exr" \
+    --width-px 12 --height-px 12 --spp 32 --no-jitter --decompose --rt-max-bands 3 \
+    --rt-bake-samples 64 --decompose-map-height 32 --report "$WORK/s.json"
 expect_true "every part per band count and the shared parts" -- jq -e '.metrics.realtime.decomposition
     | (.by_sh_bands | length == 3 and all(.[]; has("grid_interpolation") and has("sh_truncation_diffuse")
        and has("sh_truncation_specular") and has("total") and has("noise_to_model_error")))
@@ -33,9 +33,9 @@ expect_true "the decomposition is a timed stage of the run" -- jq -e '.stage_tim
 cp "$(dirname "$0")/data/sun_patch.toml" "$WORK/sun.toml"
 "$BIN/envmap-project" "$WORK/sun.exr" -o "$WORK/sun_sh.json" --max-error 0.01 -q
 expect_true "the budget took the sun as a light" -- jq -e '(.lights | length) == 1' "$WORK/sun_sh.json"
-expect_exit 0 "decompose the SH + lights model" -- "$R" "$WORK/sun.toml" -o "$WORK/l.exr" --width-px 8 --height-px 8 \
+expect_exit 0 "decompose the SH + lights model" -- "$R" compare "$WORK/sun.toml" -o "$WORK/l.exr" --width-px 8 --height-px 8 \
     --spp 64 --no-jitter \
-    --compare --rt-decompose --rt-max-bands 3 --rt-bake-samples 64 --rt-decompose-map-height 128 \
+    --decompose --rt-max-bands 3 --rt-bake-samples 64 --decompose-map-height 128 \
     --rt-lighting "$WORK/sun_sh.json" --report "$WORK/l.json"
 # shellcheck disable=SC2016  # $vars in the single-quoted jq programs are jq's own
 expect_true "every part at the file's bands, the lights' shading and the noise ratio" -- \

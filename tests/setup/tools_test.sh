@@ -27,6 +27,8 @@ done
 # Modes print the tool's line, not "calibrate geometry ...".
 expect_exit 0 "calibrate geometry --version" -- "$BIN/calibrate" geometry --version
 expect_true "a mode's --version names the tool" -- grep -q '^calibrate [0-9]' "$WORK/stdout"
+expect_exit 0 "render trace --version" -- "$BIN/render" trace --version
+expect_true "render's modes too" -- grep -q '^render [0-9]' "$WORK/stdout"
 
 # The report carries the commit --version prints.
 expect_exit 0 "render --help" -- "$BIN/render" --help
@@ -39,7 +41,7 @@ expect_true "the report's commit equals --version's ($want)" -- \
 expect_exit 2 "envmap-project --bandz 3: usage error" -- "$BIN/envmap-project" --bandz 3 nothere.exr -o "$WORK/x.json"
 expect_stderr "--bandz: unknown option (did you mean --bands?)" "names the option and the nearest one"
 expect_true "not the positional's complaint" -- bash -c "! grep -q 'File does not exist' '$WORK/stderr'"
-expect_exit 2 "render --frobnicate=1: usage error" -- "$BIN/render" --frobnicate=1 nothere.toml
+expect_exit 2 "render trace --frobnicate=1: usage error" -- "$BIN/render" trace --frobnicate=1 nothere.toml
 expect_stderr "--frobnicate: unknown option (see --help)" "a far miss gets no suggestion"
 expect_exit 2 "bundle pack --kindd: usage error" -- "$BIN/bundle" pack --kindd fabric
 expect_stderr "--kindd: unknown option (did you mean --kind?)" "a mode's options are the ones suggested"

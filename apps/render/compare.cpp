@@ -1,0 +1,160 @@
+// render compare: the path-traced image, the real-time model (CPU, and the exported GLES shaders
+// through EGL) compared with it, and optionally its error taken apart (docs/render.md
+// "Real-time model").
+#include <filesystem>
+#include <memory>
+
+#include "core/fs.h"
+#include "core/log.h"
+#include "brdf/table.h"
+#include "gles/scene.h"
+#include "render/compare_lights.h"
+#include "render/decompose.h"
+#include "modes.h"
+
+namespace inlight::render_cli {
+namespace {
+
+struct CompareArgs {
+    TraceArgs trace;
+    render::CompareOptions cmp;
+    std::string rt_lighting;
+    std::vector<std::string> brdf_tables;
+    bool decompose = false;
+    int decompose_map_height = 128;
+};
+
+/// The user's BRDF tables, read and checked against the scene before the render: one per
+/// material with at least 3 bands; the band sweep stops at their bands.
+void read_brdf_tables(CompareArgs& a, const render::Scene& scene, bool max_bands_given,
+                      Report& report) {
+    render::CompareOptions& cmp = a.cmp;
+    for (const std::string& f : a.brdf_tables) {
+        report.add_input(f);
+        cmp.tables.push_back(brdf::read_binary(f));
+    }
+    if (a.brdf_tables.empty()) {
+        log::info(str("render: no --brdf-table: the compare bakes each material's table here (",
+                      cmp.grid, ", ", cmp.bake_samples, " samples per normal)"));
+        return;
+    }
+    const size_t n = scene.desc().materials.size();
+    if (cmp.tables.size() != n) {
+        throw UsageError(str("--brdf-table: ", log::count(int64_t(cmp.tables.size()), "table"),
+                             " for ", log::count(int64_t(n), "material"), " of ", a.trace.scene,
+                             " (one each, in scene order)"));
+    }
+    int bands = brdf::kMaxBakeBands;
+    for (size_t i = 0; i < n; ++i) {
+        if (cmp.tables[i].sh_bands < 3) {
+            throw UsageError(str("--brdf-table ", a.brdf_tables[i], ": ", cmp.tables[i].sh_bands,
+                                 " SH bands; the compare needs 3 (the app's)"));
+        }
+        bands = std::min(bands, cmp.tables[i].sh_bands);
+    }
+    if (cmp.max_bands > bands) {
+        if (max_bands_given) {
+            throw UsageError(str("--rt-max-bands ", cmp.max_bands, ": the --brdf-table "
+                                 "tables have ", bands, " SH bands"));
+        }
+        log::info(str("render: band sweep 1..", bands, ", the --brdf-table tables' bands"));
+        cmp.max_bands = bands;
+    }
+}
+
+}  // namespace
+
+ModeBody add_compare(CLI::App& app, const app::CommonArgs& common) {
+    auto a = std::make_shared<CompareArgs>();
+    render::CompareOptions& cmp = a->cmp;
+    add_trace_options(app, a->trace);
+    add_image_compare_options(app, cmp);
+    app.add_option("--rt-lighting", a->rt_lighting,
+                   "Also run the model lit by this envmap-project JSON (SH of the residual + "
+                   "extracted lights, from --max-error) beside pure SH at its band count: "
+                   "<output>_rt_lights.exr, _compare_lights.png, metrics.realtime.lighting_file")
+        ->check(CLI::ExistingFile);
+    app.add_flag("--decompose", a->decompose,
+                 "Take the model's error apart by replacing one approximation at a time with its "
+                 "exact counterpart (grid, SH truncation, roughness texture, fixed view, "
+                 "visibility, truth noise): metrics.realtime.decomposition; with --rt-lighting "
+                 "also for the SH + lights model (with the lights' shading as a part): "
+                 "metrics.realtime.decomposition_lighting_file");
+    app.add_option("--decompose-map-height", a->decompose_map_height,
+                   "Rows of the box-filtered map the exact integrals of --decompose sum over")
+        ->check(CLI::Range(4, 4096))
+        ->capture_default_str();
+    auto* max_bands =
+        app.add_option("--rt-max-bands", cmp.max_bands, "Real-time model: largest SH band count swept")
+            ->check(CLI::Range(3, 8))
+            ->capture_default_str();
+    add_bake_options(app, cmp, "rt-");
+    app.add_option("--brdf-table", a->brdf_tables,
+                   "Validate these BRDF tables (brdf-sh-bake's .bin, one per scene material in "
+                   "scene order) instead of baking each material here at --rt-grid; the band "
+                   "sweep stops at the tables' bands")
+        ->check(CLI::ExistingFile)
+        ->excludes("--rt-grid")
+        ->excludes("--rt-bake-samples");
+    app.add_option("--rt-supersample", cmp.supersample,
+                   "Real-time fragments per pixel side (box filter like the path tracer)")
+        ->check(CLI::Range(1, 16))
+        ->capture_default_str();
+    return [a, max_bands, &common](Report& report) {
+        TraceArgs& t = a->trace;
+        const render::CompareOptions& cmp = a->cmp;
+        prepare_trace(t, common.seed, report);
+        std::unique_ptr<render::LightingFile> lighting;  // read before any rendering
+        if (!a->rt_lighting.empty()) {
+            fs::declare_input(a->rt_lighting, "--rt-lighting");
+            lighting = std::make_unique<render::LightingFile>(
+                render::read_lighting_file(a->rt_lighting));
+            report.add_input(a->rt_lighting);
+        }
+        const auto scene = load_scene(t.scene, t.width_px, t.height_px, report);
+        read_brdf_tables(*a, *scene, max_bands->count() > 0, report);
+        const render::RenderResult r = trace(*scene, t, report);
+        auto& m = report.metrics();
+        const std::filesystem::path p(t.output);
+        const std::string prefix = (p.parent_path() / p.stem()).string();
+        {
+            ScopedStage stage(report, "compare");
+            std::vector<render::WrittenFile> files;
+            m["realtime"] = render::compare_realtime(*scene, r, cmp, prefix, files);
+            if (lighting)
+                m["realtime"]["lighting_file"] =
+                    render::compare_lighting_file(*scene, r, cmp, *lighting, prefix, files);
+            for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
+            render::print_compare_summary(m["realtime"]);
+            files.clear();
+            m["realtime"]["gles"] =
+                gles::compare_scene(*scene, r, cmp, prefix, files, lighting.get());
+            for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
+        }
+        if (a->decompose) {
+            ScopedStage stage(report, "decompose");
+            render::DecomposeOptions dopt;
+            dopt.max_bands = cmp.max_bands;
+            // A truth of pixel centres (--no-jitter) is compared at pixel centres.
+            dopt.supersample = t.no_jitter ? 1 : cmp.supersample;
+            dopt.map_height = a->decompose_map_height;
+            dopt.bake = render::compare_bake_options(*scene, cmp, cmp.max_bands);
+            const render::RealtimeLighting pure =
+                render::compare_lighting(*scene, cmp, cmp.max_bands);
+            const render::Decomposition d = render::decompose_error(*scene, r, pure, dopt);
+            m["realtime"]["decomposition"] = render::to_json(d);
+            if (lighting) {  // the SH + lights model of --rt-lighting, at the file's bands
+                render::RealtimeLighting lit{lighting->sh.coeffs, pure.tables, lighting->lights};
+                dopt.max_bands = lighting->sh.sh_bands;
+                m["realtime"]["decomposition_lighting_file"] =
+                    render::to_json(render::decompose_error(*scene, r, lit, dopt));
+            }
+            log::info(str("render: truth noise ", d.truth_noise,
+                          ", exact unshadowed model vs truth ", d.exact_vs_truth,
+                          " (decomposition in ", d.time_s, " s)"));
+        }
+        check_quality_gate(t, r);
+    };
+}
+
+}  // namespace inlight::render_cli
