@@ -201,6 +201,11 @@ def prune_removed():
             rm(os.path.join(OUT, "validate", n))
 
 
+# Every job's shell holds a shared lock on OUT/.bake-catalog.jobs, inherited by each process it
+# starts, so the lock is held until the job's last process exits, even when Snakemake itself was
+# killed: bake-catalog.sh refuses to start while it is held (docs/pipelines.md).
+shell.prefix("set -euo pipefail; exec 8>>" + shlex.quote(os.path.join(OUT, ".bake-catalog.jobs")).replace("{", "{{").replace("}", "}}")
+             + "; flock -s 8; ")
 
 # The error decomposition (render --rt-decompose) runs on each fabric's first environment: it
 # costs about as much again as the pair's comparison, and one environment per fabric shows where
