@@ -155,12 +155,21 @@ def prune_removed():
     left there: their bundles (unfinished hidden ones too), stamps, keys, work and capture folders
     and validation pairs, and the report when no pair remains. A fabric added back is then baked
     again (its stamp is gone with its bundle). Touches nothing of a current id, so it may run
-    beside any job of this run."""
+    beside any job of this run, and beside itself (index and report may prune at once)."""
     def rm(path):
         if os.path.isdir(path) and not os.path.islink(path):
             shutil.rmtree(path, ignore_errors=True)
-        elif os.path.lexists(path):
-            os.remove(path)
+        else:
+            try:
+                os.remove(path)
+            except FileNotFoundError:
+                pass
+
+    def listdir(path):  # [] when absent (or removed meanwhile by the other prune)
+        try:
+            return os.listdir(path)
+        except (FileNotFoundError, NotADirectoryError):
+            return []
 
     def bundle_id(name):  # a bundle folder's id; pack's unfinished ".<id>.tmp-..." folders too
         return name[1:].split(".tmp-")[0] if name.startswith(".") else name
@@ -168,17 +177,13 @@ def prune_removed():
     for kind, keep in (("fabric", set(FABRICS)), ("device", set(ALL_DEVICES))):
         steps = [kind, "capture"] if kind == "fabric" else [kind]
         root = os.path.join(OUT, "bundles", kind + "s")
-        gone = set()
-        if os.path.isdir(root):
-            gone |= {bundle_id(n) for n in os.listdir(root)} - keep
-        stamps = os.path.join(OUT, "stamps")
-        if os.path.isdir(stamps):
-            for n in os.listdir(stamps):
-                for step in steps:
-                    if n.startswith(step + "-") and n.endswith(".json"):
-                        gone |= {n[len(step) + 1:-len(".json")]} - keep
+        gone = {bundle_id(n) for n in listdir(root)} - keep
+        for n in listdir(os.path.join(OUT, "stamps")):
+            for step in steps:
+                if n.startswith(step + "-") and n.endswith(".json"):
+                    gone |= {n[len(step) + 1:-len(".json")]} - keep
         for i in sorted(gone):
-            for n in os.listdir(root) if os.path.isdir(root) else []:
+            for n in listdir(root):
                 if bundle_id(n) == i:
                     rm(os.path.join(root, n))
             for step in steps:
@@ -188,14 +193,13 @@ def prune_removed():
             if kind == "fabric":
                 rm(os.path.join(OUT, "captures", i))
     pairs = os.path.join(OUT, "validate", "pairs")
-    if os.path.isdir(pairs):
-        for fid in os.listdir(pairs):
-            if fid not in FABRICS:
-                rm(os.path.join(pairs, fid))
-                continue
-            for env in os.listdir(os.path.join(pairs, fid)):
-                if env not in ENVS:
-                    rm(os.path.join(pairs, fid, env))
+    for fid in listdir(pairs):
+        if fid not in FABRICS:
+            rm(os.path.join(pairs, fid))
+            continue
+        for env in listdir(os.path.join(pairs, fid)):
+            if env not in ENVS:
+                rm(os.path.join(pairs, fid, env))
     if not (FABRICS and ENVS):  # no pair: no report (rule all asks for none)
         for n in ("index.html", "summary.md", "summary.json", "pairs", "plots"):
             rm(os.path.join(OUT, "validate", n))
