@@ -6,8 +6,10 @@
 #     -j N      jobs in parallel (default: the number of cores; with --slurm: jobs in the queue)
 #     --slurm   submit every job to Slurm with sbatch (generic --cluster mode, status through
 #               scontrol: no accounting database needed); SBATCH_ARGS adds sbatch options
-# Rerun it at any time: only what changed (by content) is rebuilt; after a kill, the jobs that
-# were running are redone and nothing else. Binaries from ${INLIGHT_BIN:-ROOT/build/bin} (ROOT: the repository).
+# Rerun it at any time: only what changed (by content) is rebuilt, and the catalogue and report
+# follow the folder (a fabric removed or renamed leaves them); after a kill, the jobs that were
+# running are redone and nothing else, once no process of theirs is left (it refuses to start
+# while one lives: docs/pipelines.md). Binaries from ${INLIGHT_BIN:-ROOT/build/bin} (ROOT: the repository).
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
