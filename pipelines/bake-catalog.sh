@@ -6,8 +6,10 @@
 #     -j N      jobs in parallel (default: the number of cores; with --slurm: jobs in the queue)
 #     --slurm   submit every job to Slurm with sbatch (generic --cluster mode, status through
 #               scontrol: no accounting database needed); SBATCH_ARGS adds sbatch options
-# Rerun it at any time: only what changed (by content) is rebuilt; after a kill, the jobs that
-# were running are redone and nothing else. Binaries from ${INLIGHT_BIN:-ROOT/build/bin} (ROOT: the repository).
+# Rerun it at any time: only what changed (by content) is rebuilt, and the catalogue and report
+# follow the folder (a fabric removed or renamed leaves them); after a kill, the jobs that were
+# running are redone and nothing else, once no process of theirs is left (it refuses to start
+# while one lives: docs/pipelines.md). Binaries from ${INLIGHT_BIN:-ROOT/build/bin} (ROOT: the repository).
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -33,13 +35,30 @@ for t in bundle brdf-sh-bake btf-pca calibrate render; do
     fi
 done
 
-# One bake-catalog per output folder. Holding this lock also proves that a Snakemake lock left
-# in OUT is stale (its run was killed), so it is safe to clear.
+# One bake-catalog per output folder: this lock is held by this script and its Snakemake.
 exec 9>"$OUT/.bake-catalog.lock"
 if ! flock -n 9; then
     echo "bake-catalog: another bake-catalog is running on $OUT" >&2
     exit 1
 fi
+# Killing Snakemake alone releases that lock while its jobs run on. Every job holds a shared lock
+# on .bake-catalog.jobs (the workflow's shell prefix), inherited by each process it starts, so it
+# is free only when no process of an earlier run's job lives. Only then is a Snakemake lock left
+# in OUT stale, and a rerun safe.
+JOBS_LOCK="$OUT/.bake-catalog.jobs"
+exec 7>>"$JOBS_LOCK"
+if ! flock -n -x 7; then
+    echo "bake-catalog: jobs of an earlier run on $OUT are still running; wait for them to end or stop them, then run again:" >&2
+    for fd in /proc/[0-9]*/fd/*; do  # the processes holding the lock (on this machine)
+        if [ "$(readlink "$fd" 2>/dev/null)" = "$JOBS_LOCK" ]; then
+            p=${fd#/proc/}
+            p=${p%%/*}
+            [ "$p" = $$ ] || echo "  pid $p: $(tr '\0' ' ' <"/proc/$p/cmdline" 2>/dev/null | cut -c 1-160)" >&2
+        fi
+    done
+    exit 1
+fi
+exec 7>&-
 common=(-s "$HERE/bake-catalog.smk" --directory "$OUT" --config "catalog=$CATALOG" "bin=$BIN")
 snakemake "${common[@]}" --unlock -q >/dev/null 2>&1 || true
 

@@ -12,9 +12,14 @@
 # Safe to interrupt: every tool and bundle writes atomically, each job's declared output is
 # written last, and Snakemake reruns the jobs that were running when it was killed
 # (--rerun-incomplete); finished jobs are not redone.
+# What is on disk: the index and the report list exactly the fabrics, devices and environments
+# of the catalogue folder now; before they run, what a removed (or renamed) one left in OUT is
+# removed (prune_removed), and keys/catalog.key, their input, changes with the listing.
 import glob
 import hashlib
 import os
+import shlex
+import shutil
 import sys
 import tomllib
 
@@ -37,10 +42,24 @@ def sha256_file(path):
     return h.hexdigest()
 
 
+def write_key(name, text):
+    """Writes OUT/keys/<name>.key holding `text`; rewrites it only when the text changes, so its
+    mtime moves only with content. Returns its path."""
+    key = os.path.join(OUT, "keys", name + ".key")
+    if os.path.exists(key):
+        with open(key) as f:
+            if f.read() == text:
+                return key
+    os.makedirs(os.path.dirname(key), exist_ok=True)
+    with open(key + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(key + ".tmp", key)
+    return key
+
+
 def content_key(name, paths):
     """Writes OUT/keys/<name>.key listing the SHA-256 of every path (files, or folders walked
-    in sorted order); rewrites it only when the listing changes, so its mtime moves only with
-    content. Returns its path."""
+    in sorted order), through write_key. Returns its path."""
     lines = []
     for p in paths:
         if os.path.isdir(p):
@@ -53,17 +72,7 @@ def content_key(name, paths):
             lines.append(f"{sha256_file(p)}  {os.path.basename(p)}")
         else:
             raise WorkflowError(f"bake-catalog: {p}: not found (needed by {name})")
-    text = "\n".join(lines) + "\n"
-    key = os.path.join(OUT, "keys", name + ".key")
-    if os.path.exists(key):
-        with open(key) as f:
-            if f.read() == text:
-                return key
-    os.makedirs(os.path.dirname(key), exist_ok=True)
-    with open(key + ".tmp", "w") as f:
-        f.write(text)
-    os.replace(key + ".tmp", key)
-    return key
+    return write_key(name, "\n".join(lines) + "\n")
 
 
 def folders(sub):
@@ -133,6 +142,74 @@ content_key("validate", [VALIDATE_CONFIG, tool("render"), tool("bundle"), tool("
             + script("validate-pair.sh"))
 content_key("report", script("validate-report.sh"))
 content_key("index", [tool("bundle")])
+# The listing itself: a fabric, device or environment added, removed or renamed changes this key,
+# so the index and the report run again (a removal changes no other input they declare).
+ALL_DEVICES = folders("devices")  # with the ones skipped for missing data: their bundles stay
+write_key("catalog", "".join(
+    [f"fabric {f}\n" for f in FABRICS] + [f"device {d}\n" for d in ALL_DEVICES]
+    + [f"environment {e}\n" for e in sorted(ENVS)]))
+
+
+def prune_removed():
+    """Removes from OUT what fabrics, devices and environments no longer in the catalogue folder
+    left there: their bundles (unfinished hidden ones too), stamps, keys, work and capture folders
+    and validation pairs, and the report when no pair remains. A fabric added back is then baked
+    again (its stamp is gone with its bundle). Touches nothing of a current id, so it may run
+    beside any job of this run, and beside itself (index and report may prune at once)."""
+    def rm(path):
+        if os.path.isdir(path) and not os.path.islink(path):
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            try:
+                os.remove(path)
+            except FileNotFoundError:
+                pass
+
+    def listdir(path):  # [] when absent (or removed meanwhile by the other prune)
+        try:
+            return os.listdir(path)
+        except (FileNotFoundError, NotADirectoryError):
+            return []
+
+    def bundle_id(name):  # a bundle folder's id; pack's unfinished ".<id>.tmp-..." folders too
+        return name[1:].split(".tmp-")[0] if name.startswith(".") else name
+
+    for kind, keep in (("fabric", set(FABRICS)), ("device", set(ALL_DEVICES))):
+        steps = [kind, "capture"] if kind == "fabric" else [kind]
+        root = os.path.join(OUT, "bundles", kind + "s")
+        gone = {bundle_id(n) for n in listdir(root)} - keep
+        for n in listdir(os.path.join(OUT, "stamps")):
+            for step in steps:
+                if n.startswith(step + "-") and n.endswith(".json"):
+                    gone |= {n[len(step) + 1:-len(".json")]} - keep
+        for i in sorted(gone):
+            for n in listdir(root):
+                if bundle_id(n) == i:
+                    rm(os.path.join(root, n))
+            for step in steps:
+                rm(os.path.join(OUT, "stamps", f"{step}-{i}.json"))
+                rm(os.path.join(OUT, "keys", f"{step}-{i}.key"))
+            rm(os.path.join(OUT, "work", kind + "s", i))
+            if kind == "fabric":
+                rm(os.path.join(OUT, "captures", i))
+    pairs = os.path.join(OUT, "validate", "pairs")
+    for fid in listdir(pairs):
+        if fid not in FABRICS:
+            rm(os.path.join(pairs, fid))
+            continue
+        for env in listdir(os.path.join(pairs, fid)):
+            if env not in ENVS:
+                rm(os.path.join(pairs, fid, env))
+    if not (FABRICS and ENVS):  # no pair: no report (rule all asks for none)
+        for n in ("index.html", "summary.md", "summary.json", "pairs", "plots"):
+            rm(os.path.join(OUT, "validate", n))
+
+
+# Every job's shell holds a shared lock on OUT/.bake-catalog.jobs, inherited by each process it
+# starts, so the lock is held until the job's last process exits, even when Snakemake itself was
+# killed: bake-catalog.sh refuses to start while it is held (docs/pipelines.md).
+shell.prefix("set -euo pipefail; exec 8>>" + shlex.quote(os.path.join(OUT, ".bake-catalog.jobs")).replace("{", "{{").replace("}", "}}")
+             + "; flock -s 8; ")
 
 # The error decomposition (render compare --decompose) runs on each fabric's first environment: it
 # costs about as much again as the pair's comparison, and one environment per fabric shows where
@@ -206,15 +283,21 @@ rule report:
         expand("validate/pairs/{fid}/{env}/summary.json", fid=FABRICS, env=list(ENVS)),
         [FIRST] if FIRST else [],
         "keys/report.key",
+        "keys/catalog.key",
     output: "validate/index.html", "validate/summary.md"
     log: "logs/report.log"
-    shell: "{PIPE}/validate-report.sh validate > {log} 2>&1"
+    run:
+        prune_removed()  # validate-report.sh reports every pair in validate/pairs
+        shell("{PIPE}/validate-report.sh validate > {log} 2>&1")
 
 rule index:
     input:
         expand("stamps/fabric-{fid}.json", fid=FABRICS),
         expand("stamps/device-{did}.json", did=DEVICES),
         "keys/index.key",
+        "keys/catalog.key",
     output: "bundles/catalog.sqlite"
     log: "logs/index.log"
-    shell: "{BIN}/bundle index bundles -o {output} -q --report logs/index.json > {log} 2>&1"
+    run:
+        prune_removed()  # bundle index lists every bundle under bundles/
+        shell("{BIN}/bundle index bundles -o {output} -q --report logs/index.json > {log} 2>&1")

@@ -146,8 +146,27 @@ Manifest write_bundle(const std::string& dest, const PackRequest& request) {
 
 namespace {
 
+// Where a folder sits in a bundle root: ROOT/fabrics/<name> or ROOT/devices/<name>, not a hidden
+// staging folder (pack checks its ".<id>.tmp-..." folder before the swap); else kind_dir empty.
+struct PlaceInRoot {
+    std::string root, kind_dir, name;
+};
+
+PlaceInRoot place_in_root(const std::string& dir) {
+    stdfs::path lexical = stdfs::path(dir).lexically_normal();
+    if (!lexical.has_filename()) lexical = lexical.parent_path();
+    const std::string parent = lexical.parent_path().filename().string();
+    const std::string name = lexical.filename().string();
+    if ((parent != "fabrics" && parent != "devices") || name.empty() || name[0] == '.') return {};
+    const stdfs::path root = lexical.parent_path().parent_path();
+    return {root.empty() ? "." : root.string(), parent, name};
+}
+
 Manifest read_bundle_once(const std::string& dir) {
     std::error_code ec;
+    const PlaceInRoot place = place_in_root(dir);
+    // First, so that nothing is read through a link out of the root.
+    if (!place.kind_dir.empty()) check_in_root(place.root, place.kind_dir + "/" + place.name);
     if (!stdfs::is_directory(dir, ec)) throw Error(str(dir, ": not a bundle folder (not found)"));
     const stdfs::path root = stdfs::canonical(dir);
     const std::string manifest_path = (stdfs::path(dir) / kManifestName).string();
@@ -198,18 +217,12 @@ Manifest read_bundle_once(const std::string& dir) {
         }
     }
     // In a bundle root, the folder is named by the id and sits under its kind's folder.
-    const stdfs::path lexical = stdfs::path(dir).lexically_normal();
-    const std::string parent =
-        (lexical.has_filename() ? lexical : lexical.parent_path()).parent_path().filename().string();
-    const std::string name =
-        (lexical.has_filename() ? lexical : lexical.parent_path()).filename().string();
-    // (Not a hidden folder: pack checks its staging folder ".<id>.tmp-..." before the swap.)
-    if ((parent == "fabrics" || parent == "devices") && !name.empty() && name[0] != '.') {
-        if (m.id != name) {
+    if (!place.kind_dir.empty()) {
+        if (m.id != place.name) {
             throw Error(str(dir, ": folder name differs from the manifest's id '", m.id, "'"));
         }
-        if (parent != to_string(m.kind) + "s") {
-            throw Error(str(dir, ": a ", to_string(m.kind), " bundle in ", parent, "/"));
+        if (place.kind_dir != to_string(m.kind) + "s") {
+            throw Error(str(dir, ": a ", to_string(m.kind), " bundle in ", place.kind_dir, "/"));
         }
     }
     return m;
@@ -237,6 +250,21 @@ Manifest read_bundle(const std::string& dir) {
             if (attempt >= 5 || before.empty() || after == before) throw;
         }
     }
+}
+
+void check_in_root(const std::string& root, const std::string& rel) {
+    std::error_code ec;
+    const stdfs::path path = stdfs::path(root) / rel;
+    if (!stdfs::exists(stdfs::symlink_status(path, ec))) return;
+    const stdfs::path root_real = stdfs::weakly_canonical(root, ec);
+    const stdfs::path real = stdfs::weakly_canonical(path, ec);
+    if (!ec && real == (root_real / rel).lexically_normal()) return;
+    const std::string where = inside(real, root_real)
+                                  ? str(", elsewhere in the bundle root ", root)
+                                  : str(", outside the bundle root ", root);
+    throw Error(str(path.string(), ": resolves through a symlink to ", real.string(), where,
+                    " (a bundle root holds its bundles and what is written there, not links "
+                    "to them: replace the link by the folder)"));
 }
 
 std::string manifest_sha256(const std::string& dir) {

@@ -50,10 +50,19 @@ Manifest write_bundle(const std::string& dest, const PackRequest& request);
 ///   - an inner manifest (exported shaders, compressed BTF) names a file the bundle does not
 ///     hold, or the BTF's stream order differs from the bundle's (check_contents).
 ///   - the folder sits in a bundle root's fabrics/ or devices/ and its name is not the
-///     manifest's id, or its kind is not the folder's (one rule for verify and index).
+///     manifest's id, or its kind is not the folder's (one rule for verify and index), or it
+///     is a symlink (or lies under one) resolving out of that place (check_in_root; checked
+///     first, so nothing is read through the link).
 /// A bundle replaced by `bundle pack` while it is read (its manifest changed meanwhile) is read
 /// again, up to 5 times, so a reader never reports a mixture of the old and the new bundle.
 Manifest read_bundle(const std::string& dir);
+
+/// Throws Error naming the path when `root`/`rel` (e.g. "fabrics" or "fabrics/<id>" in a bundle
+/// root, or the folder of an output written there) exists but resolves, through a symlink
+/// anywhere along `rel`, to another place than `rel` in the root: a bundle root holds its
+/// bundles, not links to them, so nothing read or written there leaves the root through a link.
+/// A path that does not exist yet passes (nothing to follow).
+void check_in_root(const std::string& root, const std::string& rel);
 
 /// The SHA-256 of the bundle's manifest.json (identifies the bundle's whole content, since the
 /// manifest lists every file's hash).

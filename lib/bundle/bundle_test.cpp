@@ -157,6 +157,42 @@ TEST(BundleReader, RejectsSymlinksOutOfTheBundle) {
     EXPECT_TRUE(contains(error_of([&] { read_bundle(f.bundle); }), "outside the bundle"));
 }
 
+TEST(BundleReader, RejectsABundleFolderLinkedOutOfItsRoot) {
+    Fixture f("linked_folder");
+    f.write();
+    // The whole bundle moved out and linked back: every file inside it checks out, so only the
+    // folder's own place in the root can tell.
+    const std::string outside = f.dir + "/elsewhere/weave";
+    stdfs::create_directories(f.dir + "/elsewhere");
+    stdfs::rename(f.bundle, outside);
+    stdfs::create_directory_symlink(outside, f.bundle);
+    EXPECT_NO_THROW(read_bundle(outside));  // the same folder outside any root is a bundle
+    std::string e = error_of([&] { read_bundle(f.bundle); });
+    EXPECT_TRUE(contains(e, f.bundle + ": resolves through a symlink to " + outside)) << e;
+    EXPECT_TRUE(contains(e, "outside the bundle root")) << e;
+    // The kind folder linked out: the bundle under it resolves out of the root as well.
+    stdfs::remove(f.bundle);
+    stdfs::rename(f.root + "/fabrics", f.dir + "/elsewhere/fabrics");
+    stdfs::rename(outside, f.dir + "/elsewhere/fabrics/weave");
+    stdfs::create_directory_symlink(f.dir + "/elsewhere/fabrics", f.root + "/fabrics");
+    e = error_of([&] { read_bundle(f.bundle); });
+    EXPECT_TRUE(contains(e, "outside the bundle root")) << e;
+    EXPECT_TRUE(contains(error_of([&] { check_in_root(f.root, "fabrics"); }),
+                         f.root + "/fabrics: resolves through a symlink"));
+    // A link inside the root to another folder of it is refused too (named as such).
+    stdfs::remove(f.root + "/fabrics");
+    stdfs::rename(f.dir + "/elsewhere/fabrics", f.root + "/fabrics");
+    stdfs::rename(f.bundle, f.root + "/staging");
+    stdfs::create_directory_symlink("../staging", f.bundle);
+    e = error_of([&] { read_bundle(f.bundle); });
+    EXPECT_TRUE(contains(e, "elsewhere in the bundle root")) << e;
+    // Back in place, it reads; a path that does not exist yet passes the check.
+    stdfs::remove(f.bundle);
+    stdfs::rename(f.root + "/staging", f.bundle);
+    EXPECT_NO_THROW(read_bundle(f.bundle));
+    EXPECT_NO_THROW(check_in_root(f.root, "devices/none"));
+}
+
 TEST(BundleReader, RejectsUnknownVersions) {
     Fixture f("version");
     f.write();

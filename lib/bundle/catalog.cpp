@@ -142,6 +142,7 @@ std::vector<CatalogRow> write_catalog(const std::string& root, const std::string
     };
     std::vector<Loaded> bundles;
     for (const char* kind_dir : {"fabrics", "devices"}) {
+        check_in_root(root, kind_dir);  // each bundle is checked by read_bundle
         for (const std::string& name : bundle_dirs(stdfs::path(root) / kind_dir)) {
             const std::string rel = str(kind_dir, "/", name);
             const std::string dir = (stdfs::path(root) / rel).string();

@@ -28,8 +28,9 @@ struct CatalogRow {
 /// whose names start with '.' are unfinished writes and are skipped), then writes the SQLite
 /// catalogue `db_path` atomically (built in a temporary file, renamed into place). Rows are
 /// inserted in id order, so the same bundles give a byte-identical file. Throws Error naming
-/// the bundle when any bundle fails verification (nothing is written then) or when two
-/// bundles of one kind share an id. Returns the rows.
+/// the bundle when any bundle fails verification (nothing is written then), when two
+/// bundles of one kind share an id, or when fabrics/, devices/ or a bundle folder is a symlink
+/// out of its place in the root (check_in_root). Returns the rows.
 std::vector<CatalogRow> write_catalog(const std::string& root, const std::string& db_path);
 
 /// Reads the rows back (kind, id order). Throws Error naming the file when it is not a

@@ -167,6 +167,10 @@ void run_pack(const PackToolOptions& o, Report& report) {
     }
     const std::string dest =
         (stdfs::path(o.root) / (o.kind + "s") / o.id).string();
+    // Nothing is written out of the root through a link (the kind folder, or the bundle's own
+    // folder, which pack would replace): refused before any work.
+    check_in_root(o.root, o.kind + "s");
+    check_in_root(o.root, o.kind + "s/" + o.id);
     // The sources are inputs, declared before any work; one inside the bundle folder would be
     // removed or replaced with the folder (a repack from the bundle's own files).
     std::error_code ec;
@@ -207,6 +211,7 @@ void run_verify(const VerifyToolOptions& o, Report& report) {
         for (const char* k : {"devices", "fabrics"}) {
             const stdfs::path sub = stdfs::path(b) / k;
             if (!stdfs::is_directory(sub)) continue;
+            check_in_root(b, k);  // each bundle folder is checked by read_bundle
             std::vector<std::string> found;
             for (const auto& e : stdfs::directory_iterator(sub)) {
                 const std::string name = e.path().filename().string();
@@ -261,10 +266,19 @@ void run_index(const IndexToolOptions& o, Report& report) {
         std::error_code ec;
         const stdfs::path root = stdfs::weakly_canonical(o.root, ec);
         const stdfs::path rel = stdfs::weakly_canonical(out, ec).lexically_relative(root);
-        const std::string first = rel.empty() ? "" : rel.begin()->string();
-        if ((first == "fabrics" || first == "devices") && std::distance(rel.begin(), rel.end()) > 1) {
-            throw UsageError(str("-o ", out, ": inside ", root.string(), "/", first,
-                                 "/, where the bundles are; write the catalogue beside them"));
+        // As written too: through a link out of the root, the resolved path is not below it.
+        const stdfs::path lexical = stdfs::absolute(out, ec).lexically_normal().lexically_relative(
+            stdfs::absolute(o.root, ec).lexically_normal());
+        for (const stdfs::path& r : {rel, lexical}) {
+            const std::string first = r.empty() ? "" : r.begin()->string();
+            if ((first == "fabrics" || first == "devices") && std::distance(r.begin(), r.end()) > 1) {
+                throw UsageError(str("-o ", out, ": inside ", o.root, "/", first,
+                                     "/, where the bundles are; write the catalogue beside them"));
+            }
+        }
+        // A catalogue written in the root stays there: not out through a linked folder.
+        if (!lexical.empty() && *lexical.begin() != ".." && lexical.has_parent_path()) {
+            check_in_root(o.root, lexical.parent_path().string());
         }
     }
     // Declared before the bundles are read: write_catalog declares every bundle file an input,

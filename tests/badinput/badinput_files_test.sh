@@ -201,4 +201,9 @@ python3 -c "d = 30000; print('{\"format\": \"inlight_bundle\", \"version\": 1, \
 bad 1 "bundle3/manifest.json: arrays/objects nested deeper than 64" "bundle manifest nested 30000 deep" -- "$BIN/bundle" verify "$WORK/bundle3"
 mkdir -p "$WORK/root3/fabrics" && cp -r "$WORK/bundle3" "$WORK/root3/fabrics/bundle3"
 bad 1 "manifest.json: arrays/objects nested deeper than 64" "bundle index of a manifest nested 30000 deep" -- "$BIN/bundle" index "$WORK/root3" -o "$OUT/deep.sqlite"
+# A bundle folder in a root that is a symlink out of it: refused, naming the link, before anything
+# is read through it (the linked bundle is the deep one above: the link is what is reported).
+mkdir -p "$WORK/root4/fabrics" && ln -s "$WORK/bundle3" "$WORK/root4/fabrics/bundle3"
+bad 1 "root4/fabrics/bundle3: resolves through a symlink to .*, outside the bundle root" "bundle verify of a root holding a bundle linked from outside" -- "$BIN/bundle" verify "$WORK/root4"
+bad 1 "root4/fabrics/bundle3: resolves through a symlink to .*, outside the bundle root" "bundle index of that root" -- "$BIN/bundle" index "$WORK/root4" -o "$OUT/linked.sqlite"
 finish

@@ -64,6 +64,41 @@ expect_stderr "folder name differs from the manifest's id 'w'" "index says the s
 expect_exit 2 "index -o inside a bundle" -- "$B" index "$WORK/b" -o "$WORK/b/fabrics/w/catalog.sqlite"
 expect_stderr "where the bundles are" "says why"
 expect_exit 0 "the bundle is untouched" -- "$B" verify "$WORK/b" -q
+# A bundle folder that is a symlink out of the root: refused by verify (the root or the folder)
+# and index, naming the link; every file inside it is intact, so only its place can tell.
+cp -r "$WORK/b" "$WORK/l"
+rm "$WORK/l/catalog.sqlite"
+mkdir -p "$WORK/away"
+mv "$WORK/l/fabrics/w" "$WORK/away/w"
+ln -s "$WORK/away/w" "$WORK/l/fabrics/w"
+expect_exit 0 "the moved-out folder alone is a valid bundle" -- "$B" verify "$WORK/away/w" -q
+expect_exit 1 "verify: a root holding a bundle linked from outside" -- "$B" verify "$WORK/l"
+expect_stderr "l/fabrics/w: resolves through a symlink to $WORK/away/w, outside the bundle root" "names the link, its target and the problem"
+expect_exit 1 "verify: the linked folder itself" -- "$B" verify "$WORK/l/fabrics/w"
+expect_stderr "outside the bundle root" "the same rule"
+expect_exit 1 "index: the same rule" -- "$B" index "$WORK/l" --report "$WORK/li.json"
+expect_stderr "l/fabrics/w: resolves through a symlink to $WORK/away/w" "index names it"
+expect_true "index wrote no catalogue" -- test ! -e "$WORK/l/catalog.sqlite"
+# Nothing pack or index writes leaves the root through a link: a linked bundle folder (pack
+# would replace it), a linked kind folder (pack's staging folder would go there), a catalogue
+# path through a linked folder. Each refused before any work, the target untouched.
+before=$(cd "$WORK/away" && find . -type f -exec sha256sum {} + | sort)
+expect_exit 1 "pack onto a bundle folder linked out of the root" -- "$B" pack --kind fabric --id w "${files[@]}" -o "$WORK/l"
+expect_stderr "fabrics/w: resolves through a symlink" "names the link"
+rm "$WORK/l/fabrics/w"
+mv "$WORK/l/fabrics" "$WORK/away/fabrics"
+ln -s "$WORK/away/fabrics" "$WORK/l/fabrics"
+expect_exit 1 "pack into a kind folder linked out of the root" -- "$B" pack --kind fabric --id w3 "${files[@]}" -o "$WORK/l"
+expect_stderr "l/fabrics: resolves through a symlink to $WORK/away/fabrics, outside the bundle root" "names the kind folder"
+expect_exit 1 "index of a root whose fabrics/ is linked out" -- "$B" index "$WORK/l"
+expect_stderr "l/fabrics: resolves through a symlink" "index names it"
+expect_exit 1 "verify of that root" -- "$B" verify "$WORK/l"
+expect_stderr "l/fabrics: resolves through a symlink" "verify names it"
+rm "$WORK/l/fabrics" && mkdir "$WORK/l/fabrics"
+ln -s "$WORK/away" "$WORK/l/out"
+expect_exit 1 "index -o through a folder linked out of the root" -- "$B" index "$WORK/l" -o "$WORK/l/out/catalog.sqlite"
+expect_stderr "l/out: resolves through a symlink to $WORK/away" "names the linked folder"
+expect_true "nothing was written out of the root" -- test "$(cd "$WORK/away" && find . -type f -exec sha256sum {} + | sort)" = "$before" -a ! -e "$WORK/away/catalog.sqlite" -a -z "$(find "$WORK/away" -name '.w3*')"
 # A folder given as a file is named as such.
 mkdir -p "$WORK/afolder"
 expect_exit 2 "pack: a folder as --file" -- "$B" pack --kind fabric --id w2 "${files[@]}" \
