@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# btf-pca --interpolate: a raw and a compressed BTF evaluated at off-grid (light, view) pairs with
+# btf-pca interpolate: a raw and a compressed BTF evaluated at off-grid (light, view) pairs with
 # both schemes, compared with a truth folder; bad input and all-or-nothing outputs.
 # jq programs use $-variables inside single quotes on purpose.
 # shellcheck disable=SC2016
