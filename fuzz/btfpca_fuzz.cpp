@@ -1,5 +1,5 @@
 // Harness: the compressed-BTF reader (btf::CompressedBtf::open, the folder btf-pca writes and
-// render --btf-compressed, btf-pca --interpolate and the bundle read). The input is btf-pca.json,
+// render --btf-compressed, btf-pca interpolate and the bundle read). The input is btf-pca.json,
 // a NUL, then weights.bin, in a folder holding the component images of the seed BTF
 // (fuzz/samples.h), so manifests naming them reach the size, index and offset checks.
 #include "btf/compressed.h"

@@ -91,7 +91,7 @@ btf_props=()
 if [ -n "$BTF" ]; then
     say "btf-pca ($(basename "$PCA_CONFIG")) on $BTF"
     rm -rf "$W/btf"
-    "$BIN/btf-pca" "$BTF" --config "$PCA_CONFIG" -o "$W/btf" -q --report "$W/btf-pca.json"
+    "$BIN/btf-pca" compress "$BTF" --config "$PCA_CONFIG" -o "$W/btf" -q --report "$W/btf-pca.json"
     files+=(--file "btf_manifest=$W/btf/btf-pca.json@btf/btf-pca.json"
         --file "btf_weights=$W/btf/weights.bin@btf/weights.bin")
     while read -r mean; do

@@ -84,7 +84,7 @@ table() {
             && jq -e --arg r "$ref" '.status == "ok" and (.metrics.reference.path // "") == $r' "$run.json" >/dev/null; then
             say "$name k=$k: reusing $run"
         else
-            "$BIN/btf-pca" "$btf" -o "$run" -k "$k" -c 32 --table-components 1,2,4,8,16,32 \
+            "$BIN/btf-pca" compress "$btf" -o "$run" -k "$k" -c 32 --table-components 1,2,4,8,16,32 \
                 --color-samples 65536 "${extra[@]}" "${PCA_ARGS[@]}" -q --report "$run.json"
             echo "$args" >"$run.args"
         fi

@@ -29,7 +29,7 @@ for s in offgrid beyond ongrid; do
 done
 for c in "$C" 4; do
     [ -s "$OUT/pca$c/btf-pca.json" ] ||
-        "$P" "$OUT/grid" -o "$OUT/pca$c" -k 3 -c "$c" --report "$OUT/pca$c.json" -q
+        "$P" compress "$OUT/grid" -o "$OUT/pca$c" -k 3 -c "$c" --report "$OUT/pca$c.json" -q
 done
 echo "| data | scheme | pairs | MAE Lab | mean dE2000 | RMSE 8-bit | rel. RMSE | error of the image mean | pairs moved onto the dome |"
 echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
@@ -37,7 +37,7 @@ for src in grid "pca$C"; do
     for scheme in nearest thesis delaunay; do
         for s in offgrid beyond ongrid; do
             r="$OUT/i-$src-$scheme-$s"
-            [ -s "$r.json" ] || "$P" "$OUT/$src" --interpolate "$ROOT/configs/btf/interp-$s-pairs.txt" \
+            [ -s "$r.json" ] || "$P" interpolate "$OUT/$src" --pairs "$ROOT/configs/btf/interp-$s-pairs.txt" \
                 --scheme "$scheme" --truth "$OUT/$s" -o "$r" --report "$r.json" -q
             jq -r --arg src "$src" --arg s "$s" '.metrics.interpolation as $m | $m.mean_errors as $e |
                 "| \($src) | \($m.scheme) | \($s) (\($m.pairs)) | \($e.mae_lab * 100 | round / 100) | \($e.delta_e2000_mean * 100 | round / 100) | \($e.rmse_rgb8 * 100 | round / 100) | \($e.rel_rmse * 1000 | round / 1000) | \($e.mean_rel_diff * 1000 | round / 10)% | \($m.pairs_outside_measured_region) |"' "$r.json"

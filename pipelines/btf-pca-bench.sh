@@ -73,7 +73,7 @@ DIRARGS=()
 if [ "$DIRS" -lt 81 ]; then DIRARGS=(--light-directions "$BTF.directions.txt" --view-directions "$BTF.directions.txt"); fi
 rm -rf "$OUT/pca"
 load_before=$(cut -d' ' -f1 /proc/loadavg)
-/usr/bin/time -v -o "$OUT/time.txt" "$BIN/btf-pca" "$BTF" -o "$OUT/pca" -k "$K" -c "$C" --threads "$THREADS" \
+/usr/bin/time -v -o "$OUT/time.txt" "$BIN/btf-pca" compress "$BTF" -o "$OUT/pca" -k "$K" -c "$C" --threads "$THREADS" \
     "${DIRARGS[@]}" --report "$OUT/btf-pca.json" -q
 load_after=$(cut -d' ' -f1 /proc/loadavg)
 

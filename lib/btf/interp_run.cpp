@@ -93,7 +93,7 @@ void run_interpolation(const InterpRunOptions& o, Report& report) {
     try {
         pairs = read_direction_pairs(o.pairs);
     } catch (const Error& e) {
-        throw UsageError(str("--interpolate: ", e.what()));
+        throw UsageError(str("--pairs: ", e.what()));
     }
     report.add_input(o.pairs);
     if (stdfs::is_directory(o.input)) fs::declare_input(o.input, "input");

@@ -1,4 +1,4 @@
-// btf/interp_run.h: `btf-pca INPUT --interpolate PAIRS -o DIR`: a BTF, raw (folder or Bonn zip)
+// btf/interp_run.h: `btf-pca interpolate INPUT --pairs PAIRS -o DIR`: a BTF, raw (folder or Bonn zip)
 // or compressed (a btf-pca output folder), evaluated at arbitrary (light, view) pairs by angular
 // interpolation (btf/interp.h), written as images in UBO2003 naming, and, given a capture of the
 // same pairs (`render capture-btf FABRIC --btf-pairs PAIRS`), compared with that truth.

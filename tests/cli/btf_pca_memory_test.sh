@@ -32,7 +32,7 @@ done
 run() {  # run VIEWS NAME ARGS...: compresses the VIEWS-view BTF, report NAME.json
     local n=$1 name=$2
     shift 2
-    "$PCA" "$WORK/btf$n" -o "$WORK/$name" --light-directions "$WORK/lights.txt" --view-directions "$WORK/views$n.txt" \
+    "$PCA" compress "$WORK/btf$n" -o "$WORK/$name" --light-directions "$WORK/lights.txt" --view-directions "$WORK/views$n.txt" \
         -c 4 --threads 2 --report "$WORK/$name.json" -q "$@"
 }
 added() { jq '.metrics.memory | .peak_rss_mib - .rss_before_mib' "$WORK/$1.json"; }

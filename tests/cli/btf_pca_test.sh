@@ -12,12 +12,37 @@ printf '0 0\n30 0\n30 120\n45 180\n60 270\n' >"$WORK/views.txt"
 DIRS=(--light-directions "$WORK/lights.txt" --view-directions "$WORK/views.txt")
 "$MK" "$WORK/btf" 24 16 4 1.0 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf"
 
-expect_exit 0 "--help" -- "$PCA" --help
+# Two modes, each a subcommand with only its own options (docs/btf.md).
+expect_exit 0 "--help lists the modes" -- "$PCA" --help
+for want in "btf-pca compress wool_btf.zip -o out/wool -k 3 -c 8 --report wool.json" "btf-pca interpolate "; do
+    expect_true "--help has the example '$want'" -- grep -qF -- "$want" "$WORK/stdout"
+done
+expect_exit 0 "compress --help" -- "$PCA" compress --help
 for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views --fit-space --weights-format --fit-norm --l1-iterations; do
-    grep -q -- "$opt" "$WORK/stdout" || fail "--help lacks $opt"
+    grep -q -- "$opt" "$WORK/stdout" || fail "compress --help lacks $opt"
+done
+expect_true "compress --help has its example" -- grep -qF "btf-pca compress wool_btf.zip -o out/wool" "$WORK/stdout"
+for opt in --scheme --truth --pairs "btf-pca interpolate"; do
+    expect_true "compress --help lacks '$opt'" -- bash -c "! grep -qF -- '$opt' '$WORK/stdout'"
+done
+expect_exit 0 "interpolate --help" -- "$PCA" interpolate --help
+for opt in --pairs --scheme --truth --light-directions --view-directions --linear-input "btf-pca interpolate "; do
+    grep -qF -- "$opt" "$WORK/stdout" || fail "interpolate --help lacks $opt"
+done
+for opt in "-k," --components --max-rmse --method --table-components "btf-pca compress"; do
+    expect_true "interpolate --help lacks '$opt'" -- bash -c "! grep -qF -- '$opt' '$WORK/stdout'"
 done
 
-expect_exit 0 "compress k=3 C=4" -- "$PCA" "$WORK/btf" -o "$WORK/out" -k 3 -c 4 "${DIRS[@]}" --report "$WORK/r.json"
+# The spelling before the subcommands is refused with the new one, before anything is written.
+printf '0 0 0 0\n' >"$WORK/pairs.txt"
+expect_exit 2 "old spelling: btf-pca INPUT -o OUT" -- "$PCA" "$WORK/btf" -o "$WORK/old" -k 3 "${DIRS[@]}" --report "$WORK/old.json"
+expect_stderr "btf-pca: modes are subcommands now: use 'btf-pca compress INPUT -o OUT' (see btf-pca --help)" "names the compress spelling"
+expect_exit 2 "old spelling: btf-pca INPUT --interpolate PAIRS" -- "$PCA" "$WORK/btf" --interpolate "$WORK/pairs.txt" -o "$WORK/old" --report "$WORK/old.json"
+expect_stderr "use 'btf-pca interpolate INPUT --pairs PAIRS -o OUT'" "names the interpolate spelling"
+expect_true "the old spellings wrote nothing, not even --report" -- test ! -e "$WORK/old" -a ! -e "$WORK/old.json"
+expect_exit 2 "no mode" -- "$PCA"
+
+expect_exit 0 "compress k=3 C=4" -- "$PCA" compress "$WORK/btf" -o "$WORK/out" -k 3 -c 4 "${DIRS[@]}" --report "$WORK/r.json"
 # The console summary (docs/report.md): components, bytes, ratio and errors as in the report.
 expect_stderr "btf-pca: components: 8 components over 2 view groups (4 per group)" "summary: components per group"
 expect_summary_number "summary: stored bytes are the report's" "btf-pca: stored: ([0-9]+) bytes" "$WORK/r.json" '.metrics.bytes.stored'
@@ -29,7 +54,7 @@ expect_summary_number "summary: mean Delta E 2000 is the report's" "mean Delta E
 expect_true "off a terminal no progress bar is drawn (no carriage return)" -- bash -c "! grep -q \$'\\r' '$WORK/stderr'"
 # On a terminal (script(1) gives the run a pseudo-terminal) the group fits draw a bar with an ETA.
 if command -v script >/dev/null; then
-    script -qec "'$PCA' '$WORK/btf' -o '$WORK/tty' -k 3 -c 4 ${DIRS[*]}" /dev/null >"$WORK/tty.log" 2>&1
+    script -qec "'$PCA' compress '$WORK/btf' -o '$WORK/tty' -k 3 -c 4 ${DIRS[*]}" /dev/null >"$WORK/tty.log" 2>&1
     expect_true "on a terminal: a progress bar with elapsed time and ETA" -- grep -q "fit view groups \[#*.*ETA" "$WORK/tty.log"
     expect_true "on a terminal: the per-group lines make way for the bar" -- bash -c "! grep -q 'group 1/2:' '$WORK/tty.log'"
 else
@@ -53,7 +78,7 @@ expect_true "streaming.tsv has a header and 9 rows" -- test "$(grep -vc '^#' "$W
 
 # --fit-space srgb and --weights-format uint8: the manifest says how to decode; V takes one byte
 # per value; the equal-bytes rows stay within their fixed-C row's bytes.
-expect_exit 0 "srgb fit, 8-bit V" -- "$PCA" "$WORK/btf" -o "$WORK/srgb" -k 3 -c 4 --fit-space srgb --weights-format uint8 \
+expect_exit 0 "srgb fit, 8-bit V" -- "$PCA" compress "$WORK/btf" -o "$WORK/srgb" -k 3 -c 4 --fit-space srgb --weights-format uint8 \
     --table-components 1,2,4 "${DIRS[@]}" --report "$WORK/s.json"
 expect_true "manifest: srgb_encoded, uint8 V with v_scale and v_offset" -- jq -e '.color_space == "srgb_encoded" and
     .weights.dtype == "uint8" and (.groups[0].components[0] | has("v_scale") and has("v_offset"))' "$WORK/srgb/btf-pca.json"
@@ -61,38 +86,38 @@ expect_true "weights.bin size = (3 + 2 views) * 24 * 4 components * 1 byte" -- t
 expect_true "report: fit space, error space, equal-bytes rows within budget" -- jq -e '.metrics |
     .pca.fit_space == "srgb" and .pca.weights_format == "uint8" and .error_space == "srgb_encoded" and
     (.table_equal_bytes | length) == 3 and all(.table_equal_bytes[]; .stored_bytes - .manifest_bytes <= .byte_budget)' "$WORK/s.json"
-expect_exit 2 "--fit-space log" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-space log "${DIRS[@]}"
+expect_exit 2 "--fit-space log" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --fit-space log "${DIRS[@]}"
 expect_stderr "--fit-space" "names the option"
 
 # --fit-space lab --fit-norm l1: the manifest says cielab_d65, the report the norm; the refit
 # lowers MAE at the same C (least absolute error) and cannot lower the RMSE of the PCA.
-expect_exit 0 "lab fit, L1 refit" -- "$PCA" "$WORK/btf" -o "$WORK/labl1" -k 3 -c 2 --fit-space lab --fit-norm l1 \
+expect_exit 0 "lab fit, L1 refit" -- "$PCA" compress "$WORK/btf" -o "$WORK/labl1" -k 3 -c 2 --fit-space lab --fit-norm l1 \
     --l1-iterations 4 "${DIRS[@]}" --report "$WORK/l1.json"
-expect_exit 0 "lab fit, least squares" -- "$PCA" "$WORK/btf" -o "$WORK/labl2" -k 3 -c 2 --fit-space lab "${DIRS[@]}" --report "$WORK/l2.json"
+expect_exit 0 "lab fit, least squares" -- "$PCA" compress "$WORK/btf" -o "$WORK/labl2" -k 3 -c 2 --fit-space lab "${DIRS[@]}" --report "$WORK/l2.json"
 expect_true "manifest cielab_d65; report fit_norm l1 with 4 iterations" -- jq -e '.color_space == "cielab_d65"' "$WORK/labl1/btf-pca.json"
 expect_true "L1 refit: MAE below, RMSE not below the PCA's (unquantised)" -- bash -c "jq -e -s '(.[0].metrics | .pca.fit_norm == \"l1\" and .pca.l1_iterations == 4) and
     (.[1].metrics.pca.fit_norm == \"l2\") and .[0].metrics.error.mae_linear < .[1].metrics.error.mae_linear and
     .[0].metrics.error.rmse_linear_unquantised >= .[1].metrics.error.rmse_linear_unquantised' '$WORK/l1.json' '$WORK/l2.json'"
-expect_exit 2 "--fit-norm l3" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l3 "${DIRS[@]}"
+expect_exit 2 "--fit-norm l3" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --fit-norm l3 "${DIRS[@]}"
 expect_stderr "--fit-norm" "names the option"
-expect_exit 2 "--l1-iterations 0" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --l1-iterations 0 "${DIRS[@]}"
+expect_exit 2 "--l1-iterations 0" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --l1-iterations 0 "${DIRS[@]}"
 expect_stderr "--l1-iterations" "names the option"
-expect_exit 2 "--l1-iterations without --fit-norm l1" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --l1-iterations 4 "${DIRS[@]}"
+expect_exit 2 "--l1-iterations without --fit-norm l1" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --l1-iterations 4 "${DIRS[@]}"
 expect_stderr "applies only to --fit-norm l1" "says why"
-expect_exit 2 "--fit-norm l1 with groups out of core" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --stream-views 1 "${DIRS[@]}"
+expect_exit 2 "--fit-norm l1 with groups out of core" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --stream-views 1 "${DIRS[@]}"
 expect_stderr "--fit-norm l1" "names the option"
 
 # An error budget: a rank-4 BTF needs at most 4 components above the 8-bit noise.
-expect_exit 0 "error budget" -- "$PCA" "$WORK/btf" -o "$WORK/budget" -k 5 -c 16 --max-rmse 0.01 "${DIRS[@]}" --report "$WORK/b.json"
+expect_exit 0 "error budget" -- "$PCA" compress "$WORK/btf" -o "$WORK/budget" -k 5 -c 16 --max-rmse 0.01 "${DIRS[@]}" --report "$WORK/b.json"
 expect_true "budget: C chosen <= 4 and met" -- \
     jq -e '.metrics | .pca.components_per_group[0] <= 4 and .error.rmse_linear_unquantised <= 0.01' "$WORK/b.json"
 
 # The same BTF as a zip file, read in place, gives the same components.
 (cd "$WORK" && zip -qr btf.zip btf) || fail "zip"
-expect_exit 0 "zip input" -- "$PCA" "$WORK/btf.zip" -o "$WORK/zout" -k 3 -c 4 "${DIRS[@]}" --report "$WORK/z.json"
+expect_exit 0 "zip input" -- "$PCA" compress "$WORK/btf.zip" -o "$WORK/zout" -k 3 -c 4 "${DIRS[@]}" --report "$WORK/z.json"
 expect_true "zip and folder give identical component files" -- cmp "$WORK/out/g001-c03.png" "$WORK/zout/g001-c03.png"
 expect_true "1 and 2 threads give identical outputs" -- bash -c \
-    "'$PCA' '$WORK/btf' -o '$WORK/t1' -k 3 -c 4 --threads 1 ${DIRS[*]} -q && '$PCA' '$WORK/btf' -o '$WORK/t2' -k 3 -c 4 --threads 2 ${DIRS[*]} -q && diff -r '$WORK/t1' '$WORK/t2'"
+    "'$PCA' compress '$WORK/btf' -o '$WORK/t1' -k 3 -c 4 --threads 1 ${DIRS[*]} -q && '$PCA' compress '$WORK/btf' -o '$WORK/t2' -k 3 -c 4 --threads 2 ${DIRS[*]} -q && diff -r '$WORK/t1' '$WORK/t2'"
 
 # Out of core: a group streamed from the images a block of views at a time gives the in-core
 # result. The floats of every block are the in-core ones (same centring), so the stored files are
@@ -101,8 +126,8 @@ expect_true "1 and 2 threads give identical outputs" -- bash -c \
 # per ordering, hence REL = 5e-10 for two orderings.
 "$MK" "$WORK/big" 128 128 4 1.5 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf 128"
 BIG=("$WORK/big" -k 5 -c 4 --method randomized --table-components "1,2" --threads 2 "${DIRS[@]}")
-expect_exit 0 "in core" -- "$PCA" "${BIG[@]}" -o "$WORK/in" --report "$WORK/in.json"
-expect_exit 0 "out of core, 2 views per block" -- "$PCA" "${BIG[@]}" -o "$WORK/ooc" --stream-views 2 --report "$WORK/ooc.json"
+expect_exit 0 "in core" -- "$PCA" compress "${BIG[@]}" -o "$WORK/in" --report "$WORK/in.json"
+expect_exit 0 "out of core, 2 views per block" -- "$PCA" compress "${BIG[@]}" -o "$WORK/ooc" --stream-views 2 --report "$WORK/ooc.json"
 expect_true "reports say which fit ran" -- jq -e --slurpfile i "$WORK/in.json" '.metrics.memory as $m |
     $m.fit == "out-of-core" and $m.stream_views == 2 and $m.groups_out_of_core == 1 and $m.passes_over_images == 9 and
     $m.peak_rss_mib > 0 and $i[0].metrics.memory.fit == "in-core" and $i[0].metrics.memory.groups_out_of_core == 0' "$WORK/ooc.json"
@@ -117,33 +142,33 @@ expect_true "out of core: every error figure within REL = 5e-10 of in core" -- j
 # (9 passes: 4 + 2 q for the randomized SVD with q = 2 power iterations, btf/pca.h, and one to measure.)
 # The budget chooses the path: below the in-core estimate the group streams, within the budget.
 est=$(jq '.metrics.memory.estimate_in_core_mib | ceil' "$WORK/in.json")
-expect_exit 0 "--max-memory-mib below the in-core estimate" -- "$PCA" "${BIG[@]}" -o "$WORK/budget_ooc" \
+expect_exit 0 "--max-memory-mib below the in-core estimate" -- "$PCA" compress "${BIG[@]}" -o "$WORK/budget_ooc" \
     --max-memory-mib "$((est - 1))" --report "$WORK/bo.json"
 expect_true "budget: out of core, estimate within the budget, same components" -- bash -c \
     "jq -e '.metrics.memory | .fit == \"out-of-core\" and .stream_views >= 1 and .stream_views < 5 and .estimate_mib <= .budget_mib and .budget_source == \"--max-memory-mib\"' '$WORK/bo.json' &&
      cmp '$WORK/in/g000-c03.png' '$WORK/budget_ooc/g000-c03.png'"
-expect_exit 2 "--max-memory-mib 1: not even one view fits" -- "$PCA" "${BIG[@]}" -o "$WORK/bad" --max-memory-mib 1
+expect_exit 2 "--max-memory-mib 1: not even one view fits" -- "$PCA" compress "${BIG[@]}" -o "$WORK/bad" --max-memory-mib 1
 expect_stderr "max-memory-mib" "the budget error names the option"
 
 # Bad input: usage errors (exit 2) name the option; nothing is written.
-expect_exit 2 "-k 0" -- "$PCA" "$WORK/btf" -o "$WORK/bad" -k 0 "${DIRS[@]}"
+expect_exit 2 "-k 0" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" -k 0 "${DIRS[@]}"
 expect_stderr "view-group-size" "-k 0 names the option"
-expect_exit 2 "--max-rmse nan" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --max-rmse nan "${DIRS[@]}"
-expect_exit 2 "--format jpeg" -- "$PCA" "$WORK/btf" -o "$WORK/bad" --format jpeg "${DIRS[@]}"
-expect_exit 2 "output inside the input folder" -- "$PCA" "$WORK/btf" -o "$WORK/btf/pca" "${DIRS[@]}"
+expect_exit 2 "--max-rmse nan" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --max-rmse nan "${DIRS[@]}"
+expect_exit 2 "--format jpeg" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --format jpeg "${DIRS[@]}"
+expect_exit 2 "output inside the input folder" -- "$PCA" compress "$WORK/btf" -o "$WORK/btf/pca" "${DIRS[@]}"
 expect_stderr "inside the input" "output inside the input is refused"
 expect_true "no output folder after usage errors" -- test ! -e "$WORK/bad" -a ! -e "$WORK/btf/pca"
 
 # Runtime errors (exit 1) name the file, and leave no partial output.
 cp -r "$WORK/btf" "$WORK/holed"
 rm "$WORK/holed/tv045_pv180/tl030 pl060 tv045 pv180.png" 2>/dev/null || rm "$(find "$WORK/holed" -name '*tl030*pl060*tv045*pv180*' | head -1)"
-expect_exit 1 "a missing image" -- "$PCA" "$WORK/holed" -o "$WORK/holed_out" "${DIRS[@]}" --report "$WORK/h.json"
+expect_exit 1 "a missing image" -- "$PCA" compress "$WORK/holed" -o "$WORK/holed_out" "${DIRS[@]}" --report "$WORK/h.json"
 expect_stderr "tv045" "the missing image is named"
 expect_true "failed run: no output folder, report says failed" -- bash -c \
     "test ! -e '$WORK/holed_out' && jq -e '.status == \"failed\" and .exit_code == 1' '$WORK/h.json'"
 cp -r "$WORK/btf" "$WORK/corrupt"
 f=$(find "$WORK/corrupt" -name '*.png' | sort | sed -n 7p)
 head -c 100 "$f" >"$f.tmp" && mv "$f.tmp" "$f"
-expect_exit 1 "a truncated image" -- "$PCA" "$WORK/corrupt" -o "$WORK/corrupt_out" "${DIRS[@]}"
+expect_exit 1 "a truncated image" -- "$PCA" compress "$WORK/corrupt" -o "$WORK/corrupt_out" "${DIRS[@]}"
 expect_true "no output after a failure mid-run" -- test ! -e "$WORK/corrupt_out"
 finish

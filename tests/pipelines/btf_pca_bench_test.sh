@@ -44,7 +44,7 @@ expect_true "C = R: unquantised RMSE <= the 8-bit quantisation RMS (x (1 + 1e-4)
 # well above the quantisation (x 2 at least; a BTF of rank < R would stay under the bound).
 BTF="$WORK/b/btf"
 D=(--light-directions "$BTF.directions.txt" --view-directions "$BTF.directions.txt")
-expect_exit 0 "C = R - 1 on the same folder" -- "$BIN/btf-pca" "$BTF" -o "$WORK/c2" -k 1 -c $((R - 1)) "${D[@]}" --report "$WORK/c2.json" -q
+expect_exit 0 "C = R - 1 on the same folder" -- "$BIN/btf-pca" compress "$BTF" -o "$WORK/c2" -k 1 -c $((R - 1)) "${D[@]}" --report "$WORK/c2.json" -q
 expect_true "C = R - 1: unquantised RMSE > 2 x the quantisation RMS" -- jq -e --slurpfile g "$G" \
     '.metrics.error.rmse_linear_unquantised > 2 * $g[0].check.rmse_linear' "$WORK/c2.json"
 

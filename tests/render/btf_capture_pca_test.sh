@@ -19,7 +19,7 @@ FABRICS="${INLIGHT_SOURCE_DIR:?}/configs/fabrics"
 expect_exit 0 "capture wool-twill, 81 x 81 at 8x8, 2 spp" -- "$BIN/render" capture-btf "$FABRICS/wool-twill.toml" \
     -o "$WORK/cap" --width-px 8 --height-px 8 --spp 2 -q
 for k in 1 81; do
-    expect_exit 0 "btf-pca k=$k C=64 with Table 7.1 rows" -- "$BIN/btf-pca" "$WORK/cap" -o "$WORK/k$k" -k "$k" \
+    expect_exit 0 "btf-pca k=$k C=64 with Table 7.1 rows" -- "$BIN/btf-pca" compress "$WORK/cap" -o "$WORK/k$k" -k "$k" \
         -c 64 --table-components 1,2,4,8,16,64 -q --report "$WORK/k$k.json"
     # Rows fall with C: each of C = 2, 4, 8, 16 removes error in every measure.
     expect_true "k=$k: RMSE, MAE Lab and dE2000 fall from C=1 to 16" -- jq -e '[.metrics.table[] | select(.components <= 16)] as $t

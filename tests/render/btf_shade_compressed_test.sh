@@ -9,7 +9,7 @@ R="$BIN/render"
 FABRIC="${INLIGHT_SOURCE_DIR:?}/configs/fabrics/denim-plain.toml"
 "$R" capture-btf "$FABRIC" -o "$WORK/dome" --width-px 4 --height-px 4 --spp 1 --btf-format exr -q ||
     fail "capture"
-"$BIN/btf-pca" "$WORK/dome" -o "$WORK/pca" -k 81 -c 4 --format exr-float -q || fail "btf-pca"
+"$BIN/btf-pca" compress "$WORK/dome" -o "$WORK/pca" -k 81 -c 4 --format exr-float -q || fail "btf-pca"
 "$TBIN/inlight_make_test_image" "$WORK/sky.exr" 32 16 1.0
 printf '37 21\n45 40\n' >"$WORK/views.txt"
 

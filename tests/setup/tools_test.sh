@@ -29,6 +29,8 @@ expect_exit 0 "calibrate geometry --version" -- "$BIN/calibrate" geometry --vers
 expect_true "a mode's --version names the tool" -- grep -q '^calibrate [0-9]' "$WORK/stdout"
 expect_exit 0 "render trace --version" -- "$BIN/render" trace --version
 expect_true "render's modes too" -- grep -q '^render [0-9]' "$WORK/stdout"
+expect_exit 0 "btf-pca compress --version" -- "$BIN/btf-pca" compress --version
+expect_true "btf-pca's modes too" -- grep -q '^btf-pca [0-9]' "$WORK/stdout"
 
 # The report carries the commit --version prints.
 expect_exit 0 "render --help" -- "$BIN/render" --help
@@ -47,4 +49,6 @@ expect_exit 2 "bundle pack --kindd: usage error" -- "$BIN/bundle" pack --kindd f
 expect_stderr "--kindd: unknown option (did you mean --kind?)" "a mode's options are the ones suggested"
 expect_exit 2 "calibrate geometry --boards: usage error" -- "$BIN/calibrate" geometry --boards 9x6 nothere
 expect_stderr "did you mean --board?" "calibrate's mode too"
+expect_exit 2 "btf-pca interpolate --schem: usage error" -- "$BIN/btf-pca" interpolate --schem delaunay nothere --pairs nothere -o x
+expect_stderr "--schem: unknown option (did you mean --scheme?)" "btf-pca's mode too"
 finish
