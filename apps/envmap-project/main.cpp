@@ -210,7 +210,7 @@ nlohmann::json process(const Args& a, const envmap::BudgetSetup* budget, const s
             Eigen::VectorXd col = result.coeffs.col(c);
             os << "  M_" << "rgb"[c] << " =\n" << sh::irradiance_matrix(col.data()) << "\n";
         }
-        log::info(os.str());
+        log::verbose(os.str());  // detail for -v: the default prints the one summary line
     }
     return m;
 }
