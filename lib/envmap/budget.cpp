@@ -314,16 +314,28 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
         validation_normals(options.validate_normals, env.full_sphere() ? 4.0 : kPi / 3);
     plan.normals = static_cast<int>(normals.size());
     auto t0 = std::chrono::steady_clock::now();
-    const Eigen::MatrixXd e_ref = brute_force_irradiance(env, normals);
-    std::vector<Eigen::Vector3d> facing;
-    Eigen::MatrixXd l_ref;
+    // A set of normals to score a model on: the brute-force irradiance there and, with a
+    // RadianceCheck, the normals facing its view with their brute-force outgoing radiance.
+    struct ScoringSet {
+        std::vector<Eigen::Vector3d> normals, facing;
+        Eigen::MatrixXd e_ref, l_ref;
+    };
+    const auto scoring_set = [&](std::vector<Eigen::Vector3d> at) {
+        ScoringSet set;
+        set.e_ref = brute_force_irradiance(env, at);
+        if (options.radiance) {
+            for (const auto& n : at)
+                if (n.dot(options.radiance->table.view) > 0) set.facing.push_back(n);
+            set.l_ref = brute_force_radiance(env, *options.radiance, set.facing);
+        }
+        set.normals = std::move(at);
+        return set;
+    };
+    const ScoringSet scored = scoring_set(normals);
     CostModel cost_model;
     cost_model.light_shading = options.light_shading;
     if (options.radiance) {
-        for (const auto& n : normals)
-            if (n.dot(options.radiance->table.view) > 0) facing.push_back(n);
-        plan.radiance_normals = static_cast<int>(facing.size());
-        l_ref = brute_force_radiance(env, *options.radiance, facing);
+        plan.radiance_normals = static_cast<int>(scored.facing.size());
         if (options.radiance->material.specular != brdf::Model::kLambert) {
             cost_model.table_bands = options.radiance->table.sh_bands;
             cost_model.table_channels = options.radiance->table.channels;
@@ -439,6 +451,31 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
 
     std::unique_ptr<ObservedIrradiance> observed;
     if (!env.full_sphere()) observed = std::make_unique<ObservedIrradiance>(env);
+    // A model's error on a ScoringSet: its irradiance error and, with a RadianceCheck, its
+    // outgoing radiance error, `error` the worse by the metric. The candidates and the holdout
+    // are scored by this one rule, so the holdout checks exactly what was scored.
+    struct Score {
+        IrradianceError irradiance, radiance;
+        bool has_radiance = false;
+        double error = 0;
+    };
+    const auto score = [&](const ScoringSet& set, const Eigen::MatrixXd& coeffs, int b,
+                           const std::vector<DirectionalLight>& used) {
+        Score sc;
+        const Eigen::MatrixXd e_lights =
+            lights_irradiance(used, static_cast<int>(used.size()), set.normals);
+        const Eigen::MatrixXd e_sh = observed ? (*observed)(coeffs, b, set.normals)
+                                              : sh_irradiance(coeffs, b, set.normals);
+        sc.irradiance = irradiance_error(e_sh + e_lights, set.e_ref);
+        sc.error = metric_value(sc.irradiance, options.metric);
+        if (options.radiance && !set.facing.empty()) {
+            sc.has_radiance = true;
+            sc.radiance = irradiance_error(
+                model_radiance(coeffs, b, used, *options.radiance, set.facing), set.l_ref);
+            sc.error = std::max(sc.error, metric_value(sc.radiance, options.metric));
+        }
+        return sc;
+    };
     for (int k = 0; k <= max_k; ++k) {
         const std::vector<DirectionalLight> found(lights.begin(), lights.begin() + k);
         for (int b = 1; b <= options.max_bands; ++b) {
@@ -468,19 +505,11 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
                 r.coeffs_unwindowed = r.coeffs;
                 c.sh_fitted = true;
             }
-            const std::vector<DirectionalLight>& used = c.light_set;
-            const Eigen::MatrixXd e_lights =
-                lights_irradiance(used, static_cast<int>(used.size()), normals);
-            const Eigen::MatrixXd e_sh =
-                observed ? (*observed)(r.coeffs, b, normals) : sh_irradiance(r.coeffs, b, normals);
-            c.irradiance = irradiance_error(e_sh + e_lights, e_ref);
-            c.error = metric_value(c.irradiance, options.metric);
-            if (options.radiance && !facing.empty()) {
-                c.has_radiance = true;
-                c.radiance = irradiance_error(
-                    model_radiance(r.coeffs, b, used, *options.radiance, facing), l_ref);
-                c.error = std::max(c.error, metric_value(c.radiance, options.metric));
-            }
+            const Score sc = score(scored, r.coeffs, b, c.light_set);
+            c.irradiance = sc.irradiance;
+            c.radiance = sc.radiance;
+            c.has_radiance = sc.has_radiance;
+            c.error = sc.error;
             c.cost = shader_cost(b, k, cost_model);
             c.meets = c.error <= options.max_error * (1 - options.scoring_margin);
             plan.candidates.push_back(c);
@@ -510,30 +539,12 @@ BudgetPlan plan_budget(const Environment& env, const BudgetOptions& options,
         proj[static_cast<size_t>(best.lights)][static_cast<size_t>(best.sh_bands - 1)];
     if (options.holdout_normals > 0) {
         // The choice scored again, off every normal it was scored or fitted on.
-        const auto held =
-            holdout_normals(options.holdout_normals, env.full_sphere() ? 4.0 : kPi / 3);
-        plan.holdout_count = static_cast<int>(held.size());
-        const Eigen::MatrixXd& coeffs = plan.projection.coeffs;
-        const Eigen::MatrixXd e_model =
-            lights_irradiance(best.light_set, plan.lights, held) +
-            (observed ? (*observed)(coeffs, plan.sh_bands, held)
-                      : sh_irradiance(coeffs, plan.sh_bands, held));
-        plan.holdout_irradiance = irradiance_error(e_model, brute_force_irradiance(env, held));
-        plan.holdout_error = metric_value(plan.holdout_irradiance, options.metric);
-        if (options.radiance) {
-            std::vector<Eigen::Vector3d> held_facing;
-            for (const auto& n : held)
-                if (n.dot(options.radiance->table.view) > 0) held_facing.push_back(n);
-            if (!held_facing.empty())
-                plan.holdout_error = std::max(
-                    plan.holdout_error,
-                    metric_value(irradiance_error(model_radiance(coeffs, plan.sh_bands,
-                                                                 best.light_set,
-                                                                 *options.radiance, held_facing),
-                                                  brute_force_radiance(env, *options.radiance,
-                                                                       held_facing)),
-                                 options.metric));
-        }
+        const ScoringSet held = scoring_set(
+            holdout_normals(options.holdout_normals, env.full_sphere() ? 4.0 : kPi / 3));
+        plan.holdout_count = static_cast<int>(held.normals.size());
+        const Score sc = score(held, plan.projection.coeffs, plan.sh_bands, best.light_set);
+        plan.holdout_irradiance = sc.irradiance;
+        plan.holdout_error = sc.error;
     }
     for (int j = 0; j < plan.lights; ++j) {
         const DirectionalLight& l = plan.chosen_lights[static_cast<size_t>(j)];
