@@ -25,6 +25,7 @@ expect_true "the failed pair has no summary (its job failed: redone on the next 
 expect_true "its render report says why" -- jq -e '.status == "quality_gate_failed" and .metrics.realtime.gate.verdict == "FAILURE"' "$P/render.json"
 expect_true "no validation report after a failed gate" -- test ! -e "$OUT/validate/index.html"
 max_rel=$(jq '[.metrics.realtime.gate.items[].mean_rel] | max' "$P/render.json")
+# shellcheck disable=SC2016  # $v and $f are jq variables
 expect_true "the model's error is not zero ($max_rel), so a zero tolerance must fail it" -- \
     jq -en --argjson v "$max_rel" '$v > 0'
 
@@ -35,6 +36,7 @@ printf '[quality.fabrics.f1]\nfail-mean-rel = %s\n' "$fail_f1" >> "$CAT/catalog.
 # would double the test's time and are not what is tested here.
 expect_exit 0 "rerun with f1's override above its error: the pair's job succeeds" -- \
     "$PIPE/bake-catalog.sh" -j 2 "$CAT" "$OUT" validate/pairs/f1/night/summary.json
+# shellcheck disable=SC2016
 expect_true "the pair is validated again and passes with f1's threshold" -- jq -e --argjson f "$fail_f1" \
     '.gate.verdict == "PASS" and .gate.thresholds.fail_mean_rel == $f' "$P/summary.json"
 expect_true "no failure marker left" -- test ! -e "$P/gate_failed.json"

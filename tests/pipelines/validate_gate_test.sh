@@ -27,17 +27,19 @@ x() { jq -n --argjson v "$max_de" "\$v * $1"; }
 xr() { jq -n --argjson v "$max_rel" "\$v * $1"; }
 export VALIDATE_GATE_MODES=consistent
 
-expect_exit 3 "FAILURE: fail-de2000 at half the error" -- pair f VALIDATE_FAIL_DE2000="$(x 0.5)"
+expect_exit 3 "FAILURE: fail-de2000 at half the error" -- pair val/pairs/tiny/night VALIDATE_FAIL_DE2000="$(x 0.5)"
 expect_stderr "validate-pair: tiny under night: quality gate failed: FAILURE (mean Delta E 2000" "names the pair and the deciding figure"
-expect_true "the summary is written, with the verdict" -- jq -e '.gate.verdict == "FAILURE" and (.gate_error | test("FAILURE"))' "$WORK/f/summary.json"
+expect_true "the summary is written, with the verdict" -- jq -e '.gate.verdict == "FAILURE" and (.gate_error | test("FAILURE"))' "$WORK/val/pairs/tiny/night/summary.json"
 expect_true "gate_failed.json names the pair and its failing images" -- jq -e \
-    '.fabric == "tiny" and .environment == "night" and ([.gate.items[] | select(.verdict == "FAILURE")] | length) > 0' "$WORK/f/gate_failed.json"
+    '.fabric == "tiny" and .environment == "night" and ([.gate.items[] | select(.verdict == "FAILURE")] | length) > 0' "$WORK/val/pairs/tiny/night/gate_failed.json"
 
 expect_exit 0 "WARNING: warn at half, fail at twice the error" -- \
-    pair f VALIDATE_WARN_DE2000="$(x 0.5)" VALIDATE_FAIL_DE2000="$(x 2)"
+    pair val/pairs/tiny/night VALIDATE_WARN_DE2000="$(x 0.5)" VALIDATE_FAIL_DE2000="$(x 2)"
 expect_stderr "validate-pair: tiny under night: quality gate WARNING (mean Delta E 2000" "says the pair warns"
-expect_true "WARNING in the summary" -- jq -e '.gate.verdict == "WARNING" and .gate_error == null' "$WORK/f/summary.json"
-expect_true "the earlier run's failure marker is gone" -- test ! -e "$WORK/f/gate_failed.json"
+expect_true "WARNING in the summary" -- jq -e '.gate.verdict == "WARNING" and .gate_error == null' "$WORK/val/pairs/tiny/night/summary.json"
+expect_true "the earlier run's failure marker is gone" -- test ! -e "$WORK/val/pairs/tiny/night/gate_failed.json"
+expect_exit 0 "validate-report" -- "$PIPE/validate-report.sh" "$WORK/val"
+expect_true "the report's verdict shows the gate's" -- grep -q '| tiny | night | [a-z]*[^|]*; gate WARNING |' "$WORK/val/summary.md"
 
 expect_exit 0 "PASS: both metrics' thresholds above the error" -- pair p VALIDATE_WARN_DE2000="$(x 2)" \
     VALIDATE_FAIL_DE2000="$(x 4)" VALIDATE_WARN_MEAN_REL="$(xr 2)" VALIDATE_FAIL_MEAN_REL="$(xr 4)"

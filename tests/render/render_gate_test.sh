@@ -29,10 +29,11 @@ expect_exit 0 "PASS: thresholds above every consistent image's error" -- "$R" co
 expect_true "PASS recorded, every consistent image graded (CPU + 2 GLES versions)" -- jq -e '.metrics.realtime.gate
     | .verdict == "PASS" and ([.items[].verdict] | unique) == ["PASS"] and (.items | length) == 3
     and ([.items[].name] | index("cpu consistent b3")) != null' "$WORK/p.json"
+# shellcheck disable=SC2016  # $rt, $a and $b are jq variables
 expect_true "the graded figures are the report's metrics" -- jq -e '.metrics.realtime as $rt
     | $rt.gate.items[0].mean_de2000 == $rt.modes.consistent.mean_de2000
       and ($rt.gate.items[1:] | map(.mean_rel)) == ($rt.gles.variants | map(select(.mode == "consistent") | .mean_rel))' "$WORK/p.json"
-grep -q "^render: quality gate: PASS (" "$WORK/stderr" && pass "PASS line printed" || fail "no PASS line: $(tail -3 "$WORK/stderr")"
+expect_stderr "^render: quality gate: PASS (" "PASS line printed"
 expect_true "one line per graded image" -- test "$(grep -c '^render: quality gate: [cg]' "$WORK/stderr")" -eq 3
 
 # WARNING: the measured error lies between warn (half of it) and fail (twice it): exit 0.
@@ -41,8 +42,7 @@ expect_exit 0 "WARNING: warn below the error, fail above it" -- "$R" compare "$S
     --report "$WORK/w.json"
 expect_true "WARNING recorded, decided by mean dE2000" -- jq -e '.metrics.realtime.gate
     | .verdict == "WARNING" and (.decided_by | test("^mean Delta E 2000 .* > warn "))' "$WORK/w.json"
-grep -q "^render: quality gate: WARNING (mean Delta E 2000" "$WORK/stderr" && pass "WARNING line printed" \
-    || fail "no WARNING line: $(tail -3 "$WORK/stderr")"
+expect_stderr "^render: quality gate: WARNING (mean Delta E 2000" "WARNING line printed"
 
 # FAILURE: fail below the measured error: exit 3, outputs and report written, message even with -q.
 expect_exit 3 "FAILURE: fail below the error exits 3" -- "$R" compare "$SCENE" -o "$WORK/f.exr" "${FAST[@]}" \
@@ -51,11 +51,11 @@ expect_true "FAILURE recorded; status quality_gate_failed" -- jq -e '.status == 
     and .exit_code == 3 and .metrics.realtime.gate.verdict == "FAILURE"
     and (.metrics.realtime.gate.decided_by | test("^mean relative error .* > fail "))' "$WORK/f.json"
 expect_true "FAILURE: the outputs are still written" -- test -s "$WORK/f.exr" -a -s "$WORK/f_compare_consistent.png"
-grep -q "quality gate failed: FAILURE (mean relative error" "$WORK/stderr" && pass "FAILURE named on stderr under -q" \
-    || fail "no FAILURE message: $(cat "$WORK/stderr")"
+expect_stderr "quality gate failed: FAILURE (mean relative error" "FAILURE named on stderr under -q"
 
 # The seed mode is graded by default: thresholds the consistent images pass, the seed's fail.
 mid=$(jq -n --argjson a "$max_de" --argjson b "$seed_de" '($a + $b) / 2')
+# shellcheck disable=SC2016
 expect_true "the seed mode's error is above the consistent mode's (the next case needs it)" -- \
     jq -en --argjson a "$max_de" --argjson b "$seed_de" '$b > 1.5 * $a'
 expect_exit 3 "default --gate-modes grades the seed mode too" -- "$R" compare "$SCENE" -o "$WORK/s.exr" "${FAST[@]}" \
