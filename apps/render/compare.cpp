@@ -88,9 +88,12 @@ bool run_gate(const render::GateThresholds& t, const std::vector<std::string>& m
                          render::to_string(item.verdict)));
     }
     const std::string verdict = str(render::to_string(g.overall), " (", g.decided_by, ")");
-    log::summary("render", "quality gate", verdict);
+    const bool failed = g.overall == render::Verdict::kFailure;
+    // A FAILURE's line is app::run's error line ("render: quality gate failed: FAILURE (...)"),
+    // printed even under -q.
+    if (!failed) log::summary("render", "quality gate", verdict);
     failure = verdict;
-    return g.overall == render::Verdict::kFailure;
+    return failed;
 }
 
 /// The user's BRDF tables, read and checked against the scene before the render: one per
