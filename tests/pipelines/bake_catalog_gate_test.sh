@@ -56,4 +56,13 @@ expect_stderr "\[quality\] fail-de2000 = nan: expected a finite number >= 0" "na
 sed -i '/= nan/d' "$WORK/bad/catalog.toml"
 expect_exit 2 "[quality.fabrics.<id>] of no fabric" -- "$PIPE/bake-catalog.sh" "$WORK/bad" "$WORK/badout"
 expect_stderr "\[quality.fabrics.nosuch\]: no fabric 'nosuch'" "names the table"
+cp "$WORK/catalog.base.toml" "$WORK/bad/catalog.toml"
+printf '[quality]\nfail-dE2000 = 1.0\n' >> "$WORK/bad/catalog.toml"
+expect_exit 2 "an unknown key in [quality]" -- "$PIPE/bake-catalog.sh" "$WORK/bad" "$WORK/badout"
+expect_stderr "\[quality\] fail-dE2000: unknown key" "names the key"
+cp "$WORK/catalog.base.toml" "$WORK/bad/catalog.toml"
+printf '[quality]\ngate-modes = ["fancy"]\n' >> "$WORK/bad/catalog.toml"
+expect_exit 2 "an unknown gate mode" -- "$PIPE/bake-catalog.sh" "$WORK/bad" "$WORK/badout"
+expect_stderr "gate-modes = \['fancy'\]: expected a non-empty list" "names the key and the modes"
+expect_true "no job ran after any of them" -- test ! -e "$WORK/badout/logs"
 finish
