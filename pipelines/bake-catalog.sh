@@ -10,6 +10,10 @@
 # follow the folder (a fabric removed or renamed leaves them); after a kill, the jobs that were
 # running are redone and nothing else, once no process of theirs is left (it refuses to start
 # while one lives: docs/pipelines.md). Binaries from ${INLIGHT_BIN:-ROOT/build/bin} (ROOT: the repository).
+# Quality gate: the [quality] table of CATALOG/catalog.toml (pipelines/catalog_quality.py,
+# docs/pipelines.md "Quality gate"); a bad one is a usage error (exit 2) before any job. A pair
+# that fails it fails its validation job, so Snakemake starts no new job; the script then names
+# each failed fabric and environment with its figures and exits 3 (other failures exit 1).
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -28,6 +32,7 @@ CATALOG=$(abs_dir "$1")
 OUT=$(out_dir "$2")
 shift 2
 BIN=$(tool_bin)
+python3 "$HERE/catalog_quality.py" "$CATALOG"  # exit 2 with the message on a bad [quality]
 for t in bundle brdf-sh-bake btf-pca calibrate render; do
     if [ ! -x "$BIN/$t" ]; then
         echo "bake-catalog: $BIN/$t not found: build first (make)" >&2
@@ -71,4 +76,21 @@ if [ "$SLURM" -eq 1 ]; then
 else
     args+=(--cores "$JOBS")
 fi
-snakemake "${args[@]}" "$@"
+# A gate failure of an earlier run is redone (its summary.json was removed with the failed job):
+# only the markers this run writes count.
+rm -f "$OUT"/validate/pairs/*/*/gate_failed.json
+rc=0
+snakemake "${args[@]}" "$@" || rc=$?
+if [ "$rc" -ne 0 ]; then
+    failed=("$OUT"/validate/pairs/*/*/gate_failed.json)
+    if [ -e "${failed[0]}" ]; then
+        for f in "${failed[@]}"; do
+            jq -r '"bake-catalog: quality gate failed: fabric \(.fabric) under \(.environment): \(.error)",
+                   (.gate.items // [] | .[] | select(.verdict == "FAILURE")
+                    | "  \(.name): mean relative error \(.mean_rel), mean Delta E 2000 \(.mean_de2000)")' "$f" >&2
+        done
+        echo "bake-catalog: stopped on a failed quality gate (figures in validate/pairs/<fabric>/<environment>/gate_failed.json); a rerun validates the failed pairs again" >&2
+        exit 3
+    fi
+    exit "$rc"
+fi

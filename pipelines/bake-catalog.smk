@@ -26,6 +26,8 @@ import tomllib
 from snakemake.exceptions import WorkflowError
 
 ROOT = os.path.abspath(os.path.join(workflow.basedir, ".."))
+sys.path.insert(0, os.path.join(ROOT, "pipelines"))
+import catalog_quality  # noqa: E402  (beside this file)
 CAT = os.path.abspath(config["catalog"])
 BIN = os.path.abspath(config.get("bin", os.path.join(ROOT, "build", "bin")))
 OUT = os.getcwd()  # --directory OUT
@@ -139,7 +141,16 @@ for did in folders("devices"):
 for env, path in ENVS.items():
     content_key("env-" + env, [path])
 content_key("validate", [VALIDATE_CONFIG, tool("render"), tool("bundle"), tool("envmap-project")]
-            + script("validate-pair.sh"))
+            + script("validate-pair.sh") + [os.path.join(PIPE, "catalog_quality.py")])
+# The quality gate of each fabric's pairs ([quality] of catalog.toml, docs/pipelines.md): a key
+# per fabric, so changing a threshold validates that fabric's pairs again.
+try:
+    QUALITY = {fid: catalog_quality.environment(q)
+               for fid, q in catalog_quality.load(CAT, FABRICS).items()}
+except catalog_quality.QualityError as e:
+    raise WorkflowError(f"bake-catalog: {e}")
+for fid in FABRICS:
+    write_key("quality-" + fid, "".join(f"{k}={v}\n" for k, v in sorted(QUALITY[fid].items())))
 content_key("report", script("validate-report.sh"))
 content_key("index", [tool("bundle")])
 # The listing itself: a fabric, device or environment added, removed or renamed changes this key,
@@ -175,7 +186,7 @@ def prune_removed():
         return name[1:].split(".tmp-")[0] if name.startswith(".") else name
 
     for kind, keep in (("fabric", set(FABRICS)), ("device", set(ALL_DEVICES))):
-        steps = [kind, "capture"] if kind == "fabric" else [kind]
+        steps = [kind, "capture", "quality"] if kind == "fabric" else [kind]
         root = os.path.join(OUT, "bundles", kind + "s")
         gone = {bundle_id(n) for n in listdir(root)} - keep
         for n in listdir(os.path.join(OUT, "stamps")):
@@ -261,14 +272,19 @@ rule pair:
         capture=lambda w: [f"stamps/capture-{w.fid}.json"] if w.fid in CAPTURED else [],
         env="keys/env-{env}.key",
         validate="keys/validate.key",
+        quality="keys/quality-{fid}.key",
     output: "validate/pairs/{fid}/{env}/summary.json"
     log: "logs/pair-{fid}-{env}.log"
     params:
         envpath=lambda w: ENVS[w.env],
         decompose=lambda w: 1 if w.env == DECOMPOSE_ENV else 0,
         btf=lambda w: (f"{OUT}/captures/{w.fid}/btf {CAT}/fabrics/{w.fid}/weave.toml" if w.fid in CAPTURED else ""),
+        gate=lambda w: " ".join(f"{k}={shlex.quote(v)}" for k, v in sorted(QUALITY[w.fid].items())),
+    # A failed quality gate exits 3 after writing the pair's gate_failed.json (not an output:
+    # Snakemake removes the failed job's summary.json, so the pair is validated again next run);
+    # bake-catalog.sh names the pairs that failed it.
     shell:
-        "INLIGHT_BIN={BIN:q} VALIDATE_RENDER_CONFIG={VALIDATE_CONFIG:q} VALIDATE_DECOMPOSE={params.decompose} {PIPE}/validate-pair.sh"
+        "{params.gate} INLIGHT_BIN={BIN:q} VALIDATE_RENDER_CONFIG={VALIDATE_CONFIG:q} VALIDATE_DECOMPOSE={params.decompose} {PIPE}/validate-pair.sh"
         " bundles/fabrics/{wildcards.fid} {params.envpath:q} validate/pairs/{wildcards.fid}/{wildcards.env} {params.btf} > {log} 2>&1"
 
 rule convergence:

@@ -23,6 +23,11 @@
 # VALIDATE_BTF_VIEWS (a view directions file, "theta phi" in degrees a line; default the pair's
 # own view, along the normal, then an oblique one, theta 45 phi 40, to show the BTF's view
 # dependence: about 0.5 s of CPU more per pair, docs/pipelines.md).
+# Quality gate (docs/pipelines.md "Quality gate"): VALIDATE_WARN_MEAN_REL, VALIDATE_FAIL_MEAN_REL,
+# VALIDATE_WARN_DE2000 and VALIDATE_FAIL_DE2000 (unset or empty = none) are render compare's
+# --warn-mean-rel ... --fail-de2000 on every image the app can show (VALIDATE_GATE_MODES: its
+# --gate-modes); the verdict goes into summary.json, and on FAILURE, after the summary is
+# written, OUTDIR/gate_failed.json names the pair and its figures and the script exits 3.
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
@@ -34,6 +39,30 @@ BIN=$(tool_bin)
 CONFIG=${VALIDATE_RENDER_CONFIG:-$ROOT/configs/pipelines/validate.toml}
 PATCH_WIDTH_M=0.1
 M="$BUNDLE/manifest.json"
+
+# The gate's thresholds, checked before any work: numbers >= 0, warn <= fail.
+gate=()
+for metric in MEAN_REL:mean-rel DE2000:de2000; do
+    warn_var=VALIDATE_WARN_${metric%%:*} fail_var=VALIDATE_FAIL_${metric%%:*}
+    for var in "$warn_var" "$fail_var"; do
+        v=${!var:-}
+        [ -n "$v" ] || continue
+        if ! [[ $v =~ ^([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$ ]]; then
+            echo "validate-pair: $var '$v': expected a number >= 0" >&2
+            exit 2
+        fi
+        kind=${var#VALIDATE_}
+        kind=${kind%%_*}
+        gate+=("--${kind,,}-${metric#*:}" "$v")
+    done
+    if [ -n "${!warn_var:-}" ] && [ -n "${!fail_var:-}" ] &&
+        awk -v w="${!warn_var}" -v f="${!fail_var}" 'BEGIN { exit !(w + 0 > f + 0) }'; then
+        echo "validate-pair: $warn_var ${!warn_var} exceeds $fail_var ${!fail_var}: the warning threshold must not be above the failure threshold" >&2
+        exit 2
+    fi
+done
+[ -n "${VALIDATE_GATE_MODES:-}" ] && gate+=(--gate-modes "$VALIDATE_GATE_MODES")
+rm -f "$OUTDIR/gate_failed.json"  # a failure of an earlier run is not this run's
 
 # The bundle is checked before anything is rendered from it.
 "$BIN/bundle" verify "$BUNDLE" -q --report "$OUTDIR/verify.json"
@@ -66,10 +95,17 @@ uv=$(jq --argjson w "$PATCH_WIDTH_M" '$w / .properties.tile_size_m' "$M")
 
 decompose=()
 [ "${VALIDATE_DECOMPOSE:-0}" = 1 ] && decompose=(--decompose)
+# Exit 3 is a failed quality gate (this gate, or the config's --max-rel-error on the truth's
+# noise): the outputs and report are written, so the pair is still summarised, then fails.
+compare_rc=0
 "$BIN/render" compare "$OUTDIR/scene.toml" -o "$OUTDIR/render.exr" --config "$CONFIG" \
-    "${decompose[@]}" --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
+    "${decompose[@]}" "${gate[@]}" --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
     --rt-bake-samples "$(jq '.properties.brdf_samples_per_normal' "$M")" \
-    -q --report "$OUTDIR/render.json"
+    -q --report "$OUTDIR/render.json" || compare_rc=$?
+if [ "$compare_rc" -ne 0 ] && [ "$compare_rc" -ne 3 ]; then
+    echo "validate-pair: render compare failed (exit $compare_rc; $OUTDIR/render.json)" >&2
+    exit "$compare_rc"
+fi
 
 # The band budget of this environment for this fabric's table: exit 3 means no candidate meets
 # it (the report then holds the least error), which is a finding, not a failure.
@@ -135,6 +171,7 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
      truth: {spp: $m.spp, rel_noise: $m.rel_error, render_time_s: $m.render_time_s,
              stop_reason: $m.stop_reason},
      consistent: $rt.modes.consistent, seed: $rt.modes.seed,
+     gate: ($rt.gate // null), gate_error: (if $r[0].status == "quality_gate_failed" then $r[0].error else null end),
      by_sh_bands: [$rt.consistent_by_sh_bands[] | {sh_bands, mean_rel, mean_de2000, max_de2000,
                                                     frame_time_ms}],
      gles: (if $rt.gles then
@@ -174,3 +211,13 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
               compare3_consistent: "render_compare3_es300-consistent-b3-highp.png",
               compare3_seed: "render_compare3_es300-seed-b3-highp.png"}}' > "$OUTDIR/summary.json.tmp"
 mv "$OUTDIR/summary.json.tmp" "$OUTDIR/summary.json"
+
+verdict=$(jq -r '.gate.verdict // empty' "$OUTDIR/summary.json")
+[ "$verdict" = WARNING ] &&
+    echo "validate-pair: $id under $env_name: quality gate WARNING ($(jq -r '.gate.decided_by' "$OUTDIR/summary.json"))" >&2
+if [ "$compare_rc" -eq 3 ]; then
+    jq '{fabric, environment, error: .gate_error, gate}' "$OUTDIR/summary.json" > "$OUTDIR/gate_failed.json.tmp"
+    mv "$OUTDIR/gate_failed.json.tmp" "$OUTDIR/gate_failed.json"
+    echo "validate-pair: $id under $env_name: quality gate failed: $(jq -r '.gate_error' "$OUTDIR/summary.json")" >&2
+    exit 3
+fi

@@ -5,7 +5,9 @@
 #   pipelines/validate.sh OUT BUNDLE_ROOT ENVIRONMENT...     (binaries from ${INLIGHT_BIN})
 # A fabric whose BTF bake-fabric.sh captured (BUNDLE_ROOT/../work/fabrics/<id>/capture/btf) is
 # also shaded as a BTF against its woven geometry (validate-pair.sh's RAW_BTF).
-# bake-catalog runs the same two scripts as Snakemake rules, in parallel.
+# bake-catalog runs the same two scripts as Snakemake rules, in parallel. With quality-gate
+# thresholds (validate-pair.sh's VALIDATE_WARN_* / VALIDATE_FAIL_*), the first pair that fails
+# the gate stops the run with exit 3, its summary and gate_failed.json written.
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"

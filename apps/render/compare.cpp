@@ -3,13 +3,16 @@
 // "Real-time model").
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "core/fs.h"
 #include "core/log.h"
+#include "core/validators.h"
 #include "brdf/table.h"
 #include "gles/scene.h"
 #include "render/compare_lights.h"
 #include "render/decompose.h"
+#include "render/gate.h"
 #include "modes.h"
 
 namespace inlight::render_cli {
@@ -22,7 +25,76 @@ struct CompareArgs {
     std::vector<std::string> brdf_tables;
     bool decompose = false;
     int decompose_map_height = 128;
+    double warn_mean_rel = 0, fail_mean_rel = 0, warn_de2000 = 0, fail_de2000 = 0;
+    std::vector<CLI::Option*> gate_options;  ///< the four thresholds, in that order
+    std::vector<std::string> gate_modes{"consistent", "seed"};
 };
+
+/// The gate's thresholds as given (unset options stay unset).
+render::GateThresholds gate_thresholds(const CompareArgs& a) {
+    render::GateThresholds t;
+    const double* values[] = {&a.warn_mean_rel, &a.fail_mean_rel, &a.warn_de2000, &a.fail_de2000};
+    std::optional<double>* slots[] = {&t.warn_mean_rel, &t.fail_mean_rel, &t.warn_de2000,
+                                      &t.fail_de2000};
+    for (size_t i = 0; i < 4; ++i)
+        if (a.gate_options[i]->count() > 0) *slots[i] = *values[i];
+    return t;
+}
+
+void add_gate_options(CLI::App& app, CompareArgs& a) {
+    const struct {
+        const char* name;
+        double* value;
+        const char* help;
+    } options[] = {
+        {"--warn-mean-rel", &a.warn_mean_rel,
+         "Quality gate: WARNING when a graded image's mean relative error against the truth "
+         "(|model - truth| / max(truth, 1e-3), averaged over pixels and channels) exceeds this"},
+        {"--fail-mean-rel", &a.fail_mean_rel,
+         "Quality gate: FAILURE (exit 3, outputs still written) when a graded image's mean "
+         "relative error exceeds this"},
+        {"--warn-de2000", &a.warn_de2000,
+         "Quality gate: WARNING when a graded image's mean CIEDE2000 against the truth (after "
+         "--exposure; 1 is about a just-noticeable difference) exceeds this"},
+        {"--fail-de2000", &a.fail_de2000,
+         "Quality gate: FAILURE (exit 3, outputs still written) when a graded image's mean "
+         "CIEDE2000 exceeds this"},
+    };
+    for (const auto& o : options) {
+        a.gate_options.push_back(app.add_option(o.name, *o.value, o.help)
+                                     ->check(app::finite_non_negative())
+                                     ->group("Quality gate (docs/render.md)"));
+    }
+    app.add_option("--gate-modes", a.gate_modes,
+                   "Quality gate: the shading modes graded (consistent, seed; both exported, "
+                   "so both by default)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"consistent", "seed"}))
+        ->group("Quality gate (docs/render.md)")
+        ->capture_default_str();
+}
+
+/// Grades every image the app can show (render::gate_items), prints one line per image and the
+/// verdict, records metrics.realtime.gate; true on FAILURE (the message in `failure`).
+bool run_gate(const render::GateThresholds& t, const std::vector<std::string>& modes,
+              nlohmann::json& realtime, std::string& failure) {
+    const render::GateResult g = render::grade(t, render::gate_items(realtime, modes));
+    realtime["gate"] = render::to_json(t, g);
+    realtime["gate"]["modes"] = modes;
+    for (const auto& item : g.items) {
+        log::summary("render", str("quality gate: ", item.item.name),
+                     str("mean relative error ", log::num(item.item.mean_rel),
+                         ", mean Delta E 2000 ", log::num(item.item.mean_de2000), ": ",
+                         render::to_string(item.verdict)));
+    }
+    const std::string verdict = str(render::to_string(g.overall), " (", g.decided_by, ")");
+    const bool failed = g.overall == render::Verdict::kFailure;
+    // A FAILURE's line is app::run's error line ("render: quality gate failed: FAILURE (...)"),
+    // printed even under -q.
+    if (!failed) log::summary("render", "quality gate", verdict);
+    failure = verdict;
+    return failed;
+}
 
 /// The user's BRDF tables, read and checked against the scene before the render: one per
 /// material with at least 3 bands; the band sweep stops at their bands.
@@ -100,9 +172,12 @@ ModeBody add_compare(CLI::App& app, const app::CommonArgs& common) {
                    "Real-time fragments per pixel side (box filter like the path tracer)")
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
+    add_gate_options(app, *a);
     return [a, max_bands, &common](Report& report) {
         TraceArgs& t = a->trace;
         const render::CompareOptions& cmp = a->cmp;
+        const render::GateThresholds gate = gate_thresholds(*a);
+        render::check_gate_thresholds(gate);
         prepare_trace(t, common.seed, report);
         std::unique_ptr<render::LightingFile> lighting;  // read before any rendering
         if (!a->rt_lighting.empty()) {
@@ -153,7 +228,10 @@ ModeBody add_compare(CLI::App& app, const app::CommonArgs& common) {
                           ", exact unshadowed model vs truth ", d.exact_vs_truth,
                           " (decomposition in ", d.time_s, " s)"));
         }
+        std::string gate_failure;
+        const bool gate_failed = gate.any() && run_gate(gate, a->gate_modes, m["realtime"], gate_failure);
         check_quality_gate(t, r);
+        if (gate_failed) throw app::QualityGateFailed(gate_failure);
     };
 }
 
