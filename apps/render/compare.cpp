@@ -175,7 +175,7 @@ ModeBody add_compare(CLI::App& app, const app::CommonArgs& common) {
     add_gate_options(app, *a);
     return [a, max_bands, &common](Report& report) {
         TraceArgs& t = a->trace;
-        const render::CompareOptions& cmp = a->cmp;
+        const render::CompareOptions& compare = a->cmp;
         const render::GateThresholds gate = gate_thresholds(*a);
         render::check_gate_thresholds(gate);
         prepare_trace(t, common.seed, report);
@@ -195,27 +195,27 @@ ModeBody add_compare(CLI::App& app, const app::CommonArgs& common) {
         {
             ScopedStage stage(report, "compare");
             std::vector<render::WrittenFile> files;
-            m["realtime"] = render::compare_realtime(*scene, r, cmp, prefix, files);
+            m["realtime"] = render::compare_realtime(*scene, r, compare, prefix, files);
             if (lighting)
                 m["realtime"]["lighting_file"] =
-                    render::compare_lighting_file(*scene, r, cmp, *lighting, prefix, files);
+                    render::compare_lighting_file(*scene, r, compare, *lighting, prefix, files);
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
             render::print_compare_summary(m["realtime"]);
             files.clear();
             m["realtime"]["gles"] =
-                gles::compare_scene(*scene, r, cmp, prefix, files, lighting.get());
+                gles::compare_scene(*scene, r, compare, prefix, files, lighting.get());
             for (const auto& f : files) report.add_output(f.path, f.kind, f.color_space);
         }
         if (a->decompose) {
             ScopedStage stage(report, "decompose");
             render::DecomposeOptions dopt;
-            dopt.max_bands = cmp.max_bands;
+            dopt.max_bands = compare.max_bands;
             // A truth of pixel centres (--no-jitter) is compared at pixel centres.
-            dopt.supersample = t.no_jitter ? 1 : cmp.supersample;
+            dopt.supersample = t.no_jitter ? 1 : compare.supersample;
             dopt.map_height = a->decompose_map_height;
-            dopt.bake = render::compare_bake_options(*scene, cmp, cmp.max_bands);
+            dopt.bake = render::compare_bake_options(*scene, compare, compare.max_bands);
             const render::RealtimeLighting pure =
-                render::compare_lighting(*scene, cmp, cmp.max_bands);
+                render::compare_lighting(*scene, compare, compare.max_bands);
             const render::Decomposition d = render::decompose_error(*scene, r, pure, dopt);
             m["realtime"]["decomposition"] = render::to_json(d);
             if (lighting) {  // the SH + lights model of --rt-lighting, at the file's bands
