@@ -4,8 +4,9 @@
 # export-gles writes for patch_city (ES 1.00 and 3.00; SH in uniforms and in both lighting
 # textures; the BRDF table as uniforms, RGBA32F and wrapped RGBA8 textures; with and without a
 # light), draws the manifest's patch with its camera, applies the manifest's 8-bit step and must
-# match the project's harness image of the same draw within one code on every value. A manifest
-# missing a field the binder needs makes it fail, naming the field.
+# match the project's harness image of the same draw within one code on every value; then the same
+# for brdf-sh-bake's export (a fabric bundle's shaders) on a stated quad. A manifest missing a
+# field the binder needs makes it fail, naming the field.
 # shellcheck source=tests/cli/lib.sh
 source "$(dirname "$0")/../cli/lib.sh"
 R="$BIN/render"
@@ -90,4 +91,28 @@ EOF
     expect_exit 1 "the comparison sees a different lighting" -- \
         "$BINDER" "$M" --lighting "$WORK/other.json" -o "$WORK/x.ppm" --reference "$WORK/g-satin-es100-consistent-b3-highp.ref.ppm"
 fi
+
+# A bundle's shaders: brdf-sh-bake --export-gles, as pipelines/bake-fabric.sh places them in a
+# fabric bundle. Their manifests have no scene, so the binder draws the quad it states
+# (--quad: binder.cpp quad_vertices()) and the harness draws the same quad with gles::draw.
+B="$BIN/brdf-sh-bake"
+SATIN="$SRC/configs/materials/satin-ggx.toml"
+jq -n '{format: "inlight.sh_coefficients", version: 1, sh_bands: 2, channels: ["r", "g", "b"],
+        coefficients: [[1.2, 1.0, 0.8], [0.1, 0.05, 0.02], [0.4, 0.35, 0.3], [-0.05, 0.0, 0.05]]}' > "$WORK/sh2b.json"
+expect_exit 0 "brdf-sh-bake --export-gles (a bundle's shaders)" -- "$B" --material "$SATIN" --grid thetaphi:9x32 \
+    --sh-bands 4 --samples 64 -o "$WORK/b/satin" --export-gles "$WORK/b/gles" --gles-max-bands 4 -q
+for manifest in "$WORK"/b/gles/satin-*.json; do
+    v=$(basename "$manifest" .json)
+    if ! "$HARNESS" --table "$WORK/b/satin.bin" "$SATIN" "$WORK/b/gles" "$v" "$WORK/sh2b.json" "$WORK/b/$v.ref.ppm" 24 \
+        > "$WORK/harness.log" 2>&1; then
+        fail "$v: harness image: $(cat "$WORK/harness.log")"
+        continue
+    fi
+    expect_exit 0 "$v (brdf-sh-bake): the binder's 8-bit image within one code of the harness's" -- \
+        "$BINDER" "$manifest" --lighting "$WORK/sh2b.json" --quad 24 -o "$WORK/b/$v.ppm" --reference "$WORK/b/$v.ref.ppm"
+    grep -h "worst" "$WORK/stdout" | sed 's/^/    /'
+done
+expect_exit 1 "without a scene or --quad the binder has nothing to draw" -- \
+    "$BINDER" "$WORK/b/gles/satin-es300-consistent-b3-highp.json" --lighting "$WORK/sh2b.json" -o "$WORK/x.ppm"
+expect_stderr "missing field 'scene'" "the error names the scene"
 finish

@@ -7,7 +7,8 @@
 // compares them with another PPM (the harness's image of the same draw) within one code.
 //
 //   inlight_gles_binder MANIFEST|index.json --lighting FILE -o OUT.ppm [--reference REF.ppm]
-//                       [--load-choice I]
+//                       [--load-choice I] [--quad N]
+// --quad N: for a manifest without "scene" (brdf-sh-bake's), draw quad_vertices() into N x N.
 // Exit 0 = drawn (and within one code of the reference); 1 = a missing or bad manifest field
 // (named), a GL failure, or more than one code off; 2 = usage.
 #include <EGL/egl.h>
@@ -245,7 +246,22 @@ std::vector<float> value_floats(const json& u, const std::string& dir) {
 struct Options {
     std::string manifest, lighting, output, reference;
     int load_choice = 0;
+    int quad_px = 0;  ///< --quad N: no scene in the manifest; draw quad_vertices() N x N
 };
+
+/// The test quad for a manifest without a scene (brdf-sh-bake's exports): the clip square
+/// [-1, 1]^2 at z = 0 (u_clip_from_object = identity), two triangles, a_normal = normalize(0.6 x,
+/// 0.6 y, 1) at its corners, a_tangent = (1, 0, 0), a_uv = ((x + 1) / 2, (1 - y) / 2).
+std::vector<float> quad_vertices() {
+    std::vector<float> out;
+    for (const auto& [x, y] : {std::pair{-1, 1}, {1, 1}, {1, -1}, {-1, 1}, {1, -1}, {-1, -1}}) {
+        const double n = std::sqrt(0.36 * x * x + 0.36 * y * y + 1);
+        const float v[11] = {float(x), float(y), 0, float(0.6 * x / n), float(0.6 * y / n), float(1 / n), 1, 0, 0,
+                             float((x + 1) / 2.0), float((1 - y) / 2.0)};
+        out.insert(out.end(), v, v + 11);
+    }
+    return out;
+}
 
 int components(const std::string& type) {
     if (type == "float") return 1;
@@ -268,7 +284,20 @@ int run(const Options& o) {
         m = read_json(g_manifest);
     }
     const bool es3 = need(m, "variant.glsl_version") == "300 es";
-    const json& scene = need(m, "scene");
+    json quad_scene;  // without a scene: the stated quad, o.quad_px square
+    if (o.quad_px > 0) {
+        std::vector<float> identity(16, 0.0f);
+        for (int i = 0; i < 4; ++i) identity[i * 5] = 1.0f;
+        quad_scene = {{"camera", {{"width_px", o.quad_px}, {"height_px", o.quad_px}}},
+                      {"clip_from_object", identity}};
+        json patch = {{"vertices", json::array()}};
+        const std::vector<float> q = quad_vertices();
+        for (size_t i = 0; i < q.size(); i += 11) {
+            patch["vertices"].push_back(std::vector<float>(q.begin() + i, q.begin() + i + 11));
+        }
+        quad_scene["patches"] = json::array({patch});
+    }
+    const json& scene = o.quad_px > 0 ? quad_scene : need(m, "scene");
     const int width = need(scene, "camera.width_px"), height = need(scene, "camera.height_px");
     Gl gl(es3 ? 3 : 2);
 
@@ -472,6 +501,7 @@ int main(int argc, char** argv) {
         else if (a == "-o") o.output = next();
         else if (a == "--reference") o.reference = next();
         else if (a == "--load-choice") o.load_choice = std::stoi(next());
+        else if (a == "--quad") o.quad_px = std::stoi(next());
         else if (o.manifest.empty() && a[0] != '-') o.manifest = a;
         else {
             std::fprintf(stderr, "binder: unknown argument %s\n", a.c_str());
@@ -480,7 +510,7 @@ int main(int argc, char** argv) {
     }
     if (o.manifest.empty() || o.output.empty()) {
         std::fprintf(stderr, "usage: inlight_gles_binder MANIFEST|index.json [--lighting FILE] -o OUT.ppm "
-                             "[--reference REF.ppm] [--load-choice I]\n");
+                             "[--reference REF.ppm] [--load-choice I] [--quad N]\n");
         return 2;
     }
     try {
