@@ -24,6 +24,7 @@ namespace inlight::gles {
 using detail::fragment_source;
 using detail::lit;
 using detail::make_manifest;
+using detail::texture_file_name;
 using detail::Plan;
 using detail::vertex_source;
 
@@ -233,6 +234,19 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
                         " texture units, GL_MAX_TEXTURE_IMAGE_UNITS is ",
                         limits.max_texture_image_units));
     }
+    const std::pair<const std::vector<uint8_t>*, Eigen::Vector2i> textures[] = {
+        {&mat.albedo_rgba8, mat.albedo_texture_px}, {&mat.normal_rgba8, mat.normal_texture_px}};
+    for (int i = 0; i < 2; ++i) {
+        const auto& [bytes, px] = textures[i];
+        if (bytes->empty()) continue;
+        if (bytes->size() != static_cast<size_t>(px.x()) * px.y() * 4) {
+            throw UsageError(str("GLES export ", e.name, ": the ", i == 0 ? "albedo" : "normal",
+                                 " texture has ", bytes->size(), " bytes, its ", px.x(), "x",
+                                 px.y(), " RGBA8 texels need ", px.x() * px.y() * 4));
+        }
+        e.texture_files.emplace_back(texture_file_name(mat.name, i == 0),
+                                     std::string(bytes->begin(), bytes->end()));
+    }
     e.vertex_source = vertex_source(p, e.name);
     e.fragment_source = fragment_source(p, e.name);
     e.manifest = make_manifest(e, p, limits);
@@ -339,8 +353,8 @@ std::vector<Export> export_material(const brdf::Table* table, const MaterialInpu
                     if (lights > 0) {  // the values the app binds for these lights
                         const LightUniformArrays a = light_uniform_arrays(set.lights);
                         for (auto& u : e.manifest["uniforms"]) {
-                            if (u["name"] == "u_light_direction") u["values"] = a.direction_sin;
-                            if (u["name"] == "u_light_irradiance") u["values"] = a.normal_irradiance;
+                            if (u["name"] == "u_light_direction") u["value"] = a.direction_sin;
+                            if (u["name"] == "u_light_irradiance") u["value"] = a.normal_irradiance;
                         }
                     }
                     out.push_back(std::move(e));
@@ -356,8 +370,20 @@ std::vector<std::string> write_exports(const std::string& dir, const std::vector
     nlohmann::json index = {{"format", "inlight_gles_export_index"}, {"version", 1}};
     index["variants"] = nlohmann::json::array();
     for (const Export& e : exports) {
-        for (const auto& [name, bytes] : export_files(e)) {
-            paths.push_back(dir + "/" + name);
+        const auto files = export_files(e);
+        for (const auto& t : e.manifest["textures"]) {  // every texture's file is written
+            if (!t.contains("file") || t["file"].is_null()) continue;
+            const std::string file = t["file"];
+            if (std::none_of(files.begin(), files.end(), [&](const auto& f) { return f.first == file; })) {
+                throw Error(str("GLES export ", e.name, ": ", t["uniform"].get<std::string>(), "'s file ",
+                                file, " has no bytes (MaterialInputs' RGBA8 texels)"));
+            }
+        }
+        for (const auto& [name, bytes] : files) {
+            const std::string path = dir + "/" + name;
+            // A material's texture files are shared by its variants: written once.
+            if (std::find(paths.begin(), paths.end(), path) != paths.end()) continue;
+            paths.push_back(path);
             fs::write_text_atomic(paths.back(), bytes);
         }
         index["variants"].push_back({{"name", e.name},
@@ -386,6 +412,7 @@ std::vector<std::pair<std::string, std::string>> export_files(const Export& e) {
         std::memcpy(bytes.data(), e.table_texels.data(), bytes.size());
         files.emplace_back(e.name + ".brdf.bin", std::move(bytes));
     }
+    for (const auto& f : e.texture_files) files.push_back(f);
     return files;
 }
 

@@ -95,6 +95,12 @@ struct MaterialInputs {
     /// the u_albedo uniform) is evaluated analytically for the dominant lights (variants with
     /// lights and a table only; the lobe the table was baked from).
     brdf::Material brdf;
+    Eigen::Vector2f uv_scale{1, 1};  ///< tiles per unit of a_uv: u_uv_scale's value
+    /// The textures' RGBA8 bytes exactly as the app binds them (width x height x 4, rows top
+    /// first: the first row is glTexImage2D's first): written beside the manifest as
+    /// <name>.albedo.rgba8 and <name>.normal.rgba8, which the manifest names. Empty = not
+    /// written (write_exports() then refuses a manifest that names them).
+    std::vector<uint8_t> albedo_rgba8, normal_rgba8;
     bool has_albedo_texture() const { return albedo_texture_px.x() > 0; }
     bool has_normal_texture() const { return normal_texture_px.x() > 0; }
 };
@@ -152,6 +158,9 @@ struct Export {
     /// (offset + scale x byte / 255 in float). Give this to the CPU model to compare.
     std::optional<brdf::Table> table_as_bound;
     int fragment_uniform_vectors = 0;  ///< as counted by the GLSL ES packing of its declarations
+    /// The material's texture files (file name -> bytes, MaterialInputs' RGBA8 bytes) the
+    /// manifest names; shared by every variant of the material.
+    std::vector<std::pair<std::string, std::string>> texture_files;
 };
 
 /// Generates a variant. `table` may be null (a Lambert material: no specular term). Throws
@@ -225,9 +234,9 @@ std::vector<std::string> write_exports(const std::string& dir, const std::vector
 /// exported variant runs correctly on that capability.
 nlohmann::json load_choices(const std::vector<Export>& exports);
 
-/// The files of an export, name -> bytes: <name>.vert, <name>.frag, <name>.json (manifest)
-/// and <name>.brdf.bin (the table data, raw little-endian texels as the manifest describes;
-/// absent without a table).
+/// The files of an export, name -> bytes: <name>.vert, <name>.frag, <name>.json (manifest),
+/// <name>.brdf.bin (the table data, raw little-endian texels as the manifest describes;
+/// absent without a table) and the material's texture files (Export::texture_files).
 std::vector<std::pair<std::string, std::string>> export_files(const Export& e);
 
 }  // namespace inlight::gles

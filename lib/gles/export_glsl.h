@@ -47,6 +47,12 @@ std::string exp_log_functions();
 /// irradiance factor and, with a table, the material's specular lobe. Needs atan2_f32.
 std::string lights_functions(const Plan& p);
 
+/// "<material>.albedo.rgba8" | "<material>.normal.rgba8": a material texture's file beside the
+/// manifests (raw RGBA8 texels, rows top first).
+inline std::string texture_file_name(const std::string& material, bool albedo) {
+    return material + (albedo ? ".albedo.rgba8" : ".normal.rgba8");
+}
+
 /// The variant's manifest: every uniform with its value or source, every texture with its file,
 /// layout and encoding (docs/gles.md).
 nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limits);

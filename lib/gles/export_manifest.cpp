@@ -19,6 +19,29 @@
 
 namespace inlight::gles::detail {
 
+namespace {
+
+constexpr const char* kRawRgba8 =
+    "raw RGBA8, width x height x 4 bytes, rows top first (the file's first row is glTexImage2D's first), no header";
+
+/// How an app turns the linear HDR output into 8-bit display codes (docs/gles.md, "What the app
+/// binds"): the recipe render's PNGs and the harness comparisons follow.
+nlohmann::json output_encoding_8bit() {
+    return {{"exposure", {{"default", "auto"},
+                          {"auto", "exposure = 0.18 / Y_mean, Y_mean = the mean over the frame's drawn pixels of "
+                                   "0.2126 R + 0.7152 G + 0.0722 B (linear_srgb radiance); 1 when Y_mean <= 0 "
+                                   "(render's auto exposure, as render --exposure 0)"},
+                          {"fixed", "an app with an exposure control uses its own multiplier instead (render --exposure E)"}}},
+            {"steps", {"v = exposure x radiance per channel (rgb)", "v = clamp(v, 0, 1)",
+                       "e = v <= 0.0031308 ? 12.92 v : 1.055 v^(1/2.4) - 0.055 (the sRGB OETF, IEC 61966-2-1)",
+                       "code = round(255 e), 0 .. 255; alpha 255"}},
+            {"where", "on the float target's pixels (a post pass or the readback); a target without float "
+                      "colour buffers needs a fixed exposure and the steps appended to the output line: "
+                      "out = vec4(oetf(clamp(exposure * radiance, 0.0, 1.0)), 1.0) in an RGBA8 (not sRGB) target"}};
+}
+
+}  // namespace
+
 nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limits) {
     using nlohmann::json;
     const MaterialInputs& mat = *p.mat;
@@ -33,9 +56,14 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                     {"sh_bands", p.v->sh_bands},
                     {"precision", to_string(p.v->precision)},
                     {"material", mat.name}};
+    const std::string albedo_file = texture_file_name(mat.name, true);
+    const std::string normal_file = texture_file_name(mat.name, false);
     m["files"] = {{"vertex", e.name + ".vert"},
                   {"fragment", e.name + ".frag"},
-                  {"brdf_data", p.table ? json(e.name + ".brdf.bin") : json(nullptr)}};
+                  {"brdf_data", p.table ? json(e.name + ".brdf.bin") : json(nullptr)},
+                  {"albedo_texture", mat.has_albedo_texture() ? json(albedo_file) : json(nullptr)},
+                  {"normal_texture", mat.has_normal_texture() ? json(normal_file) : json(nullptr)}};
+    m["paths"] = "every file named here is relative to this manifest's folder";
     m["frame"] = "device: +z out of the screen toward the viewer (docs/conventions.md)";
     json attrs = json::array();
     attrs.push_back({{"name", "a_position"}, {"type", "vec3"}, {"meaning", "position, device frame"}});
@@ -46,26 +74,55 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
     if (uv) attrs.push_back({{"name", "a_uv"}, {"type", "vec2"}, {"meaning", "texture uv, v down (1 = one tile)"}});
     m["attributes"] = attrs;
     json uniforms = json::array();
-    uniforms.push_back({{"name", "u_clip_from_object"}, {"type", "mat4"}, {"count", 1}, {"stage", "vertex"}, {"meaning", "clip from device frame"}});
-    if (uv) uniforms.push_back({{"name", "u_uv_scale"}, {"type", "vec2"}, {"count", 1}, {"stage", "vertex"}, {"meaning", "tiles per unit of a_uv"}});
-    const char* sh_meaning = "lighting SH coefficients L_lm (R, G, B), device frame, real SH without Condon-Shortley phase, index l(l+1)+m";
-    if (p.lighting == LightingLayout::kUniformArray) {
-        uniforms.push_back({{"name", "u_sh"}, {"type", "vec3"}, {"count", sh::count(p.v->sh_bands)}, {"stage", "fragment"},
-                            {"meaning", sh_meaning}, {"units", "radiance (linear_srgb, the environment's units)"}});
+    uniforms.push_back({{"name", "u_clip_from_object"}, {"type", "mat4"}, {"count", 1}, {"stage", "vertex"},
+                        {"meaning", "clip from device frame"},
+                        {"source", {{"from", "camera"},
+                                    {"how", "the app's camera each frame: projection x view (x the object's placement in "
+                                            "the device frame); glUniformMatrix4fv column-major, transpose GL_FALSE. A "
+                                            "scene export (render export-gles) gives its camera's in scene.clip_from_object"}}}});
+    if (uv) {
+        uniforms.push_back({{"name", "u_uv_scale"}, {"type", "vec2"}, {"count", 1}, {"stage", "vertex"},
+                            {"meaning", "tiles per unit of a_uv"}, {"units", "tiles"},
+                            {"value", {mat.uv_scale.x(), mat.uv_scale.y()}}});
     }
-    uniforms.push_back({{"name", "u_albedo"}, {"type", "vec3"}, {"count", 1}, {"stage", "fragment"}, {"meaning", "material albedo, linear_srgb"}, {"range", {0.0, 1.0}}});
+    const int sh_count = sh::count(p.v->sh_bands);
+    const char* sh_meaning = "lighting SH coefficients L_lm (R, G, B), device frame, real SH without Condon-Shortley phase, index l(l+1)+m";
+    const json sh_source = {
+        {"from", "lighting_file.coefficients"},
+        {"file", "the lighting file (docs/formats.md, \"SH coefficients\": envmap-project's JSON; with \"lights\", the "
+                 "residual's coefficients), rotated into the device frame when the device turns (sh/rotation.h)"},
+        {"count", sh_count},
+        {"padding", str("coefficient k (k = 0 .. ", sh_count - 1, ") = the file's row k when the file has more than k rows; "
+                        "(0, 0, 0) when it has fewer bands than the variant's ", p.v->sh_bands,
+                        " (rows k >= sh_bands_file^2); rows beyond ", sh_count, " (more bands than the variant) are not bound")}};
+    if (p.lighting == LightingLayout::kUniformArray) {
+        uniforms.push_back({{"name", "u_sh"}, {"type", "vec3"}, {"count", sh_count}, {"stage", "fragment"},
+                            {"meaning", sh_meaning}, {"units", "radiance (linear_srgb, the environment's units)"},
+                            {"source", sh_source}});
+    }
+    uniforms.push_back({{"name", "u_albedo"}, {"type", "vec3"}, {"count", 1}, {"stage", "fragment"},
+                        {"meaning", mat.has_albedo_texture() ? "material albedo, linear_srgb (multiplies the albedo texture's decoded texels)"
+                                                             : "material albedo, linear_srgb"},
+                        {"range", {0.0, 1.0}},
+                        {"value", {mat.brdf.albedo.x(), mat.brdf.albedo.y(), mat.brdf.albedo.z()}}});
     if (p.v->lights > 0) {
         uniforms.push_back({{"name", "u_light_direction"}, {"type", "vec4"}, {"count", p.v->lights}, {"stage", "fragment"},
                             {"meaning", "per dominant light j: xyz = unit direction toward the light (device frame, as u_sh: rotate it "
                                         "with the device), w = sin(angular_radius), 0 below 1e-4 rad (a point light)"},
                             {"units", "xyz dimensionless; w = sine of the cap's half-angle alpha"},
                             {"range", {-1.0, 1.0}},
-                            {"from_lighting_file", "direction normalised; w = alpha < 1e-4 rad ? 0 : sin(alpha), alpha = angular_radius_deg in radians"}});
+                            {"from_lighting_file", "direction normalised; w = alpha < 1e-4 rad ? 0 : sin(alpha), alpha = angular_radius_deg in radians"},
+                            {"source", {{"from", "lighting_file.lights"},
+                                        {"how", "light j = the lighting file's lights[j] (docs/formats.md, \"SH coefficients with "
+                                                "lights\"), as from_lighting_file; \"value\", when present, holds them for the "
+                                                "lights the variant was exported with (--gles-lighting)"}}}});
         uniforms.push_back({{"name", "u_light_irradiance"}, {"type", "vec3"}, {"count", p.v->lights}, {"stage", "fragment"},
                             {"meaning", "per dominant light j: E_perp, the irradiance of its uniform cap on a surface facing it (linear_srgb)"},
                             {"units", "radiance x sr (the environment's radiance units times steradians)"},
                             {"range", {0.0, "unbounded (HDR: a sun is ~1e4 x the sky)"}},
-                            {"from_lighting_file", "flux * (1 + cos(alpha)) / 2 per channel"}});
+                            {"from_lighting_file", "flux * (1 + cos(alpha)) / 2 per channel"},
+                            {"source", {{"from", "lighting_file.lights"},
+                                        {"how", "as u_light_direction, light j = lights[j]"}}}});
         json lights = {{"count", p.v->lights},
                        {"lighting_file", "docs/formats.md, \"SH coefficients with lights\": envmap-project --max-error's lights array; "
                                          "u_sh then holds the residual map's coefficients"},
@@ -97,13 +154,15 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                             {"width", mat.albedo_texture_px.x()}, {"height", mat.albedo_texture_px.y()},
                             {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "srgb"},
                             {"meaning", "albedo texture, sRGB bytes (not an sRGB internal format): the shader decodes each texel exactly, then filters"},
-                            {"range", {0.0, 1.0}}});
+                            {"range", {0.0, 1.0}}, {"file", albedo_file}, {"file_format", kRawRgba8},
+                            {"padding", "none"}});
     }
     if (mat.has_normal_texture()) {
         textures.push_back({{"uniform", "u_normal_texture"}, {"unit", unit++}, {"internal_format", "RGBA8"}, {"format", "RGBA"},
                             {"type", "UNSIGNED_BYTE"}, {"width", mat.normal_texture_px.x()}, {"height", mat.normal_texture_px.y()},
                             {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "data"},
-                            {"meaning", "tangent-space normal map, n = 2 rgb - 1"}, {"range", {0.0, 1.0}}});
+                            {"meaning", "tangent-space normal map, n = 2 rgb - 1"}, {"range", {0.0, 1.0}},
+                            {"file", normal_file}, {"file_format", kRawRgba8}, {"padding", "none"}});
     }
     if (p.table) {
         const brdf::Table& t = *p.table;
@@ -116,7 +175,9 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                       {"sh_bands", t.sh_bands}, {"coeff_count", t.coeff_count()}, {"channels", t.channels},
                       {"texels_per_node", p.texels_per_node},
                       {"view", {t.view.x(), t.view.y(), t.view.z()}},
-                      {"texel_of", p.layout == TableLayout::kUniformArray || !p.wrapped
+                      {"texel_of", p.layout == TableLayout::kUniformArray
+                                       ? "u_brdf[i], i = ((channel * rows + i1) * cols + i2) * texels_per_node + k / 4, component k % 4 (one vector per texel, no rows)"
+                                       : !p.wrapped
                                        ? "x = i2 * texels_per_node + k / 4, y = channel * rows + i1, component k % 4 (= linear texel i = ((channel * rows + i1) * cols + i2) * texels_per_node + k / 4 in rows of width)"
                                        : "i = ((channel * rows + i1) * cols + i2) * texels_per_node + k / 4, x = i % width, y = i / width, component k % 4 (rows of GL_MAX_TEXTURE_SIZE: the natural rows do not fit)"},
                       {"wrapped", p.wrapped},
@@ -124,7 +185,11 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                       {"value_range", {lo, hi}}};
         if (p.layout == TableLayout::kUniformArray) {
             uniforms.push_back({{"name", "u_brdf"}, {"type", "vec4"}, {"count", e.data_width}, {"stage", "fragment"},
-                                {"meaning", "BRDF SH table, texel y * width + x of the texture layout"}, {"file", e.name + ".brdf.bin"},
+                                {"meaning", "BRDF SH table: u_brdf[i] = the file's texel i (brdf_table.texel_of)"},
+                                {"file", e.name + ".brdf.bin"},
+                                {"value", {{"file", e.name + ".brdf.bin"},
+                                           {"file_format", str("float32 little-endian, 4 per vector, ", e.data_width,
+                                                               " vectors: glUniform4fv(u_brdf, ", e.data_width, ", file)")}}},
                                 {"range", {lo, hi}}});
         } else {
             const bool rgba8 = p.layout == TableLayout::kRgba8Texture;
@@ -132,7 +197,13 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                                 {"internal_format", rgba8 ? "RGBA" : "RGBA32F"}, {"format", "RGBA"},
                                 {"type", rgba8 ? "UNSIGNED_BYTE" : "FLOAT"}, {"width", e.data_width}, {"height", e.data_height},
                                 {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "data"},
-                                {"file", e.name + ".brdf.bin"}, {"meaning", "BRDF SH table"},
+                                {"file", e.name + ".brdf.bin"},
+                                {"file_format", rgba8 ? kRawRgba8 : "raw RGBA float32 little-endian, width x height texels, "
+                                                                    "rows top first (the file's first row is glTexImage2D's first), no header"},
+                                {"meaning", rgba8 ? "BRDF SH table, value = offset_k + scale_k x texel (texel = byte / 255) per coefficient k"
+                                                  : "BRDF SH table"},
+                                {"padding", str("texels ", (p.scale_in_texture ? 2 * sh::count(p.v->sh_bands) : 0) + brdf::texture_size(t).prod(),
+                                                " .. width x height - 1 (the last row's end) are zero")},
                                 {"range", rgba8 ? json({0.0, 1.0}) : json({lo, hi})}});
         }
         if (p.layout == TableLayout::kRgba8Texture && p.scale_in_texture) {
@@ -147,10 +218,15 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                 {"offset", std::vector<float>(e.table_offset.begin(), e.table_offset.begin() + k_count)}};
         } else if (p.layout == TableLayout::kRgba8Texture) {
             uniforms.push_back({{"name", "u_brdf_scale"}, {"type", "vec4"}, {"count", p.texels_per_node}, {"stage", "fragment"},
-                                {"meaning", "per coefficient k (component k of the array): value = offset + scale * texel"},
-                                {"values", e.table_scale}});
+                                {"meaning", "scale_k of the RGBA8 table, coefficient k = component k % 4 of vector k / 4: "
+                                            "table value = offset_k + scale_k x texel (texel = byte / 255 as sampled)"},
+                                {"units", "as brdf_table.units"},
+                                {"value", e.table_scale}});
             uniforms.push_back({{"name", "u_brdf_offset"}, {"type", "vec4"}, {"count", p.texels_per_node}, {"stage", "fragment"},
-                                {"values", e.table_offset}});
+                                {"meaning", "offset_k of the RGBA8 table (the least value of coefficient k over the table), "
+                                            "coefficient k = component k % 4 of vector k / 4: table value = offset_k + scale_k x texel"},
+                                {"units", "as brdf_table.units"},
+                                {"value", e.table_offset}});
         }
         if (p.layout == TableLayout::kRgba8Texture) {
             const int slots = 4 * p.texels_per_node;
@@ -172,7 +248,11 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                                       "offset_k as float32 (byte 0 = exponent + 127, 0 = zero; bytes 1-3 = mantissa, its "
                                       "leading 1 replaced by the sign); offset_k = least channel, scale_k = their spread"
                                     : "texel k: rgb = L_k, a unused"},
-                  {"updated", "whenever the lighting changes (device rotation): re-pack and re-upload"}};
+                  {"updated", "whenever the lighting changes (device rotation): re-pack and re-upload"},
+                  {"file", nullptr},
+                  {"source", sh_source},
+                  {"file_format", "none: the app packs it from the lighting each frame (packing)"},
+                  {"padding", "none"}};
         if (rgba8) t["quantization_max_abs_error"] = "scale_k / 131070 per coefficient (16 bits), scale_k the spread of L_k over R, G, B";
         textures.push_back(t);
     }
@@ -194,7 +274,10 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                                                {"max_texture_image_units", limits.max_texture_image_units}}}};
     m["output"] = {{"variable", es3 ? "o_radiance" : "gl_FragColor"}, {"quantity", "radiance (rgb; alpha 1)"},
                    {"color_space", "linear_srgb"}, {"clamped", false},
-                   {"framebuffer", "RGBA32F (EXT_color_buffer_float) keeps HDR radiance; an 8-bit target clamps to [0, 1]"}};
+                   {"units", "the lighting's radiance units (u_sh, u_light_irradiance / sr)"},
+                   {"range", {0.0, "unbounded (HDR)"}},
+                   {"framebuffer", "RGBA32F (EXT_color_buffer_float) keeps HDR radiance; an 8-bit target clamps to [0, 1]"},
+                   {"encoding_8bit", output_encoding_8bit()}};
     m["precision"] = {{"declared", to_string(p.v->precision)}, {"safe", "highp"},
                       {"mediump", "unsafe for float output: mediump guarantees a 10-bit mantissa (relative step 2^-10 = 9.8e-4, "
                                   "the whole 1e-3 budget before any arithmetic) and magnitudes below 2^14; the SH sums cancel "

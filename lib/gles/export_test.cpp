@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -416,6 +417,58 @@ TEST(ExportVariant, ManifestListsEveryBinding) {
     EXPECT_EQ(e.manifest["precision"]["safe"], "highp");
 }
 
+// The manifest suffices to bind (docs/gles.md, "What the app binds"): every uniform has a value
+// (the material's, the table's) or a source, every material texture a file whose bytes the export
+// carries, and the values are the ones the harness binds.
+TEST(ExportVariant, ManifestGivesEveryUniformAValueOrASource) {
+    const brdf::Table table = random_table("octa:5", 3, 1, 9);
+    MaterialInputs mat;
+    mat.name = "velvet";
+    mat.brdf.albedo = {0.25, 0.5, 0.75};
+    mat.uv_scale = {2, 3};
+    mat.albedo_texture_px = {2, 1};
+    mat.albedo_rgba8 = {1, 2, 3, 255, 4, 5, 6, 255};
+    for (GlslVersion version : {GlslVersion::kEs100, GlslVersion::kEs300}) {
+        const Export e = export_variant(&table, mat, {version}, Limits::minimum(version));
+        const nlohmann::json& m = e.manifest;
+        for (const auto& u : m["uniforms"]) {
+            EXPECT_TRUE(u.contains("value") || u.contains("source")) << e.name << " " << u["name"];
+            if (u["name"] == "u_albedo") {
+                EXPECT_EQ(u["value"], nlohmann::json({0.25, 0.5, 0.75}));
+            }
+            if (u["name"] == "u_uv_scale") {
+                EXPECT_EQ(u["value"], nlohmann::json({2.0, 3.0}));
+            }
+            if (u["name"] == "u_sh") {
+                EXPECT_EQ(u["source"]["count"], 9);
+            }
+            if (u["name"] == "u_brdf_scale") {
+                EXPECT_EQ(u["value"].get<std::vector<float>>(), e.table_scale);
+            }
+            if (u["name"] == "u_brdf_offset") {
+                EXPECT_EQ(u["value"].get<std::vector<float>>(), e.table_offset);
+            }
+            if (u["name"] == "u_brdf") {  // one vector per texel: no width to refer to
+                EXPECT_EQ(u["value"]["file"], e.name + ".brdf.bin");
+                EXPECT_EQ(m["brdf_table"]["texel_of"].get<std::string>().find("width"), std::string::npos);
+            }
+        }
+        for (const auto& t : m["textures"]) {
+            ASSERT_TRUE(t.contains("file")) << e.name << " " << t["uniform"];
+            EXPECT_TRUE(t.contains("padding"));
+        }
+        ASSERT_EQ(m["textures"][0]["file"], "velvet.albedo.rgba8");
+        const auto files = export_files(e);
+        const auto albedo = std::find_if(files.begin(), files.end(),
+                                         [](const auto& f) { return f.first == "velvet.albedo.rgba8"; });
+        ASSERT_NE(albedo, files.end());
+        EXPECT_EQ(albedo->second, std::string("\x01\x02\x03\xff\x04\x05\x06\xff", 8));
+        EXPECT_EQ(m["output"]["encoding_8bit"]["steps"].size(), 4u);
+    }
+    mat.albedo_rgba8.pop_back();  // 7 bytes for 2 x 1 texels: refused, naming both
+    EXPECT_THROW(export_variant(&table, mat, {}, Limits::minimum(GlslVersion::kEs300)), UsageError);
+}
+
 // A lighting file's lights: the consistent variants shade them, the seed variants do not, and
 // the manifest carries the values the app binds, as light_uniforms() computes them.
 TEST(ExportVariant, LightsInTheManifest) {
@@ -446,13 +499,13 @@ TEST(ExportVariant, LightsInTheManifest) {
             const std::vector<float> want = {0.0f, 0.6f, 0.8f,
                                              static_cast<float>(std::sin(0.5 * kPi / 180)),
                                              1.0f, 0.0f, 0.0f, 0.0f};
-            const auto got = u["values"].get<std::vector<float>>();
+            const auto got = u["value"].get<std::vector<float>>();
             ASSERT_EQ(got.size(), want.size());
             for (size_t i = 0; i < want.size(); ++i) EXPECT_FLOAT_EQ(got[i], want[i]) << i;
         }
         if (u["name"] == "u_light_irradiance") {
             const double half = 0.5 * (1 + std::cos(0.5 * kPi / 180));
-            const auto got = u["values"].get<std::vector<float>>();
+            const auto got = u["value"].get<std::vector<float>>();
             ASSERT_EQ(got.size(), 6u);
             EXPECT_FLOAT_EQ(got[0], static_cast<float>(100 * half));
             EXPECT_FLOAT_EQ(got[5], static_cast<float>(0.5 * (1 + std::cos(5e-5))));

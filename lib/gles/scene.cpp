@@ -14,6 +14,116 @@ namespace inlight::gles {
 
 namespace {
 
+void add_vertex(Mesh& m, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                const Eigen::Vector3d& t, const Eigen::Vector2d& uv) {
+    m.position.push_back(p.cast<float>());
+    m.normal.push_back(n.cast<float>());
+    m.tangent.push_back(t.cast<float>());
+    m.uv.push_back(uv.cast<float>());
+}
+
+/// A unit tangent orthogonal to n: `hint` made orthogonal, else any (as accel.cpp).
+Eigen::Vector3d tangent_for(const Eigen::Vector3d& n, const Eigen::Vector3d& hint) {
+    Eigen::Vector3d t = hint - n * n.dot(hint);
+    if (t.squaredNorm() > 1e-24) return t.normalized();
+    t = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    return (t - n * n.dot(t)).normalized();
+}
+
+/// A patch's two triangles: normal +z, tangent +x, uv (0, 0) at its top-left corner, v down.
+void add_patch(Mesh& m, const render::Shape& s) {
+    const double x0 = s.center.x() - 0.5 * s.size.x(), x1 = x0 + s.size.x();
+    const double y1 = s.center.y() + 0.5 * s.size.y(), y0 = y1 - s.size.y();
+    auto corner = [&](double x, double y) {
+        add_vertex(m, {x, y, s.center.z()}, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX(),
+                   {(x - x0) / s.size.x(), (y1 - y) / s.size.y()});
+    };
+    for (const auto& [x, y] : {std::pair{x0, y1}, {x1, y1}, {x1, y0}, {x0, y1}, {x1, y0}, {x0, y0}}) {
+        corner(x, y);
+    }
+}
+
+
+
+Texture8 to_texture8(const image::Image& img, bool srgb) {
+    Texture8 t;
+    t.width = img.width;
+    t.height = img.height;
+    t.rgba.reserve(static_cast<size_t>(img.width) * img.height * 4);
+    for (int y = 0; y < img.height; ++y) {
+        for (int x = 0; x < img.width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                // The 8-bit file's code: the CPU holds it decoded (sRGB) or as code / 255.
+                const float v = img.at(x, y, std::min(c, img.channels - 1));
+                const float e = srgb ? image::srgb_encode(v) : v;
+                t.rgba.push_back(static_cast<uint8_t>(std::clamp(std::lround(e * 255.0f), 0L, 255L)));
+            }
+            t.rgba.push_back(255);
+        }
+    }
+    return t;
+}
+
+
+/// The draw's depth range from the meshes' extent along the view (1% margin; perspective: near
+/// at least 1e-3 far) and the camera's clip_from_world over it.
+Eigen::Matrix4f clip_for_meshes(const render::Camera& cam, const std::vector<Mesh>& meshes) {
+    const Eigen::Vector3d f = (cam.look_at - cam.position).normalized();
+    double zmin = 1e300, zmax = -1e300;
+    for (const Mesh& m : meshes) {
+        for (const Eigen::Vector3f& p : m.position) {
+            const double z = f.dot(p.cast<double>() - cam.position);
+            zmin = std::min(zmin, z);
+            zmax = std::max(zmax, z);
+        }
+    }
+    const double span = std::max(zmax - zmin, 1e-3);
+    double near = zmin - 0.01 * span, far = zmax + 0.01 * span;
+    if (cam.projection == render::Projection::kPerspective) near = std::max(near, 1e-3 * far);
+    return clip_from_world(cam, near, far);
+}
+
+std::vector<Mesh> scene_meshes(const render::Scene& scene) {
+    std::vector<Mesh> meshes;
+    for (size_t i = 0; i < scene.materials().size(); ++i) meshes.push_back(scene_mesh(scene, static_cast<int>(i)));
+    return meshes;
+}
+
+/// The manifest's "scene": the draw render export-gles' scene makes with one material, so that
+/// an app (or tests/gles/binder) can reproduce it from the manifest alone.
+nlohmann::json scene_section(const render::Scene& scene, int material, const Eigen::Matrix4f& clip) {
+    const render::Camera& cam = scene.camera();
+    nlohmann::json patches = nlohmann::json::array();
+    int others = 0;
+    const auto& shapes = scene.accel().shapes();
+    for (size_t i = 0; i < shapes.size(); ++i) {
+        if (scene.material_index(static_cast<int>(i)) != material) continue;
+        if (shapes[i].kind != render::ShapeKind::kPatch) {
+            ++others;
+            continue;
+        }
+        Mesh m;
+        add_patch(m, shapes[i]);
+        nlohmann::json vertices = nlohmann::json::array();
+        for (size_t v = 0; v < m.position.size(); ++v) {
+            vertices.push_back({m.position[v].x(), m.position[v].y(), m.position[v].z(), m.normal[v].x(),
+                                m.normal[v].y(), m.normal[v].z(), m.tangent[v].x(), m.tangent[v].y(),
+                                m.tangent[v].z(), m.uv[v].x(), m.uv[v].y()});
+        }
+        patches.push_back({{"object", static_cast<int>(i)}, {"vertices", vertices}});
+    }
+    return {{"camera", {{"width_px", cam.width_px}, {"height_px", cam.height_px}}},
+            {"clip_from_object", std::vector<float>(clip.data(), clip.data() + 16)},
+            {"clip_from_object_layout", "column-major, as glUniformMatrix4fv(transpose GL_FALSE) takes it"},
+            {"frame", "the scene's world frame is the device frame"},
+            {"patches", patches},
+            {"patch_vertex", "a_position (3), a_normal (3), a_tangent (3), a_uv (2) per vertex, GL_TRIANGLES"},
+            {"other_shapes", others},
+            {"note", "the draw render export-gles' scene makes with this material (its camera, its patches; "
+                     "spheres and meshes are counted in other_shapes, not listed): an example of the app's "
+                     "u_clip_from_object and geometry"}};
+}
+
 /// export_scene() on the baked tables, or (`shapes_only`) on zero tables of their shape: the
 /// same variants at the same limits, without the bake.
 std::vector<Export> export_materials(const render::Scene& scene,
@@ -26,6 +136,7 @@ std::vector<Export> export_materials(const render::Scene& scene,
     const brdf::Grid grid = brdf::parse_grid(options.grid);
     std::vector<Export> out;
     const auto& materials = scene.materials();  // textures loaded: their sizes are known
+    const Eigen::Matrix4f clip = clip_for_meshes(cam, scene_meshes(scene));
     for (size_t i = 0; i < materials.size(); ++i) {
         const render::SurfaceMaterial& m = materials[i];
         MaterialInputs in;
@@ -36,14 +147,22 @@ std::vector<Export> export_materials(const render::Scene& scene,
                                   c == '.' || c == '-'); },
             '_');
         in.brdf = m.brdf;
-        if (m.albedo_texture) in.albedo_texture_px = {m.albedo_texture->width, m.albedo_texture->height};
-        if (m.normal_texture) in.normal_texture_px = {m.normal_texture->width, m.normal_texture->height};
-        if (m.brdf.specular == brdf::Model::kLambert) {
-            for (Export& e : export_material(nullptr, in, options.set)) out.push_back(std::move(e));
-        } else {
-            const brdf::Table table = shapes_only ? table_shape(m.brdf, grid, bo.sh_bands)
-                                                  : brdf::bake(m.brdf, grid, bo);
-            for (Export& e : export_material(&table, in, options.set)) out.push_back(std::move(e));
+        in.uv_scale = m.uv_scale.cast<float>();
+        // The bytes render_scene() binds (the harness draw of the scene).
+        if (m.albedo_texture) {
+            in.albedo_texture_px = {m.albedo_texture->width, m.albedo_texture->height};
+            if (!shapes_only) in.albedo_rgba8 = to_texture8(*m.albedo_texture, true).rgba;
+        }
+        if (m.normal_texture) {
+            in.normal_texture_px = {m.normal_texture->width, m.normal_texture->height};
+            if (!shapes_only) in.normal_rgba8 = to_texture8(*m.normal_texture, false).rgba;
+        }
+        const bool lambert = m.brdf.specular == brdf::Model::kLambert;
+        const brdf::Table table = lambert ? brdf::Table() : shapes_only ? table_shape(m.brdf, grid, bo.sh_bands)
+                                                                        : brdf::bake(m.brdf, grid, bo);
+        for (Export& e : export_material(lambert ? nullptr : &table, in, options.set)) {
+            e.manifest["scene"] = scene_section(scene, static_cast<int>(i), clip);
+            out.push_back(std::move(e));
         }
     }
     return out;
@@ -88,26 +207,6 @@ Eigen::Matrix4f clip_from_world(const render::Camera& cam, double near, double f
     return (proj * view).cast<float>();
 }
 
-namespace {
-
-void add_vertex(Mesh& m, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
-                const Eigen::Vector3d& t, const Eigen::Vector2d& uv) {
-    m.position.push_back(p.cast<float>());
-    m.normal.push_back(n.cast<float>());
-    m.tangent.push_back(t.cast<float>());
-    m.uv.push_back(uv.cast<float>());
-}
-
-/// A unit tangent orthogonal to n: `hint` made orthogonal, else any (as accel.cpp).
-Eigen::Vector3d tangent_for(const Eigen::Vector3d& n, const Eigen::Vector3d& hint) {
-    Eigen::Vector3d t = hint - n * n.dot(hint);
-    if (t.squaredNorm() > 1e-24) return t.normalized();
-    t = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-    return (t - n * n.dot(t)).normalized();
-}
-
-}  // namespace
-
 Mesh scene_mesh(const render::Scene& scene, int material, int sphere_rows) {
     Mesh m;
     const auto& shapes = scene.accel().shapes();
@@ -115,16 +214,7 @@ Mesh scene_mesh(const render::Scene& scene, int material, int sphere_rows) {
         if (scene.material_index(static_cast<int>(i)) != material) continue;
         const render::Shape& s = shapes[i];
         if (s.kind == render::ShapeKind::kPatch) {
-            const double x0 = s.center.x() - 0.5 * s.size.x(), x1 = x0 + s.size.x();
-            const double y1 = s.center.y() + 0.5 * s.size.y(), y0 = y1 - s.size.y();
-            auto corner = [&](double x, double y) {
-                add_vertex(m, {x, y, s.center.z()}, Eigen::Vector3d::UnitZ(),
-                           Eigen::Vector3d::UnitX(), {(x - x0) / s.size.x(), (y1 - y) / s.size.y()});
-            };
-            for (const auto& [x, y] : {std::pair{x0, y1}, {x1, y1}, {x1, y0}, {x0, y1}, {x1, y0},
-                                       {x0, y0}}) {
-                corner(x, y);
-            }
+            add_patch(m, s);
         } else if (s.kind == render::ShapeKind::kSphere) {
             const int rows = sphere_rows, cols = 2 * sphere_rows;
             auto vertex = [&](int r, int c) {
@@ -170,29 +260,6 @@ Mesh scene_mesh(const render::Scene& scene, int material, int sphere_rows) {
     return m;
 }
 
-namespace {
-
-Texture8 to_texture8(const image::Image& img, bool srgb) {
-    Texture8 t;
-    t.width = img.width;
-    t.height = img.height;
-    t.rgba.reserve(static_cast<size_t>(img.width) * img.height * 4);
-    for (int y = 0; y < img.height; ++y) {
-        for (int x = 0; x < img.width; ++x) {
-            for (int c = 0; c < 3; ++c) {
-                // The 8-bit file's code: the CPU holds it decoded (sRGB) or as code / 255.
-                const float v = img.at(x, y, std::min(c, img.channels - 1));
-                const float e = srgb ? image::srgb_encode(v) : v;
-                t.rgba.push_back(static_cast<uint8_t>(std::clamp(std::lround(e * 255.0f), 0L, 255L)));
-            }
-            t.rgba.push_back(255);
-        }
-    }
-    return t;
-}
-
-}  // namespace
-
 SceneFrame render_scene(const Context& context, const render::Scene& scene,
                         const std::vector<Export>& per_material, const Eigen::MatrixXd& coeffs,
                         int repeat, const std::vector<envmap::DirectionalLight>& lights) {
@@ -202,24 +269,10 @@ SceneFrame render_scene(const Context& context, const render::Scene& scene,
         throw Error(str("GLES scene: ", per_material.size(), " exports for ", materials.size(),
                         " materials"));
     }
-    std::vector<Mesh> meshes;
+    const std::vector<Mesh> meshes = scene_meshes(scene);
     std::vector<Texture8> albedo(materials.size()), normal(materials.size());
     std::vector<Bindings> bindings(materials.size());
-    // Depth range from the geometry, along the view.
-    const Eigen::Vector3d f = (cam.look_at - cam.position).normalized();
-    double zmin = 1e300, zmax = -1e300;
-    for (size_t i = 0; i < materials.size(); ++i) {
-        meshes.push_back(scene_mesh(scene, static_cast<int>(i)));
-        for (const Eigen::Vector3f& p : meshes.back().position) {
-            const double z = f.dot(p.cast<double>() - cam.position);
-            zmin = std::min(zmin, z);
-            zmax = std::max(zmax, z);
-        }
-    }
-    const double span = std::max(zmax - zmin, 1e-3);
-    double near = zmin - 0.01 * span, far = zmax + 0.01 * span;
-    if (cam.projection == render::Projection::kPerspective) near = std::max(near, 1e-3 * far);
-    const Eigen::Matrix4f clip = clip_from_world(cam, near, far);
+    const Eigen::Matrix4f clip = clip_for_meshes(cam, meshes);
     std::vector<DrawItem> items;
     for (size_t i = 0; i < materials.size(); ++i) {
         if (meshes[i].position.empty()) continue;

@@ -63,8 +63,8 @@ expect_true "ES 1.00 with a light fits the ES 2.0 minimum through the table text
      and .brdf_table.scale_offset.scale_texel == 75' \
     "$WORK/gl/lit-es100-consistent-b3-l1-highp.json"
 expect_true "the manifest binds the file's light (direction, sin alpha, E_perp)" -- jq -e --slurpfile f "$WORK/sun_sh.json" \
-    '(.uniforms[] | select(.name == "u_light_direction") | .values | length == 4) and
-     (.uniforms[] | select(.name == "u_light_irradiance") | .values[0] > 0.99 * $f[0].lights[0].flux[0]) and
+    '(.uniforms[] | select(.name == "u_light_direction") | .value | length == 4) and
+     (.uniforms[] | select(.name == "u_light_irradiance") | .value[0] > 0.99 * $f[0].lights[0].flux[0]) and
      .lights.lobe.model == "ggx"' "$WORK/gl/lit-es300-consistent-b3-l1-highp.json"
 expect_true "the lighting file is a recorded input" -- \
     jq -e '[.inputs[].path | select(endswith("sun_sh.json"))] | length == 1' "$WORK/bl.json"
