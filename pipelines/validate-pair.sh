@@ -135,6 +135,7 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
      truth: {spp: $m.spp, rel_noise: $m.rel_error, render_time_s: $m.render_time_s,
              stop_reason: $m.stop_reason},
      consistent: $rt.modes.consistent, seed: $rt.modes.seed,
+     one_fragment_per_pixel: ($rt.consistent_one_fragment_per_pixel // null),
      by_sh_bands: [$rt.consistent_by_sh_bands[] | {sh_bands, mean_rel, mean_de2000, max_de2000,
                                                     frame_time_ms}],
      gles: (if $rt.gles then

@@ -67,7 +67,7 @@ ShadingPoint shade(const SurfaceMaterial& m, const SurfaceHit& hit, const Eigen:
         if (!mip) return sample_texture(img, uv);
         const double lod = mip_lod(filtered->duv_dx.cwiseProduct(m.uv_scale),
                                    filtered->duv_dy.cwiseProduct(m.uv_scale), {img.width, img.height});
-        return sample_trilinear(*mip, uv, lod);
+        return sample_trilinear(*mip, uv, filtered->box_matched_lod ? box_matched_lod(lod) : lod);
     };
     if (m.albedo_texture) {
         sp.brdf.albedo = sp.brdf.albedo.cwiseProduct(

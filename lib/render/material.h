@@ -61,6 +61,7 @@ struct FilteredLookup {
     const MipAtlas* albedo = nullptr;
     const MipAtlas* normal = nullptr;
     Eigen::Vector2d duv_dx = Eigen::Vector2d::Zero(), duv_dy = Eigen::Vector2d::Zero();
+    bool box_matched_lod = false;  ///< render::box_matched_lod in place of the GL lod
 };
 
 /// Applies textures at hit.uv and builds the shading frame on the side of `wo` (unit, world,

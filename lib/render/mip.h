@@ -4,9 +4,11 @@
 //
 // Mip chain: level 0 is the texture; level k+1 has max(1, floor(w_k / 2)) x max(1, floor(h_k /
 // 2)) texels (non-power-of-two sizes allowed), down to 1 x 1. Each texel of level k is the
-// exact area average of level 0 over its footprint (the level-0 rectangle [i w0/wk, (i+1)
-// w0/wk) x [j h0/hk, (j+1) h0/hk), partial texels weighted by their covered area), computed in
-// the values the image holds: linear radiance for an albedo texture (decoded from sRGB at load,
+// exact average over its footprint (the level-0 rectangle [i w0/wk, (i+1) w0/wk) x [j h0/hk,
+// (j+1) h0/hk)) of the texture as drawn, its bilinear reconstruction (MipFilter::kBilinear,
+// what the path tracer integrates over a pixel), or of its texels (kBox, partial texels by
+// covered area, what GL's generated mipmaps approximate), computed in the values the image
+// holds: linear radiance for an albedo texture (decoded from sRGB at load,
 // re-encoded only when stored in 8 bits), 2 rgb - 1 vectors for a normal map, averaged WITHOUT
 // renormalising so that |m| < 1 carries the spread of the normals under the footprint.
 //
@@ -52,10 +54,17 @@ struct MipAtlas {
 /// Level sizes of a w x h texture: max(1, floor(n / 2)) per step down to 1 x 1.
 std::vector<Eigen::Vector2i> mip_sizes(int width, int height);
 
+/// What a level-k texel averages over its footprint.
+enum class MipFilter {
+    kBox,       ///< the level-0 texels (partial ones by covered area)
+    kBilinear,  ///< the texture as it is drawn: its bilinear reconstruction (wrapping)
+};
+
 /// Builds the chain of `source` (channels >= 1; one channel is replicated). `quantize_8bit`:
 /// store each level >= 1 as the 8-bit code the shipped texture holds (kind decides sRGB or
 /// data), so the CPU model reads what the GPU reads. Throws Error on an empty image.
-MipAtlas build_mip_atlas(const image::Image& source, TextureKind kind, bool quantize_8bit);
+MipAtlas build_mip_atlas(const image::Image& source, TextureKind kind, bool quantize_8bit,
+                         MipFilter filter = MipFilter::kBilinear);
 
 /// Bilinear between texel centres of one level, wrapping inside its rectangle; uv in texture
 /// units (1 = one repeat), v down. Level 0 equals render::sample_texture on the source.
@@ -65,6 +74,13 @@ Eigen::Vector3d sample_level(const MipAtlas& mip, int level, const Eigen::Vector
 /// level-0 texture of `size` texels; unclamped (-inf for zero derivatives).
 double mip_lod(const Eigen::Vector2d& duv_dx, const Eigen::Vector2d& duv_dy,
                const Eigen::Vector2i& size);
+
+/// The level of detail whose trilinear filter has the variance of the pixel's box over the
+/// bilinear reconstruction (what a box-filtered, supersampled image shows): a level-L lookup
+/// is a box of 2^L texels then a tent of half-width 2^L, variance 4^L / 4; a box of rho
+/// texels over the level-0 tent has rho^2 / 12 + 1 / 6. So L = log2(rho^2 / 3 + 2 / 3) / 2,
+/// about the GL lod - 0.79 when minified, 0 at rho = 1. `gl_lod` = mip_lod().
+double box_matched_lod(double gl_lod);
 
 /// Trilinear lookup at `lod` (clamped to [0, levels - 1]).
 Eigen::Vector3d sample_trilinear(const MipAtlas& mip, const Eigen::Vector2d& uv, double lod);

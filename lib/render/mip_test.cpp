@@ -45,7 +45,7 @@ TEST(Mip, SizesHalveWithFloorDownToOne) {
 
 TEST(Mip, LevelsMinified16xAnd64xAreTheMeansOfTheirBlocks) {
     const image::Image src = random_image(128, 64, 1);
-    const MipAtlas m = build_mip_atlas(src, TextureKind::kNormalMap, false);
+    const MipAtlas m = build_mip_atlas(src, TextureKind::kNormalMap, false, MipFilter::kBox);
     ASSERT_EQ(m.levels.size(), 8u);
     EXPECT_EQ(m.atlas.width, 128 + 64);
     EXPECT_EQ(m.atlas.height, 64);
@@ -71,7 +71,7 @@ TEST(Mip, LevelsMinified16xAnd64xAreTheMeansOfTheirBlocks) {
 TEST(Mip, NonPowerOfTwoLevelsAreAreaAveragesOnAFineGrid) {
     // 7 x 5 -> 3 x 2 -> 1 x 1: footprints 7/3 and 5/2 texels wide, multiples of 1/60.
     const image::Image src = random_image(7, 5, 2);
-    const MipAtlas m = build_mip_atlas(src, TextureKind::kNormalMap, false);
+    const MipAtlas m = build_mip_atlas(src, TextureKind::kNormalMap, false, MipFilter::kBox);
     ASSERT_EQ(m.levels.size(), 3u);
     constexpr int kSub = 60;  // sub-cells per texel side: every footprint edge lies on the grid
     for (size_t k = 1; k < m.levels.size(); ++k) {
@@ -93,6 +93,36 @@ TEST(Mip, NonPowerOfTwoLevelsAreAreaAveragesOnAFineGrid) {
                           kFloatTol)
                     << "level " << k << " texel " << i << "," << j;
             }
+        }
+    }
+}
+
+TEST(Mip, BilinearLevelsAverageTheDrawnTextureOverTheFootprint) {
+    // The texture as drawn (render::sample_texture) averaged on a fine grid over each
+    // footprint: 24 x 24 samples per level-0 texel, midpoint rule on a piecewise bilinear
+    // function whose kinks lie on the grid, so exact up to the products' O(h^2) term per cell
+    // (h = 1/24: ~1e-4 of the texel contrast; 2e-4 with margin).
+    constexpr double kMidpointTol = 2e-4;
+    for (const Eigen::Vector2i size : {Eigen::Vector2i(64, 32), Eigen::Vector2i(7, 5)}) {
+        const image::Image src = random_image(size.x(), size.y(), 5);
+        const MipAtlas m = build_mip_atlas(src, TextureKind::kNormalMap, false, MipFilter::kBilinear);
+        constexpr int kSub = 24;
+        for (const int level : {1, static_cast<int>(m.levels.size()) - 1}) {
+            const MipRect& r = m.levels[level];
+            const int i = r.width / 2, j = r.height / 2;  // one texel per level suffices
+            const double x0 = static_cast<double>(i) * size.x() / r.width;
+            const double x1 = static_cast<double>(i + 1) * size.x() / r.width;
+            const double y0 = static_cast<double>(j) * size.y() / r.height;
+            const double y1 = static_cast<double>(j + 1) * size.y() / r.height;
+            const int nx = static_cast<int>(std::lround((x1 - x0) * kSub));
+            const int ny = static_cast<int>(std::lround((y1 - y0) * kSub));
+            Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+            for (int sy = 0; sy < ny; ++sy)
+                for (int sx = 0; sx < nx; ++sx)
+                    sum += sample_texture(src, {(x0 + (sx + 0.5) / kSub) / size.x(),
+                                                (y0 + (sy + 0.5) / kSub) / size.y()});
+            EXPECT_LT((texel(m, level, i, j) - sum / (nx * ny)).cwiseAbs().maxCoeff(), kMidpointTol)
+                << size.transpose() << " level " << level;
         }
     }
 }
@@ -178,6 +208,17 @@ TEST(Mip, LevelOfDetailIsTheGlFormula) {
     // 64x minified: lod 6.
     EXPECT_DOUBLE_EQ(mip_lod({64.0 / 256, 0}, {0, 64.0 / 128}, size), 6.0);
     EXPECT_EQ(mip_lod({0, 0}, {0, 0}, size), -std::numeric_limits<double>::infinity());
+}
+
+TEST(Mip, BoxMatchedLodHasThePixelBoxVariance) {
+    // L = log2(rho^2 / 3 + 2 / 3) / 2: rho = 1 (no minification) gives level 0; rho = 2 gives
+    // 4^L = 2, L = 1/2; a level-L lookup's variance 4^L / 4 equals rho^2 / 12 + 1 / 6 at rho = 8.
+    EXPECT_NEAR(box_matched_lod(0.0), 0.0, 1e-15);  // log2 of 1 from 1/3 + 2/3: one rounding
+    EXPECT_NEAR(box_matched_lod(1.0), 0.5, 1e-15);
+    const double l = box_matched_lod(3.0);
+    EXPECT_NEAR(std::exp2(2 * l) / 4, 64.0 / 12 + 1.0 / 6, 1e-12);
+    // No derivative (GL lod -inf): below 0, so level 0 after the clamp.
+    EXPECT_LT(box_matched_lod(-std::numeric_limits<double>::infinity()), 0.0);
 }
 
 TEST(Mip, TrilinearMixesTheTwoNearestLevels) {

@@ -197,9 +197,11 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
         for (size_t i = 0; i < albedo_mips.size(); ++i) {
             const SurfaceMaterial& m = scene.materials()[i];
             if (m.albedo_texture)
-                albedo_mips[i] = build_mip_atlas(*m.albedo_texture, TextureKind::kColor, true);
+                albedo_mips[i] = build_mip_atlas(*m.albedo_texture, TextureKind::kColor, true,
+                                                  options.mip_filter);
             if (m.normal_texture)
-                normal_mips[i] = build_mip_atlas(*m.normal_texture, TextureKind::kNormalMap, true);
+                normal_mips[i] = build_mip_atlas(*m.normal_texture, TextureKind::kNormalMap, true,
+                                                  options.mip_filter);
         }
     }
     // uv of the fragment one step away along the image's x or y: the other side when that
@@ -236,6 +238,7 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                             fl.normal = m.normal_texture ? &normal_mips[mi] : nullptr;
                             fl.duv_dx = uv_step(px, py, 1.0 / ss, 0.0, hit);
                             fl.duv_dy = uv_step(px, py, 0.0, 1.0 / ss, hit);
+                            fl.box_matched_lod = options.box_matched_lod;
                         }
                         const ShadingPoint sp =
                             shade(m, hit, -ray.dir, trilinear ? &fl : nullptr);

@@ -40,6 +40,7 @@
 #include "brdf/table.h"
 #include "envmap/lights.h"
 #include "image/image.h"
+#include "render/mip.h"
 #include "render/scene.h"
 
 namespace inlight::render {
@@ -58,6 +59,8 @@ struct RealtimeOptions {
     int supersample = 4;  ///< fragments per pixel side
     TextureFilter texture_filter = TextureFilter::kBilinear;
     NormalVariance normal_variance = NormalVariance::kNone;
+    MipFilter mip_filter = MipFilter::kBilinear;  ///< how the mip levels are built
+    bool box_matched_lod = true;  ///< render::box_matched_lod, else the GL lod (mip_lod)
     double specular_spread = 4;  ///< 1/kappa multiplier of the specular bands (> 0)
 };
 
