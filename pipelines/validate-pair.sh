@@ -172,6 +172,7 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
              stop_reason: $m.stop_reason},
      consistent: $rt.modes.consistent, seed: $rt.modes.seed,
      gate: ($rt.gate // null), gate_error: (if $r[0].status == "quality_gate_failed" then $r[0].error else null end),
+     one_fragment_per_pixel: ($rt.consistent_one_fragment_per_pixel // null),
      by_sh_bands: [$rt.consistent_by_sh_bands[] | {sh_bands, mean_rel, mean_de2000, max_de2000,
                                                     frame_time_ms}],
      gles: (if $rt.gles then

@@ -217,6 +217,50 @@ nlohmann::json compare_realtime(const Scene& scene, const RenderResult& truth,
     }
     out["modes"] = modes;
 
+    // Textured scenes: the model at one fragment per pixel (as the GPU draws it) with each
+    // texture filter and normal-variance rule (render/realtime.h), beside the supersampled
+    // figure above; ratio = its mean relative error over the supersampled one's.
+    bool textured = false;
+    for (const SurfaceMaterial& m : scene.materials())
+        textured = textured || m.albedo_texture || m.normal_texture;
+    if (textured) {
+        struct Filtering {
+            const char* name;
+            TextureFilter filter;
+            NormalVariance variance;
+            MipFilter levels;
+            bool gl_lod;
+        };
+        static constexpr Filtering kFilterings[] = {
+            {"bilinear", TextureFilter::kBilinear, NormalVariance::kNone, MipFilter::kBilinear, false},
+            {"trilinear_gl_lod", TextureFilter::kTrilinear, NormalVariance::kNone,
+             MipFilter::kBilinear, true},
+            {"trilinear_box_levels", TextureFilter::kTrilinear, NormalVariance::kNone,
+             MipFilter::kBox, false},
+            {"trilinear", TextureFilter::kTrilinear, NormalVariance::kNone, MipFilter::kBilinear, false},
+            {"trilinear_vmf_diffuse", TextureFilter::kTrilinear, NormalVariance::kDiffuse,
+             MipFilter::kBilinear, false},
+            {"trilinear_vmf", TextureFilter::kTrilinear, NormalVariance::kDiffuseSpecular,
+             MipFilter::kBilinear, false}};
+        const double graded = modes["consistent"]["mean_rel"].get<double>();
+        nlohmann::json one = nlohmann::json::object();
+        for (const Filtering& f : kFilterings) {
+            RealtimeOptions ro;
+            ro.supersample = 1;
+            ro.texture_filter = f.filter;
+            ro.normal_variance = f.variance;
+            ro.mip_filter = f.levels;
+            ro.box_matched_lod = !f.gl_lod;
+            const Comparison c =
+                compare_images(truth.radiance, render_realtime(scene, lighting, ro), exposure, options);
+            nlohmann::json j = metrics_json(c.metrics);
+            j["ratio_to_supersampled"] = graded > 0 ? nlohmann::json(c.metrics.mean_rel / graded)
+                                                    : nlohmann::json();
+            one[f.name] = j;
+        }
+        out["consistent_one_fragment_per_pixel"] = one;
+    }
+
     // Error and time per frame against the band count (consistent mode). Time per frame is
     // measured with one fragment per pixel (what the GPU shades); error with the supersampling.
     nlohmann::json by_bands = nlohmann::json::array();

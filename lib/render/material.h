@@ -37,17 +37,39 @@ void load_textures(SurfaceMaterial& material);
 /// replicated), texel centres at +0.5, uv in texture units (1 = one repeat), v down.
 Eigen::Vector3d sample_texture(const image::Image& img, const Eigen::Vector2d& uv);
 
+/// The same lookup inside the rectangle [x0, x0 + width) x [y0, y0 + height) of `img`, which
+/// it wraps as a texture of its own (a mip level in an atlas, render/mip.h).
+Eigen::Vector3d sample_texture_rect(const image::Image& img, int x0_px, int y0_px, int width,
+                                    int height, const Eigen::Vector2d& uv);
+
 /// What the integrator needs at a hit: the BRDF parameters there and the local frame.
 struct ShadingPoint {
     brdf::Material brdf;
     Eigen::Matrix3d world_from_local;  ///< columns: tangent, bitangent, shading normal
     Eigen::Vector3d ng;                ///< unit geometric normal on the side of wo
+    /// Length of the filtered normal-map vector before normalising, in (0, 1]: below 1 where
+    /// the lookup averaged differing normals (render/mip.h); 1 without a normal map.
+    double normal_length = 1;
+};
+
+struct MipAtlas;
+
+/// Mip-mapped lookups in place of the bilinear ones (render/mip.h): the material's textures
+/// as mip atlases (null = that texture keeps the bilinear lookup) and the derivatives of the
+/// hit's uv (before uv_scale) per pixel along the image's x and y.
+struct FilteredLookup {
+    const MipAtlas* albedo = nullptr;
+    const MipAtlas* normal = nullptr;
+    Eigen::Vector2d duv_dx = Eigen::Vector2d::Zero(), duv_dy = Eigen::Vector2d::Zero();
+    bool box_matched_lod = false;  ///< render::box_matched_lod in place of the GL lod
 };
 
 /// Applies textures at hit.uv and builds the shading frame on the side of `wo` (unit, world,
 /// pointing away from the surface). A normal-mapped normal that faces away from wo falls back
 /// to the geometric normal.
+/// With `filtered`, the albedo and normal textures are read trilinearly from their mip
+/// atlases at the level of detail of the derivatives (what the exported shader does).
 ShadingPoint shade(const SurfaceMaterial& material, const SurfaceHit& hit,
-                   const Eigen::Vector3d& wo);
+                   const Eigen::Vector3d& wo, const FilteredLookup* filtered = nullptr);
 
 }  // namespace inlight::render

@@ -10,6 +10,7 @@
 #include "core/log.h"
 #include "core/parallel.h"
 #include "envmap/project.h"
+#include "render/mip.h"
 #include "render/realtime_lights.h"
 #include "sh/sh.h"
 
@@ -84,9 +85,17 @@ Uniforms make_uniforms(const Eigen::MatrixXd& coeffs, int bands) {
     return u;
 }
 
+/// The band l of SH coefficient k = l (l + 1) + m.
+int band_of(int k) {
+    int l = static_cast<int>(std::sqrt(static_cast<double>(k)));
+    while (l * l > k) --l;
+    while ((l + 1) * (l + 1) <= k) ++l;
+    return l;
+}
+
 Eigen::Vector3d shade_fragment(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
                                bool has_specular, const Uniforms& u, const brdf::Table* table,
-                               const RealtimeOptions& options) {
+                               const RealtimeOptions& options, double normal_length) {
     const int bands = options.sh_bands;
     const Eigen::MatrixXd& coeffs = *u.coeffs;
     const Eigen::Vector4d n4(n.x(), n.y(), n.z(), 1.0);
@@ -118,19 +127,34 @@ Eigen::Vector3d shade_fragment(const Eigen::Vector3d& n, const Eigen::Vector3d& 
         }
         return albedo * (mean_irradiance * 0.3) + spec;
     }
+    // Band factors of the normal's spread (1 when there is none: the plain sums below).
+    const bool spread = options.normal_variance != NormalVariance::kNone && normal_length < 1;
+    const double inv_kappa = spread ? vmf_inv_kappa(normal_length) : 0.0;
+    double f_diffuse[sh::kMaxBands], f_spec[brdf::kMaxBakeBands];
+    for (int l = 0; l < sh::kMaxBands; ++l) f_diffuse[l] = vmf_band_factor(l, inv_kappa);
+    const bool spec_spread = spread && options.normal_variance == NormalVariance::kDiffuseSpecular;
+    for (int l = 0; l < brdf::kMaxBakeBands; ++l)
+        f_spec[l] = vmf_band_factor(l, spec_spread ? options.specular_spread * inv_kappa : 0.0);
     double y[sh::count(sh::kMaxBands)];
-    if (bands != 3) sh::eval(bands, n, y);
+    if (bands != 3 || spread) sh::eval(bands, n, y);
     for (int c = 0; c < 3; ++c) {
         double e = 0;
         if (bands == 3) {
             e = n4.dot(u.matrices[c] * n4);
+            if (spread) {
+                // Bands 0 and 1 of E apart, band 2 the rest: f2 E + (1 - f2) E0 + (f1 - f2) E1.
+                const double e0 = u.a_l(0, c) * y[0];
+                const double e1 = u.a_l(1, c) * y[1] + u.a_l(2, c) * y[2] + u.a_l(3, c) * y[3];
+                e = f_diffuse[2] * e + (1 - f_diffuse[2]) * e0 + (f_diffuse[1] - f_diffuse[2]) * e1;
+            }
         } else {
-            for (int k = 0; k < sh::count(bands); ++k) e += u.a_l(k, c) * y[k];
+            for (int k = 0; k < sh::count(bands); ++k)
+                e += u.a_l(k, c) * y[k] * f_diffuse[band_of(k)];
         }
         double s = 0;
         const double* l = coeffs.col(c).data();
         const float* bc = b[table_channel(c)];
-        for (int k = 0; k < k_spec; ++k) s += l[k] * bc[k];
+        for (int k = 0; k < k_spec; ++k) s += l[k] * bc[k] * f_spec[band_of(k)];
         out[c] = albedo[c] * kInvPi * e + s;
     }
     return out;
@@ -140,9 +164,10 @@ Eigen::Vector3d shade_fragment(const Eigen::Vector3d& n, const Eigen::Vector3d& 
 
 Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
                                bool has_specular, const Eigen::MatrixXd& coeffs,
-                               const brdf::Table* table, const RealtimeOptions& options) {
+                               const brdf::Table* table, const RealtimeOptions& options,
+                               double normal_length) {
     return shade_fragment(n, albedo, has_specular, make_uniforms(coeffs, options.sh_bands), table,
-                          options);
+                          options, normal_length);
 }
 
 image::Image render_realtime(const Scene& scene, const RealtimeLighting& lighting,
@@ -159,10 +184,37 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
     if (options.mode == RealtimeMode::kSeed && !lighting.lights.empty())
         throw UsageError("real-time model: the seed (report) mode has no analytic lights");
     if (options.supersample < 1) throw UsageError("real-time model: supersample must be >= 1");
+    if (!(options.specular_spread > 0) || !std::isfinite(options.specular_spread))
+        throw UsageError("real-time model: specular_spread must be a finite number > 0");
     const Camera& cam = scene.camera();
     const int w = cam.width_px, h = cam.height_px, ss = options.supersample;
     image::Image img(w, h, 3, image::ColorSpace::kLinearSrgb);
     const Uniforms uniforms = make_uniforms(lighting.coeffs, options.sh_bands);
+    // Mip atlases of the material textures, as the exported variant ships them (8-bit levels).
+    const bool trilinear = options.texture_filter == TextureFilter::kTrilinear;
+    std::vector<MipAtlas> albedo_mips(scene.materials().size()), normal_mips(albedo_mips.size());
+    if (trilinear) {
+        for (size_t i = 0; i < albedo_mips.size(); ++i) {
+            const SurfaceMaterial& m = scene.materials()[i];
+            if (m.albedo_texture)
+                albedo_mips[i] = build_mip_atlas(*m.albedo_texture, TextureKind::kColor, true,
+                                                  options.mip_filter);
+            if (m.normal_texture)
+                normal_mips[i] = build_mip_atlas(*m.normal_texture, TextureKind::kNormalMap, true,
+                                                  options.mip_filter);
+        }
+    }
+    // uv of the fragment one step away along the image's x or y: the other side when that
+    // one misses the shape (the GPU's neighbour in the quad is always on the primitive's plane).
+    auto uv_step = [&](double px, double py, double step_x, double step_y, const SurfaceHit& at) {
+        for (const double sign : {1.0, -1.0}) {
+            SurfaceHit h;
+            if (scene.accel().intersect(cam.generate_ray(px + sign * step_x, py + sign * step_y), &h) &&
+                h.shape == at.shape)
+                return Eigen::Vector2d(sign * (h.uv - at.uv));
+        }
+        return Eigen::Vector2d(Eigen::Vector2d::Zero());
+    };
     parallel::for_chunks(h, 1, [&](int64_t y0, int64_t y1) {
         for (int64_t y = y0; y < y1; ++y) {
             for (int x = 0; x < w; ++x) {
@@ -177,14 +229,25 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                             continue;
                         }
                         const SurfaceMaterial& m = scene.material(hit.shape);
-                        const ShadingPoint sp = shade(m, hit, -ray.dir);
                         const auto mi = static_cast<size_t>(scene.material_index(hit.shape));
+                        FilteredLookup fl;
+                        if (trilinear && (m.albedo_texture || m.normal_texture)) {
+                            const double px = x + (sx + 0.5) / ss;
+                            const double py = static_cast<double>(y) + (sy + 0.5) / ss;
+                            fl.albedo = m.albedo_texture ? &albedo_mips[mi] : nullptr;
+                            fl.normal = m.normal_texture ? &normal_mips[mi] : nullptr;
+                            fl.duv_dx = uv_step(px, py, 1.0 / ss, 0.0, hit);
+                            fl.duv_dy = uv_step(px, py, 0.0, 1.0 / ss, hit);
+                            fl.box_matched_lod = options.box_matched_lod;
+                        }
+                        const ShadingPoint sp =
+                            shade(m, hit, -ray.dir, trilinear ? &fl : nullptr);
                         const brdf::Table* table =
                             mi < lighting.tables.size() ? &lighting.tables[mi] : nullptr;
                         const Eigen::Vector3d n = sp.world_from_local.col(2);
                         const bool has_specular = sp.brdf.specular != brdf::Model::kLambert;
                         sum += shade_fragment(n, sp.brdf.albedo, has_specular, uniforms, table,
-                                              options);
+                                              options, sp.normal_length);
                         if (!lighting.lights.empty())
                             sum += shade_lights(lighting.lights, n, sp.brdf,
                                                 has_specular && table ? &table->view : nullptr);

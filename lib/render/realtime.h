@@ -23,6 +23,15 @@
 //    irradiance is E(-x, -y, z) (the phases cancel in the specular products L_lm B_lm).
 // Fragments are shaded at `supersample` x `supersample` stratified positions per pixel and
 // averaged (the box filter of the path tracer; 1 = the pixel centre, as a GPU does).
+// Texture filtering (TextureFilter): bilinear on the texture (level 0 only, which aliases when
+// minified), or trilinear on its mip atlas (render/mip.h) at the level of detail of the uv
+// derivatives, taken as a GPU takes them: the difference to the neighbouring fragment along
+// the image's x and y (one pixel / supersample away; the one on the other side when that
+// misses the shape). Normal variance (NormalVariance, consistent mode only): with the filtered
+// normal's length r, 1/kappa = render::vmf_inv_kappa(r); the irradiance's band l scales by
+// f_l = vmf_band_factor(l, 1/kappa), and with kDiffuseSpecular the specular sum's band l by
+// vmf_band_factor(l, specular_spread / kappa) (the reflected direction spreads twice the
+// normal's angle: a vMF of kappa / 4 in the small-angle limit, specular_spread = 4).
 #pragma once
 
 #include <Eigen/Core>
@@ -31,6 +40,7 @@
 #include "brdf/table.h"
 #include "envmap/lights.h"
 #include "image/image.h"
+#include "render/mip.h"
 #include "render/scene.h"
 
 namespace inlight::render {
@@ -40,10 +50,18 @@ enum class RealtimeMode { kConsistent, kSeed };
 RealtimeMode realtime_mode_from_string(const std::string& name);
 std::string to_string(RealtimeMode mode);
 
+enum class TextureFilter { kBilinear, kTrilinear };
+enum class NormalVariance { kNone, kDiffuse, kDiffuseSpecular };
+
 struct RealtimeOptions {
     RealtimeMode mode = RealtimeMode::kConsistent;
     int sh_bands = 3;     ///< lighting bands used (<= the coefficients given); kSeed needs 3
     int supersample = 4;  ///< fragments per pixel side
+    TextureFilter texture_filter = TextureFilter::kBilinear;
+    NormalVariance normal_variance = NormalVariance::kNone;
+    MipFilter mip_filter = MipFilter::kBilinear;  ///< how the mip levels are built
+    bool box_matched_lod = true;  ///< render::box_matched_lod, else the GL lod (mip_lod)
+    double specular_spread = 4;  ///< 1/kappa multiplier of the specular bands (> 0)
 };
 
 /// The real-time model's inputs that do not depend on the pixel.
@@ -61,9 +79,12 @@ Eigen::MatrixXd project_environment(const EnvironmentLight& env, int sh_bands);
 
 /// Shades one fragment: normal n (unit, world = device frame), albedo (linear_srgb). The
 /// table may be null (no specular). Returns linear_srgb radiance.
+/// `normal_length` is the filtered normal's length (1 = no spread; used with
+/// options.normal_variance).
 Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
                                bool has_specular, const Eigen::MatrixXd& coeffs,
-                               const brdf::Table* table, const RealtimeOptions& options);
+                               const brdf::Table* table, const RealtimeOptions& options,
+                               double normal_length = 1);
 
 /// Renders the scene's camera view with the real-time model. Rays that miss show the
 /// environment (nearest pixel, as the path tracer). Parallel and deterministic.

@@ -12,6 +12,7 @@
 #include "core/conventions.h"
 #include "core/error.h"
 #include "envmap/project.h"
+#include "image/color.h"
 #include "render/path_tracer.h"
 #include "render/render_testing.h"
 #include "sh/sh.h"
@@ -198,6 +199,43 @@ TEST(Realtime, SeedModeIsTheReportShader) {
     }
 }
 
+TEST(Realtime, TrilinearAtOneFragmentPerPixelAveragesAMinifiedTexture) {
+    // A Lambert patch under a constant sky of 1 (radiance = albedo) with an albedo texture of
+    // one-texel stripes, 0 and 1, minified 16x and 64x: every mip level above 0 holds the mean
+    // 1/2 exactly (an even, aligned footprint over the stripes' bilinear reconstruction),
+    // stored as its sRGB code. Drawn at one fragment per pixel, each pixel must be that value,
+    // which needs the derivatives (one pixel = 0.1 uv) to reach a level above 0.
+    SurfaceMaterial m = lambert({1, 1, 1});
+    auto stripes = std::make_shared<image::Image>(64, 64, 3);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            for (int c = 0; c < 3; ++c) stripes->at(x, y, c) = static_cast<float>(x % 2);
+    m.albedo_texture = stripes;
+    const float mean_stored =
+        image::srgb_decode(std::round(image::srgb_encode(0.5f) * 255.0f) / 255.0f);
+    for (const double minified : {16.0, 64.0}) {
+        m.uv_scale = Eigen::Vector2d::Constant(minified / (0.1 * 64));
+        SceneDesc d = patch_scene(m, 8);  // 0.8 wide, 8 px: 0.1 uv per pixel
+        d.environment.radiance = {1, 1, 1};
+        // Half a texel to the side: pixel centres on texel centres, where level 0 reads single
+        // stripes (what the shipped bilinear lookup shows: 0 or 1 instead of 1/2).
+        const double half_texel = 0.5 / (64 * m.uv_scale.x());
+        d.camera.position.x() += half_texel;
+        d.camera.look_at.x() += half_texel;
+        const Scene scene(d);
+        RealtimeLighting lighting;
+        lighting.coeffs = project_environment(scene.environment(), 3);
+        RealtimeOptions ro;
+        ro.supersample = 1;
+        ro.texture_filter = TextureFilter::kTrilinear;
+        const image::Image img = render_realtime(scene, lighting, ro);
+        for (float v : img.pixels) EXPECT_NEAR(v, mean_stored, kFloatRel) << minified << "x";
+        ro.texture_filter = TextureFilter::kBilinear;
+        for (float v : render_realtime(scene, lighting, ro).pixels)
+            EXPECT_GT(std::abs(v - 0.5), 0.49) << minified << "x, bilinear: a single stripe";
+    }
+}
+
 TEST(Realtime, RejectsImpossibleOptions) {
     const EnvironmentLight env(band_limited_sky(16, 8), Eigen::Matrix3d::Identity(), 1.0, "sky");
     SceneDesc d = patch_scene(lambert({1, 1, 1}), 4);
@@ -210,7 +248,11 @@ TEST(Realtime, RejectsImpossibleOptions) {
     EXPECT_THROW(render_realtime(scene, lighting, ro), UsageError);
     lighting.coeffs = project_environment(env, 4);
     ro.mode = RealtimeMode::kSeed;
-    EXPECT_THROW(render_realtime(scene, lighting, ro), UsageError);
+    EXPECT_THROW(render_realtime(scene, lighting, ro), UsageError);    for (const double spread : {0.0, -1.0, std::nan("")}) {
+        RealtimeOptions bad;
+        bad.specular_spread = spread;
+        EXPECT_THROW(render_realtime(scene, lighting, bad), UsageError) << spread;
+    }
 }
 
 }  // namespace
