@@ -103,7 +103,7 @@ TEST(Mip, BilinearLevelsAverageTheDrawnTextureOverTheFootprint) {
     // function whose kinks lie on the grid, so exact up to the products' O(h^2) term per cell
     // (h = 1/24: ~1e-4 of the texel contrast; 2e-4 with margin).
     constexpr double kMidpointTol = 2e-4;
-    for (const Eigen::Vector2i size : {Eigen::Vector2i(64, 32), Eigen::Vector2i(7, 5)}) {
+    for (const Eigen::Vector2i& size : {Eigen::Vector2i(64, 32), Eigen::Vector2i(7, 5)}) {
         const image::Image src = random_image(size.x(), size.y(), 5);
         const MipAtlas m = build_mip_atlas(src, TextureKind::kNormalMap, false, MipFilter::kBilinear);
         constexpr int kSub = 24;

@@ -208,10 +208,10 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
     // one misses the shape (the GPU's neighbour in the quad is always on the primitive's plane).
     auto uv_step = [&](double px, double py, double step_x, double step_y, const SurfaceHit& at) {
         for (const double sign : {1.0, -1.0}) {
-            SurfaceHit h;
-            if (scene.accel().intersect(cam.generate_ray(px + sign * step_x, py + sign * step_y), &h) &&
-                h.shape == at.shape)
-                return Eigen::Vector2d(sign * (h.uv - at.uv));
+            SurfaceHit next;
+            if (scene.accel().intersect(cam.generate_ray(px + sign * step_x, py + sign * step_y), &next) &&
+                next.shape == at.shape)
+                return Eigen::Vector2d(sign * (next.uv - at.uv));
         }
         return Eigen::Vector2d(Eigen::Vector2d::Zero());
     };
