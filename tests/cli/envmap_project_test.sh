@@ -34,7 +34,7 @@ expect_summary_number "summary: max relative error is the report's" \
 expect_summary_number "summary: normal count is the report's" \
     "irradiance error vs brute force .* over ([0-9]+) normals" "$WORK/r.json" '.metrics.environments[0].validation.normals'
 # The irradiance matrices are detail (they are in the JSON): printed with -v only.
-expect_true "default verbosity: no irradiance matrices on the console" -- bash -c '! grep -q "M_r =" "$1"' _ "$WORK/stderr"
+expect_true "default verbosity: no irradiance matrices on the console" -- bash -c "! grep -q 'M_r =' '$WORK/stderr'"
 expect_exit 0 "constant map, -v" -- "$EP" "$WORK/const.exr" -o "$WORK/const_v_sh.json" --sh-bands 4 -v
 expect_stderr "M_r =" "-v prints the irradiance matrices"
 # shellcheck disable=SC2016  # $l00 and $b are jq variables
