@@ -17,6 +17,7 @@
 #include "core/fs.h"
 #include "core/json_out.h"
 #include "gles/export_glsl.h"
+#include "image/image.h"
 #include "sh/sh.h"
 
 namespace inlight::gles {
@@ -30,6 +31,17 @@ using detail::vertex_source;
 
 namespace {
 void pack_f32(float v, uint8_t* out);
+
+/// The PNG of RGBA8 texels whose decoded samples are `rgba8` byte for byte: values code / 255
+/// written linearly (no sRGB step, alpha never premultiplied: it is 255).
+std::string texture_png(const std::vector<uint8_t>& rgba8, const Eigen::Vector2i& px,
+                        const std::string& name) {
+    image::Image img(px.x(), px.y(), 4, image::ColorSpace::kData);
+    for (size_t i = 0; i < rgba8.size(); ++i) img.pixels[i] = rgba8[i] / 255.0f;
+    image::WriteOptions w;
+    w.encode_srgb = false;
+    return image::encode_image(name, img, w);
+}
 }  // namespace
 
 Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& v,
@@ -245,7 +257,7 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
                                  px.y(), " RGBA8 texels need ", px.x() * px.y() * 4));
         }
         e.texture_files.emplace_back(texture_file_name(mat.name, i == 0),
-                                     std::string(bytes->begin(), bytes->end()));
+                                     texture_png(*bytes, px, texture_file_name(mat.name, i == 0)));
     }
     e.vertex_source = vertex_source(p, e.name);
     e.fragment_source = fragment_source(p, e.name);

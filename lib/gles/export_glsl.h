@@ -47,10 +47,12 @@ std::string exp_log_functions();
 /// irradiance factor and, with a table, the material's specular lobe. Needs atan2_f32.
 std::string lights_functions(const Plan& p);
 
-/// "<material>.albedo.rgba8" | "<material>.normal.rgba8": a material texture's file beside the
-/// manifests (raw RGBA8 texels, rows top first).
+/// "<material>.albedo.png" | "<material>.normal.png": a material texture's file beside the
+/// manifests (an 8-bit RGBA PNG whose samples are the texel bytes, rows top first; PNG, not raw
+/// texels, because the app downloads it: about a quarter of the raw size for the sample
+/// fabrics).
 inline std::string texture_file_name(const std::string& material, bool albedo) {
-    return material + (albedo ? ".albedo.rgba8" : ".normal.rgba8");
+    return material + (albedo ? ".albedo.png" : ".normal.png");
 }
 
 /// The variant's manifest: every uniform with its value or source, every texture with its file,

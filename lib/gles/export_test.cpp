@@ -2,6 +2,7 @@
 // (glslangValidator) for its GLSL ES version, declares nothing it does not use, picks its data
 // layout from the limits given and refuses what does not fit.
 #include "gles/export.h"
+#include "image/image.h"
 
 #include <gtest/gtest.h>
 
@@ -457,12 +458,22 @@ TEST(ExportVariant, ManifestGivesEveryUniformAValueOrASource) {
             ASSERT_TRUE(t.contains("file")) << e.name << " " << t["uniform"];
             EXPECT_TRUE(t.contains("padding"));
         }
-        ASSERT_EQ(m["textures"][0]["file"], "velvet.albedo.rgba8");
+        ASSERT_EQ(m["textures"][0]["file"], "velvet.albedo.png");
         const auto files = export_files(e);
         const auto albedo = std::find_if(files.begin(), files.end(),
-                                         [](const auto& f) { return f.first == "velvet.albedo.rgba8"; });
+                                         [](const auto& f) { return f.first == "velvet.albedo.png"; });
         ASSERT_NE(albedo, files.end());
-        EXPECT_EQ(albedo->second, std::string("\x01\x02\x03\xff\x04\x05\x06\xff", 8));
+        // The PNG's samples, decoded without any colour step, are the texel bytes.
+        image::ReadOptions raw;
+        raw.decode_srgb = false;
+        const image::Image png = image::read_image_memory(albedo->second.data(), albedo->second.size(),
+                                                          albedo->first, raw);
+        ASSERT_EQ(png.width, 2);
+        ASSERT_EQ(png.height, 1);
+        ASSERT_EQ(png.channels, 4);
+        std::string codes;
+        for (float v : png.pixels) codes.push_back(static_cast<char>(std::lround(v * 255.0f)));
+        EXPECT_EQ(codes, std::string("\x01\x02\x03\xff\x04\x05\x06\xff", 8));
         EXPECT_EQ(m["output"]["encoding_8bit"]["steps"].size(), 4u);
     }
     mat.albedo_rgba8.pop_back();  // 7 bytes for 2 x 1 texels: refused, naming both
