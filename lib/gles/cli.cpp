@@ -71,6 +71,9 @@ void ExportArgs::add_textures(MaterialInputs& material, Report& report) const {
             }
         }
     }
+    // The texture is the albedo, as in the validation scene (pipelines/validate-pair.sh: albedo
+    // [1, 1, 1] times the bundle's albedo.png): u_albedo = 1, not the material file's albedo.
+    if (!albedo_texture.empty()) material.brdf.albedo = Eigen::Vector3d::Ones();
     if (tile_size_m > 0) {
         material.uv_in_metres = true;
         material.uv_scale = Eigen::Vector2f::Constant(static_cast<float>(1.0 / tile_size_m));

@@ -29,7 +29,9 @@ struct ExportArgs {
     /// `report`, and returns set().
     ExportSet prepare(Report& report) const;
     /// The textures and uv unit of --gles-albedo-texture, --gles-normal-texture and
-    /// --gles-tile-size-m into `material` (texels as the files store them, alpha 255). Throws
+    /// --gles-tile-size-m into `material` (texels as the files store them, alpha 255). With an
+    /// albedo texture, the texture is the albedo: material.brdf.albedo (u_albedo) becomes 1, as
+    /// in the validation scene (docs/pipelines.md). Throws
     /// UsageError naming the option when a file is not an 8-bit image (the shader binds bytes;
     /// a 16-bit or float file would be quantised behind the user's back), Error when it cannot
     /// be read; declares the files inputs of `report`.

@@ -43,11 +43,12 @@ expect_true "nothing written by those usage errors" -- test ! -e "$WORK/gt" -a !
 expect_exit 0 "brdf-sh-bake with the bundle's textures" -- "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" \
     --gles-albedo-texture "$WORK/albedo.png" --gles-normal-texture "$WORK/albedo.png" --gles-tile-size-m 0.05 \
     --gles-versions 100
-expect_true "its manifests bind both textures from their files, a_uv in metres, u_uv_scale = 1 / tile" -- jq -e \
+expect_true "its manifests bind both textures from their files, a_uv in metres, u_uv_scale = 1 / tile, the texture as the albedo" -- jq -e \
     '([.textures[] | select(.uniform != "u_brdf_texture") | [.uniform, .file, .width, .height]] ==
       [["u_albedo_texture", "t.albedo.png", 5, 3], ["u_normal_texture", "t.normal.png", 5, 3]]) and
      ((.attributes[] | select(.name == "a_uv") | .units) == "m") and
-     ((.uniforms[] | select(.name == "u_uv_scale") | .value) == [20, 20])' \
+     ((.uniforms[] | select(.name == "u_uv_scale") | .value) == [20, 20]) and
+     ((.uniforms[] | select(.name == "u_albedo") | .value) == [1, 1, 1])' \
     "$WORK/gt/t-es100-consistent-b3-highp.json"
 expect_true "the texture's PNG holds the input's codes (8-bit RGBA, code 128 = 0.5)" -- bash -c \
     "file -b '$WORK/gt/t.albedo.png' | grep -q '5 x 3, 8-bit/color RGBA'"
