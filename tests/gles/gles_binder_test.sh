@@ -137,6 +137,32 @@ if have_package_file /usr/share/blender/scripts/addons/archimesh/images/fabric_d
             --reference "$WORK/bf/$v.ref.ppm"
         grep -h "worst" "$WORK/stdout" | sed 's/^/    /'
     done < <(jq -r '.variants[].manifest' "$BUNDLE/shaders/index.json")
+    # What validation grades is what ships: validate-pair's scene (pipelines/validate-pair.sh: the
+    # bundle's material, albedo [1, 1, 1] times albedo.png, normal.png, an orthographic camera
+    # along -z), exported by render export-gles with the bundle's grid and samples per normal, as
+    # render compare's GLES column does, gives the bundle's shader files byte for byte (sources,
+    # BRDF data, textures; the material named as the bundle's, "table", so the names agree).
+    uv=$(jq '0.1 / .properties.tile_size_m' "$BUNDLE/manifest.json")
+    printf '%s\n' "[environment]" "path = \"/usr/share/blender/datafiles/studiolights/world/city.exr\"" \
+        "[camera]" "projection = \"orthographic\"" "ortho_height = 1.0" "[material.table]" \
+        "file = \"$BUNDLE/material.toml\"" "albedo = [1, 1, 1]" "albedo_texture = \"$BUNDLE/albedo.png\"" \
+        "normal_texture = \"$BUNDLE/normal.png\"" "uv_scale = [$uv, $uv]" "[[object]]" "name = \"fabric\"" \
+        "shape = \"patch\"" "material = \"table\"" "size = [1, 1]" > "$WORK/bf/scene.toml"
+    expect_exit 0 "render export-gles of validate-pair's scene with the bundle's table options" -- \
+        "$R" export-gles "$WORK/bf/scene.toml" -o "$WORK/bf/validated" -q \
+        --grid "$(jq -r '.properties.brdf_grid' "$BUNDLE/manifest.json")" \
+        --bake-samples "$(jq '.properties.brdf_samples_per_normal' "$BUNDLE/manifest.json")" \
+        --gles-versions "$(jq -r '[.variants[].variant.glsl_version | rtrimstr(" es")] | unique | join(",")' \
+            "$BUNDLE/shaders/index.json")"
+    differ=0 compared=0
+    while read -r f; do
+        compared=$((compared + 1))
+        cmp -s "$BUNDLE/shaders/$f" "$WORK/bf/validated/$f" || { echo "    differs: $f"; differ=1; }
+    done < <(jq -r '.files[] | select(.role == "shader_vertex" or .role == "shader_fragment" or
+                    .role == "shader_data" or .role == "shader_texture") | .path | ltrimstr("shaders/")' \
+                "$BUNDLE/manifest.json")
+    expect_true "the validated shaders, their data and textures are the bundle's, byte for byte ($compared files)" -- \
+        test "$differ" -eq 0 -a "$compared" -ge 5
     # The texture is bound, not ignored: the normal map's bytes in place of the albedo's move the
     # image by more than a code.
     cp -r "$BUNDLE/shaders" "$WORK/bf/swapped"
