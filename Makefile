@@ -9,7 +9,7 @@ all: build
 
 # Every build and run dependency, from Debian's packages only. Safe to re-run.
 DEB_PACKAGES := build-essential cmake pkg-config git jq shellcheck ca-certificates \
-	file time python3 clang-format \
+	file time python3 clang-format ccache \
 	libeigen3-dev libopencv-dev libopencv-contrib-dev libopenimageio-dev openimageio-tools libopenexr-dev \
 	libcli11-dev nlohmann-json3-dev libtbb-dev libembree-dev \
 	libgtest-dev libgmock-dev googletest libbenchmark-dev \
