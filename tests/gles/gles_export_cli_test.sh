@@ -39,7 +39,11 @@ expect_exit 2 "a NaN tile size is a usage error" -- \
     "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" --gles-tile-size-m nan
 expect_exit 2 "textures without --export-gles are a usage error" -- \
     "$B" "${BAKE[@]}" -o "$WORK/t" --gles-albedo-texture "$WORK/albedo.png"
-expect_true "nothing written by those usage errors" -- test ! -e "$WORK/gt" -a ! -e "$WORK/t.bin"
+printf '\x89PNG\r\n\x1a\nnot really a png' > "$WORK/garbage.png"
+expect_exit 1 "a garbage PNG normal map is a runtime error before the bake" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" --gles-normal-texture "$WORK/garbage.png"
+expect_stderr "garbage.png" "the error names the file"
+expect_true "nothing written by those errors" -- test ! -e "$WORK/gt" -a ! -e "$WORK/t.bin"
 expect_exit 0 "brdf-sh-bake with the bundle's textures" -- "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" \
     --gles-albedo-texture "$WORK/albedo.png" --gles-normal-texture "$WORK/albedo.png" --gles-tile-size-m 0.05 \
     --gles-versions 100
