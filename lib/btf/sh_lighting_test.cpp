@@ -4,9 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include "btf/compressed.h"
+#include "btf/pca_run.h"
+#include "btf/synthetic.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "sh/sh.h"
+#include "testing/testing.h"
 
 namespace inlight::btf {
 namespace {
@@ -159,6 +163,64 @@ TEST(ShLightWeights, SmallCapOfTheMapPathEqualsTheDirectionalLight) {
         // symmetric: the residual is second order, (1 deg)^2 / 2 ~ 1.5e-4 of the weight; 1e-3.
         EXPECT_NEAR(cap.weight[k].x(), point.weight[k].x(), 1e-3 * omega + 1e-12) << k;
     }
+}
+
+TEST(ShLightWeights, PerFrameComponentWeightsEqualTheCompressedShading) {
+    // The per-frame path (M c per colour and view, then mean x m_0 + basis x m) against
+    // CompressedBtf::combine of the light weights W = A c: the same sums in another order.
+    AnalyticBtfOptions ao;
+    ao.width = 10;
+    ao.height = 8;
+    ao.rank = 4;
+    ao.views = {{0, 0}, {30, 0}, {45, 180}, {75, 90}};
+    const AnalyticBtf raw(ao);
+    PcaRunOptions po;
+    po.output = testing::temp_dir("sh_lighting_matrix");
+    po.pca.view_group_size = 2;
+    po.pca.components = 3;
+    po.encoding = ComponentEncoding::kExrFloat;
+    compress_to_folder(raw, po, 0);
+    const auto btf = CompressedBtf::open(po.output);
+    const int bands = 3, count = sh::count(bands);
+    const Eigen::MatrixXd a = sh_light_weight_matrix(raw.shape().lights, bands, {}, 64);
+    // A lighting of 3 colours: a sky, a warm key from the side, a little from below.
+    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(count, 3);
+    c.row(0) << 2.0, 1.8, 1.5;
+    c.row(sh::index(1, 0)) << 0.9, 0.8, 0.6;
+    c.row(sh::index(1, 1)) << 0.5, 0.3, 0.1;
+    c.row(sh::index(2, 0)) << -0.2, -0.1, 0.0;
+    c.row(sh::index(2, -2)) << 0.05, 0.1, 0.15;
+    const double irradiance = kPi;
+    DomeLighting w;
+    for (Eigen::Index k = 0; k < a.rows(); ++k) {
+        w.weight.push_back(Eigen::Vector3d(a.row(k).dot(c.col(0)), a.row(k).dot(c.col(1)), a.row(k).dot(c.col(2))));
+    }
+    double worst = 0, largest = 0;
+    for (int v = 0; v < raw.shape().n_views(); ++v) {
+        const image::Image ref = btf->combine(shading_terms(w, {v}, {1.0}, irradiance));
+        const int g = btf->group_of_view(v);
+        for (int ch = 0; ch < 3; ++ch) {
+            const Eigen::MatrixXd m = btf->lighting_matrix(v, ch, a, irradiance);
+            ASSERT_EQ(m.rows(), 1 + btf->components(g));
+            ASSERT_EQ(m.cols(), count);
+            const Eigen::VectorXd coeff = m * c.col(ch);
+            const Eigen::VectorXd img = btf->group_mean(g).cast<double>() * coeff(0) +
+                                        btf->group_basis(g).cast<double>() * coeff.tail(coeff.size() - 1);
+            for (Eigen::Index p = 0; p < img.size(); ++p) {
+                worst = std::max(worst, std::abs(img(p) - ref.pixels[static_cast<size_t>(p * 3 + ch)]));
+                largest = std::max(largest, std::abs(img(p)));
+            }
+        }
+    }
+    ASSERT_GT(largest, 0.1);  // a lit image, not zeros on both sides
+    // The reference is stored as float32: half an ulp of values <= `largest`, plus double sums.
+    EXPECT_LE(worst, 1e-6 * largest) << "largest " << largest;
+    // The sRGB model does not fold: refused, not silently wrong.
+    PcaRunOptions ps = po;
+    ps.output = testing::temp_dir("sh_lighting_matrix_srgb");
+    ps.fit_space = FitSpace::kSrgb;
+    compress_to_folder(raw, ps, 0);
+    EXPECT_THROW(CompressedBtf::open(ps.output)->lighting_matrix(0, 0, a, irradiance), Error);
 }
 
 TEST(ShLightWeights, RefusesBadArguments) {
