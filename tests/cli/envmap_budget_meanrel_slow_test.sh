@@ -9,7 +9,7 @@
 # 3 + 1), so a small change of the fit may change which configuration is chosen; what this
 # holds is that one within 129 operations meets 1% (the least within that cost measured
 # 0.15-0.88%).
-# Slow (2.5 CPU-min; 11 min wall at load 11 under nice): the 1024x512 maps' brute force and the fits.
+# Slow (1.2 CPU-min; 80-110 s wall at load 3-5): the 1024x512 maps' brute force and the fits.
 # shellcheck disable=SC2016  # $vars in the single-quoted jq programs are jq's own
 # shellcheck source=tests/cli/lib.sh
 source "$(dirname "$0")/lib.sh"
