@@ -91,13 +91,18 @@ function(inlight_add_cli_tests prefix)
         get_filename_component(name ${script} NAME_WE)
         set(labels cli)
         set(timeout ${INLIGHT_CLI_TEST_TIMEOUT_S})
+        # ctest -j starts the costliest tests first; without a previous run's cost data (a fresh
+        # build, as in CI) it orders by COST, so the slow scripts (minutes each) start at once
+        # instead of last, where they would leave the other cores idle at the end.
+        set(cost 10)
         if(name MATCHES "slow")
             set(labels cli slow)
             set(timeout 1500)  # slow tests run apart from the batch, often on a loaded machine
+            set(cost 100)
         endif()
         add_test(NAME ${prefix}.${name} COMMAND bash ${script})
         set_tests_properties(${prefix}.${name} PROPERTIES LABELS "${labels}"
             ENVIRONMENT "${INLIGHT_TEST_ENV};INLIGHT_TEST_BIN=${CMAKE_BINARY_DIR}/tests"
-            TIMEOUT ${timeout} SKIP_RETURN_CODE 77)
+            TIMEOUT ${timeout} SKIP_RETURN_CODE 77 COST ${cost})
     endforeach()
 endfunction()

@@ -88,6 +88,35 @@ void move_cap(const Eigen::Vector3d& d, double alpha, const double* p, double al
     alpha_out = std::clamp(alpha + p[2], 0.0, alpha_max);
 }
 
+/// The last columns computed for each light of one fit, keyed by the light's index and the exact
+/// bits of its direction and radius. The LM's central differences move one parameter at a time
+/// (levenberg_marquardt below): a light they do not move gets the same direction and radius, bit
+/// for bit, in all but two of its 2 x (parameters) evaluations, so its column (a few hundred
+/// cosines and square roots) is looked up, not recomputed. A column is a function of exactly that
+/// key within one fit, so the result is bit-identical to recomputing it.
+class ColumnCache {
+  public:
+    template <typename Compute>
+    const Eigen::VectorXd& get(int light, const Eigen::Vector3d& d, double alpha, Compute&& compute) {
+        for (auto& e : m_entries)
+            if (e.light == light && e.direction == d && e.alpha == alpha) return e.column;
+        if (m_entries.size() >= kCapacity) m_entries.erase(m_entries.begin());
+        m_entries.push_back({light, d, alpha, compute()});
+        return m_entries.back().column;
+    }
+
+  private:
+    // Per light: the unmoved state's column and those of the latest trials (oldest dropped).
+    static constexpr size_t kCapacity = 64;
+    struct Entry {
+        int light;
+        Eigen::Vector3d direction;
+        double alpha;
+        Eigen::VectorXd column;
+    };
+    std::vector<Entry> m_entries;
+};
+
 /// Levenberg-Marquardt on `state` (np parameters moved by moved(state, step)) minimising
 /// |residual(state)|^2, whose value at the start is `cost` (updated). Returns the iterations.
 template <typename State, typename Residual, typename Move>
@@ -215,10 +244,20 @@ LightFitResult fit_lights(const std::vector<DirectionalLight>& start, int sh_ban
                                sh_bands, start[static_cast<size_t>(j)].shading);
         return lobes;
     };
+    ColumnCache cache;
     auto residual = [&](const Geometry& g) {
-        const Eigen::MatrixXd h = design(lobes_of(g), normals);
         Eigen::VectorXd r = high_y;
-        for (int j = 0; j < k; ++j) r -= g.flux_y[static_cast<size_t>(j)] * h.col(j);
+        for (int j = 0; j < k; ++j) {
+            const auto js = static_cast<size_t>(j);
+            const Eigen::VectorXd& h = cache.get(j, g.direction[js], g.alpha[js], [&] {
+                const Lobe lobe(g.direction[js], g.alpha[js], sh_bands, start[js].shading);
+                Eigen::VectorXd col(nn);
+                for (Eigen::Index i = 0; i < nn; ++i)
+                    col[i] = lobe.high_pass(normals[static_cast<size_t>(i)]);
+                return col;
+            });
+            r -= g.flux_y[js] * h;
+        }
         return r;
     };
     // Parameters per light: tangent offsets (u, v) of d, alpha offset, log-scale of Phi_Y.
@@ -313,15 +352,21 @@ LightFitResult fit_lights_free_sh(const std::vector<DirectionalLight>& start, in
         std::vector<double> alpha;
     };
     // The weighted unit-flux light columns with the SH part projected out.
+    ColumnCache cache;
     const auto columns = [&](const Shape& g) {
         Eigen::MatrixXd c(nn, k);
         for (int j = 0; j < k; ++j) {
-            DirectionalLight unit = start[static_cast<size_t>(j)];
-            unit.direction = g.direction[static_cast<size_t>(j)];
-            unit.angular_radius = g.alpha[static_cast<size_t>(j)];
-            unit.flux = Eigen::Vector3d::Ones();
-            for (Eigen::Index i = 0; i < nn; ++i)
-                c(i, j) = sw[i] * light_irradiance(unit, normals[static_cast<size_t>(i)])[0];
+            const auto js = static_cast<size_t>(j);
+            c.col(j) = cache.get(j, g.direction[js], g.alpha[js], [&] {
+                DirectionalLight unit = start[js];
+                unit.direction = g.direction[js];
+                unit.angular_radius = g.alpha[js];
+                unit.flux = Eigen::Vector3d::Ones();
+                Eigen::VectorXd col(nn);
+                for (Eigen::Index i = 0; i < nn; ++i)
+                    col[i] = sw[i] * light_irradiance(unit, normals[static_cast<size_t>(i)])[0];
+                return col;
+            });
         }
         return Eigen::MatrixXd(project_out(c));
     };
