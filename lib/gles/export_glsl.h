@@ -28,6 +28,11 @@ struct Plan {
     bool wrapped = false;                 ///< the texels in rows of data_width (linear order)
     bool scale_in_texture = false;        ///< RGBA8: scale/offset texels after the table's
     int scale_texel = 0;                  ///< the first of them (linear index)
+    /// Trilinear variants: the atlas level rectangles of each material texture (empty = none
+    /// or bilinear) and the atlas size (texels).
+    std::vector<render::MipRect> albedo_levels, normal_levels;
+    Eigen::Vector2i albedo_atlas_px{0, 0}, normal_atlas_px{0, 0};
+    bool trilinear() const { return v->texture_filter == TextureFilter::kTrilinear; }
     bool es3() const { return v->version == GlslVersion::kEs300; }
     int channels() const { return table ? table->channels : 0; }
 };
@@ -48,9 +53,10 @@ std::string exp_log_functions();
 std::string lights_functions(const Plan& p);
 
 /// "<material>.albedo.rgba8" | "<material>.normal.rgba8": a material texture's file beside the
-/// manifests (raw RGBA8 texels, rows top first).
-inline std::string texture_file_name(const std::string& material, bool albedo) {
-    return material + (albedo ? ".albedo.rgba8" : ".normal.rgba8");
+/// manifests (raw RGBA8 texels, rows top first); its mip atlas (trilinear variants):
+/// "<material>.albedo.mip.rgba8" | "<material>.normal.mip.rgba8".
+inline std::string texture_file_name(const std::string& material, bool albedo, bool mip = false) {
+    return material + (albedo ? ".albedo" : ".normal") + (mip ? ".mip" : "") + ".rgba8";
 }
 
 /// The variant's manifest: every uniform with its value or source, every texture with its file,

@@ -64,12 +64,19 @@ std::vector<Limits> test_limits() {
 }
 
 /// all_variants plus consistent variants with 1 and 3 dominant lights (both versions and
-/// precisions, 3 bands).
-std::vector<Variant> variants_with_lights(int bands) {
+/// precisions, 3 bands) and, for a textured material, trilinear variants of both modes.
+std::vector<Variant> variants_with_lights(int bands, const MaterialInputs& mat) {
+    const bool textured = mat.has_albedo_texture() || mat.has_normal_texture();
     std::vector<Variant> out = all_variants(bands);
     for (GlslVersion ver : {GlslVersion::kEs100, GlslVersion::kEs300}) {
         for (Precision prec : {Precision::kHighp, Precision::kMediump}) {
             for (int lights : {1, 3}) out.push_back({ver, ShaderMode::kConsistent, 3, prec, lights});
+            // The trilinear texture filter (the same code as bilinear without textures).
+            for (ShaderMode mode : {ShaderMode::kConsistent, ShaderMode::kSeed}) {
+                if (!textured) break;
+                out.push_back({ver, mode, 3, prec, mode == ShaderMode::kSeed ? 0 : 1,
+                               envmap::LightShading::kCap, TextureFilter::kTrilinear});
+            }
         }
     }
     return out;
@@ -91,7 +98,7 @@ TEST(ExportVariant, EveryVariantPassesGlslangValidator) {
     const std::vector<Case> all = cases();
     for (const Case& c : all) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 1);
-        for (const Variant& v : variants_with_lights(c.bands)) {
+        for (const Variant& v : variants_with_lights(c.bands, c.mat)) {
             // Lambert (no table) for the first case only: its code is a subset of the others'.
             std::vector<const brdf::Table*> tables = {&table};
             if (&c == &all.front()) tables.push_back(nullptr);
@@ -132,7 +139,7 @@ TEST(ExportVariant, NoDeadDeclarations) {
         R"(\n(?:uniform|in|varying|attribute|const)\s+(?:highp\s+|mediump\s+)?\w+\s+(\w+)|\n\w+\s+(\w+)\()");
     for (const Case& c : cases()) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 2);
-        for (const Variant& v : variants_with_lights(c.bands)) {
+        for (const Variant& v : variants_with_lights(c.bands, c.mat)) {
           for (const Limits& lim : test_limits()) {
             Export e;
             try {
@@ -570,7 +577,7 @@ TEST(ExportVariant, MediumpLiteralsFitHalfFloats) {
         mat.brdf.specular = model;
         mat.albedo_texture_px = {4, 4};
         mat.normal_texture_px = {4, 4};
-        for (const Variant& base : variants_with_lights(6)) {
+        for (const Variant& base : variants_with_lights(6, mat)) {
             if (base.precision != Precision::kMediump) continue;
             for (int bands : {3, 6}) {
                 Variant v = base;
