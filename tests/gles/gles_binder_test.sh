@@ -52,7 +52,6 @@ EOF
         --gles-texture-filter trilinear
     expect_stderr "mip atlas is 768x512 texels" "the refusal names the atlas' size"
     expect_stderr "GL_MAX_TEXTURE_SIZE = 64" "and the limit"
-    T="$WORK/gt/satin-es100-consistent-b3-highp-trilinear.json"
     expect_true "a trilinear manifest names the atlas file, its size, its 10 levels and the derivatives extension" -- jq -e \
         '(.files.albedo_texture == "satin.albedo.mip.rgba8") and (.texture_filter == "trilinear")
          and (.textures[0] | .width == 768 and .height == 512 and (.mip.levels | length) == 10
@@ -87,30 +86,23 @@ EOF
         "$BINDER" "$WORK/gl/index.json" --lighting "$WORK/lit.json" -o "$WORK/load.ppm" \
         --reference "$WORK/gl-satin-es300-consistent-b4-l1-highp.ref.ppm"
 
-    # It can fail: a manifest without u_albedo's value, or without the albedo texture's file.
+    # It can fail: a manifest without u_albedo's value, without the albedo texture's file, without
+    # the 8-bit step; a trilinear one whose level lies outside its atlas, or that requires an
+    # extension the context lacks. Each: manifest @ jq edit @ what fails @ what the error names.
     M="$WORK/g/satin-es100-consistent-b3-highp.json"
-    jq '(.uniforms[] | select(.name == "u_albedo")) |= del(.value)' "$M" > "$WORK/g/no_albedo.json"
-    expect_exit 1 "a uniform without value or source fails the binder" -- \
-        "$BINDER" "$WORK/g/no_albedo.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "uniform u_albedo has neither 'value' nor 'source'" "the error names the uniform"
-    jq '(.textures[] | select(.uniform == "u_albedo_texture")) |= del(.file)' "$M" > "$WORK/g/no_file.json"
-    expect_exit 1 "a texture without its file fails the binder" -- \
-        "$BINDER" "$WORK/g/no_file.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "texture u_albedo_texture has neither 'file' nor 'source'" "the error names the texture"
-    jq 'del(.output.encoding_8bit)' "$M" > "$WORK/g/no_encoding.json"
-    expect_exit 1 "a manifest without the 8-bit step fails the binder" -- \
-        "$BINDER" "$WORK/g/no_encoding.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "missing field 'output.encoding_8bit.steps'" "the error names the field"
-    # A trilinear manifest whose level lies outside its atlas, or an ES 1.00 one without the
-    # extension it needs named, is caught by the binder.
-    jq '.textures[0].mip.levels[9].x = 768' "$T" > "$WORK/gt/bad_level.json"
-    expect_exit 1 "a mip level outside the atlas fails the binder" -- \
-        "$BINDER" "$WORK/gt/bad_level.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "mip level" "the error names the level"
-    jq '.gl_limits_needed.requires += ["GL_OES_no_such_extension (a test)"]' "$T" > "$WORK/gt/no_ext.json"
-    expect_exit 1 "a required extension the context lacks fails the binder" -- \
-        "$BINDER" "$WORK/gt/no_ext.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "lacks GL_OES_no_such_extension" "the error names the extension"
+    T="$WORK/gt/satin-es100-consistent-b3-highp-trilinear.json"
+    BROKEN=("$M@(.uniforms[] | select(.name == \"u_albedo\")) |= del(.value)@a uniform without value or source@uniform u_albedo has neither 'value' nor 'source'"
+            "$M@(.textures[] | select(.uniform == \"u_albedo_texture\")) |= del(.file)@a texture without its file@texture u_albedo_texture has neither 'file' nor 'source'"
+            "$M@del(.output.encoding_8bit)@a manifest without the 8-bit step@missing field 'output.encoding_8bit.steps'"
+            "$T@.textures[0].mip.levels[9].x = 768@a mip level outside the atlas@mip level"
+            "$T@.gl_limits_needed.requires += [\"GL_OES_no_such_extension (a test)\"]@a required extension the context lacks@lacks GL_OES_no_such_extension")
+    for i in "${!BROKEN[@]}"; do
+        IFS='@' read -r manifest edit what error <<< "${BROKEN[$i]}"
+        jq "$edit" "$manifest" > "$(dirname "$manifest")/broken$i.json"
+        expect_exit 1 "$what fails the binder" -- \
+            "$BINDER" "$(dirname "$manifest")/broken$i.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
+        expect_stderr "$error" "the error names it"
+    done
     # And a wrong binding is seen: L_10 (the z band) negated moves the image by more than a code.
     jq '.coefficients[2] |= map(-.)' "$WORK/sh2.json" > "$WORK/other.json"
     expect_exit 1 "the comparison sees a different lighting" -- \
