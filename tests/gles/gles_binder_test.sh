@@ -52,6 +52,7 @@ EOF
         --gles-texture-filter trilinear
     expect_stderr "mip atlas is 768x512 texels" "the refusal names the atlas' size"
     expect_stderr "GL_MAX_TEXTURE_SIZE = 64" "and the limit"
+    T="$WORK/gt/satin-es100-consistent-b3-highp-trilinear.json"
     expect_true "a trilinear manifest names the atlas file, its size, its 10 levels and the derivatives extension" -- jq -e \
         '(.files.albedo_texture == "satin.albedo.mip.rgba8") and (.texture_filter == "trilinear")
          and (.textures[0] | .width == 768 and .height == 512 and (.mip.levels | length) == 10
@@ -90,7 +91,6 @@ EOF
     # the 8-bit step; a trilinear one whose level lies outside its atlas, or that requires an
     # extension the context lacks. Each: manifest @ jq edit @ what fails @ what the error names.
     M="$WORK/g/satin-es100-consistent-b3-highp.json"
-    T="$WORK/gt/satin-es100-consistent-b3-highp-trilinear.json"
     BROKEN=("$M@(.uniforms[] | select(.name == \"u_albedo\")) |= del(.value)@a uniform without value or source@uniform u_albedo has neither 'value' nor 'source'"
             "$M@(.textures[] | select(.uniform == \"u_albedo_texture\")) |= del(.file)@a texture without its file@texture u_albedo_texture has neither 'file' nor 'source'"
             "$M@del(.output.encoding_8bit)@a manifest without the 8-bit step@missing field 'output.encoding_8bit.steps'"
