@@ -33,8 +33,12 @@ namespace {
 void pack_f32(float v, uint8_t* out);
 }  // namespace
 
-Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& v,
+Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& asked,
                       const Limits& limits) {
+    // The texture filter of a material without textures changes nothing: such a variant is the
+    // bilinear one (same code, name and manifest).
+    Variant v = asked;
+    if (!mat.has_albedo_texture() && !mat.has_normal_texture()) v.texture_filter = TextureFilter::kBilinear;
     if (!std::regex_match(mat.name, std::regex("[A-Za-z0-9_.-]+"))) {
         throw UsageError(str("GLES export: material name '", mat.name,
                              "' must be letters, digits, '_', '.' or '-'"));

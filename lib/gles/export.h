@@ -129,8 +129,9 @@ struct Variant {
     /// How those lights' irradiance is shaded (the lighting file's per-light "irradiance":
     /// envmap::LightShading, docs/formats.md); one formula for all lights of a variant.
     envmap::LightShading light_shading = envmap::LightShading::kCap;
-    /// How the material textures are read (no effect on a material without textures):
-    /// kTrilinear binds each as its mip atlas (MipAtlas8) and names the variant "...-trilinear".
+    /// How the material textures are read: kTrilinear binds each as its mip atlas (MipAtlas8)
+    /// and names the variant "...-trilinear". A material without textures always gets the
+    /// bilinear variant (Export::variant says which was made).
     TextureFilter texture_filter = TextureFilter::kBilinear;
 };
 

@@ -724,10 +724,16 @@ TEST(ExportTrilinear, RefusesAnAtlasWiderThanTheLimitNamingIt) {
     // The bilinear variant binds the 48 x 48 texture itself, the app's to size (not checked).
     v.texture_filter = TextureFilter::kBilinear;
     EXPECT_NO_THROW(export_variant(nullptr, mat, v, Limits::minimum(GlslVersion::kEs100)));
+    v.texture_filter = TextureFilter::kTrilinear;
+    // A material without textures gets the bilinear variant whatever is asked (the same code).
+    MaterialInputs plain;
+    const Export e = export_variant(nullptr, plain, v, Limits::minimum(GlslVersion::kEs100));
+    EXPECT_EQ(e.name, "material-es100-consistent-b3-highp");
+    EXPECT_EQ(e.variant.texture_filter, TextureFilter::kBilinear);
+    EXPECT_EQ(e.manifest["texture_filter"], "bilinear");
     // A device limit of 72 holds it.
     Limits limits = Limits::minimum(GlslVersion::kEs100);
     limits.max_texture_size = 72;
-    v.texture_filter = TextureFilter::kTrilinear;
     EXPECT_NO_THROW(export_variant(nullptr, mat, v, limits));
 }
 
