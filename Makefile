@@ -9,12 +9,12 @@ all: build
 
 # Every build and run dependency, from Debian's packages only. Safe to re-run.
 DEB_PACKAGES := build-essential cmake pkg-config git jq shellcheck ca-certificates \
-	file time python3 clang-format \
+	file time python3 clang-format ccache \
 	libeigen3-dev libopencv-dev libopencv-contrib-dev libopenimageio-dev openimageio-tools libopenexr-dev \
 	libcli11-dev nlohmann-json3-dev libtbb-dev libembree-dev \
 	libgtest-dev libgmock-dev googletest libbenchmark-dev \
 	glslang-tools libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
-	libtomlplusplus-dev libssl-dev liblcms2-dev libsqlite3-dev sqlite3 libzip-dev zip libqhull-dev \
+	libtomlplusplus-dev libssl-dev liblcms2-dev libsqlite3-dev sqlite3 libzip-dev zip libqhull-dev libpng-dev \
 	clang libclang-rt-14-dev gnuplot-nox snakemake slurm-wlm munge \
 	blender-data opencv-doc
 

@@ -63,8 +63,13 @@ fi
 #    --gles-* options of the bake config ask for: docs/gles.md).
 say "brdf-sh-bake ($(basename "$BRDF_CONFIG")) with --export-gles"
 rm -rf "$W/gles"
+#    The shaders bind the bundle's own albedo and normal map, tiled at the fabric's tile size
+#    (a_uv in metres on the fabric).
 "$BIN/brdf-sh-bake" --config "$BRDF_CONFIG" --material "$FABRIC/material.toml" -o "$W/brdf/table" \
-    --export-gles "$W/gles" -q --report "$W/brdf/report.json"
+    --export-gles "$W/gles" --gles-albedo-texture "$W/maps/albedo.png" \
+    --gles-normal-texture "$W/maps/normal.png" \
+    --gles-tile-size-m "$(jq '.metrics.tile_size_m' "$W/maps/report.json")" \
+    -q --report "$W/brdf/report.json"
 
 files=(--file "albedo=$W/maps/albedo.png" --file "normal=$W/maps/normal.png"
     --file "thumbnail=$W/maps/thumbnail.png" --file "material=$FABRIC/material.toml"
@@ -74,6 +79,7 @@ files=(--file "albedo=$W/maps/albedo.png" --file "normal=$W/maps/normal.png"
     --file "shader_lookup=$W/brdf/table.glsl@shaders/brdf_lookup.glsl"
     --file "shader_index=$W/gles/index.json@shaders/index.json")
 variants=0
+textures=()
 while read -r manifest; do
     base=${manifest%.json}
     files+=(--file "shader_manifest=$W/gles/$manifest@shaders/$manifest"
@@ -81,6 +87,12 @@ while read -r manifest; do
         --file "shader_fragment=$W/gles/$base.frag@shaders/$base.frag")
     data=$(jq -r '.files.brdf_data // empty' "$W/gles/$manifest")
     [ -n "$data" ] && files+=(--file "shader_data=$W/gles/$data@shaders/$data")
+    # The textures are the material's, shared by its variants: listed once.
+    while read -r tex; do
+        [[ " ${textures[*]} " == *" $tex "* ]] && continue
+        textures+=("$tex")
+        files+=(--file "shader_texture=$W/gles/$tex@shaders/$tex")
+    done < <(jq -r '.files.albedo_texture // empty, .files.normal_texture // empty' "$W/gles/$manifest")
     variants=$((variants + 1))
 done < <(jq -r '.variants[].manifest' "$W/gles/index.json")
 say "shaders: $variants GLES variants with their uniform layouts"

@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
         ->excludes(full);
     gles::ExportArgs gles_args;
     gles::add_export_options(cli, gles_args);
+    gles::add_texture_options(cli, gles_args);
     app::setup(cli, common,
                "brdf-sh-bake --material configs/materials/satin-ggx.toml "
                "--grid thetaphi:9x32 --sh-bands 3 -o out/satin --report run.json");
@@ -90,6 +91,12 @@ int main(int argc, char** argv) {
         for (const char* suffix : {".bin", ".json", ".glsl", "_texture.exr"})
             fs::declare_output(output + suffix, "-o");
         gles::ExportSet gles_set;
+        const bool textured = !gles_args.albedo_texture.empty() ||
+                              !gles_args.normal_texture.empty() || gles_args.tile_size_m > 0;
+        if (textured && gles_args.dir.empty()) {
+            throw UsageError("--gles-albedo-texture, --gles-normal-texture and --gles-tile-size-m "
+                             "are for the shaders: give --export-gles DIR");
+        }
         if (!gles_args.dir.empty()) {
             gles_set = gles_args.prepare(report);
             if (max_error <= 0 && gles_args.max_sh_bands > o.sh_bands) {
@@ -106,6 +113,7 @@ int main(int argc, char** argv) {
         gles::MaterialInputs gles_in;
         gles_in.name = std::filesystem::path(output).filename().string();
         gles_in.brdf = material;
+        gles_args.add_textures(gles_in, report);
         const bool lambert = material.specular == brdf::Model::kLambert;  // no specular term
         if (!gles_args.dir.empty() && max_error <= 0) {
             // The table's shape is known: a variant that does not fit is refused before the bake.

@@ -366,4 +366,32 @@ image::Image CompressedBtf::combine_with(const std::vector<ImageTerm>& terms, co
     return img;
 }
 
+Eigen::MatrixXd CompressedBtf::lighting_matrix(int view, int channel, const Eigen::MatrixXd& a,
+                                              double irradiance_w_m2) const {
+    if (m_fit_space != FitSpace::kLinear) {
+        throw Error(str("BTF lighting matrix: the model is fitted in ", to_string(m_fit_space),
+                        ", whose weighted sums do not fold into its components (linear only)"));
+    }
+    if (view < 0 || view >= m_shape.n_views() || channel < 0 || channel > 2) {
+        throw Error(str("BTF lighting matrix: view ", view, " or channel ", channel, " out of range"));
+    }
+    if (a.rows() != m_shape.n_lights()) {
+        throw Error(str("BTF lighting matrix: A has ", a.rows(), " rows for ", m_shape.n_lights(), " lights"));
+    }
+    if (!(irradiance_w_m2 > 0) || !std::isfinite(irradiance_w_m2) || !a.allFinite()) {
+        throw Error("BTF lighting matrix: A and the irradiance must be finite, the irradiance > 0");
+    }
+    const auto g = static_cast<size_t>(m_group_of_view[static_cast<size_t>(view)]);
+    const Group& gr = m_groups[g];
+    const Eigen::Index lights = m_shape.n_lights(), comps = gr.basis.cols();
+    // Rows of V for this view and channel, one per light: (index_in_group x lights + l) x 3 + ch.
+    Eigen::MatrixXd v(lights, comps);
+    const int64_t first = int64_t(m_index_in_group[static_cast<size_t>(view)]) * lights;
+    for (Eigen::Index l = 0; l < lights; ++l) v.row(l) = gr.weights.row((first + l) * 3 + channel).cast<double>();
+    Eigen::MatrixXd m(1 + comps, a.cols());
+    m.row(0) = a.colwise().sum() / irradiance_w_m2;
+    m.bottomRows(comps) = v.transpose() * a / irradiance_w_m2;
+    return m;
+}
+
 }  // namespace inlight::btf

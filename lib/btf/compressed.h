@@ -119,6 +119,20 @@ class CompressedBtf : public BtfSource {
     int components(int group) const { return static_cast<int>(m_groups[static_cast<size_t>(group)].basis.cols()); }
     const nlohmann::json& manifest() const { return m_manifest; }
     FitSpace fit_space() const { return m_fit_space; }
+    /// Group g's mean (pixel_count values) and basis (pixel_count x C): an image channel is
+    /// mean x m_0 + basis x m for coefficients from lighting_matrix().
+    const Eigen::VectorXf& group_mean(int g) const { return m_groups[static_cast<size_t>(g)].mean; }
+    const Eigen::MatrixXf& group_basis(int g) const { return m_groups[static_cast<size_t>(g)].basis; }
+
+    /// The app's per-frame lighting folded into view `view`'s group (btf/sh_lighting.h): with
+    /// light weights W = A c of one channel (A: n_lights x J, e.g. sh_light_weight_matrix),
+    /// channel `channel` of the shaded image is group_mean x (M.row(0) c) + group_basis x
+    /// (M.bottomRows(C) c) for the returned M = [1^T; V_view,channel^T] A / irradiance_w_m2,
+    /// (1 + C) x J. So a frame costs (1 + C) x J multiply-adds per colour and view (a stream
+    /// prefix of N components uses the first 1 + N rows). Linear fit space only (the sRGB and
+    /// Lab models do not fold: Error); A's rows must be n_lights and irradiance > 0 (Error).
+    Eigen::MatrixXd lighting_matrix(int view, int channel, const Eigen::MatrixXd& a,
+                                    double irradiance_w_m2) const;
 
   private:
     struct Group {

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "btf/interp.h"
+#include "btf/sh_lighting.h"
 #include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
@@ -206,6 +207,53 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
     out.weight = total.weight;
     out.solid_angle_sr = total.omega;
     out.below_horizon = total.below;
+    return out;
+}
+
+}  // namespace inlight::btf
+
+namespace inlight::btf {
+
+DomeLighting directional_light_weights(const std::vector<Direction>& lights,
+                                       const Eigen::Vector3d& direction,
+                                       const Eigen::Vector3d& irradiance,
+                                       const DomeLightingOptions& options) {
+    if (lights.empty()) throw Error("directional light weights: no light directions");
+    if (!direction.allFinite() || std::abs(direction.norm() - 1.0) > 1e-6) {
+        throw Error("directional light weights: the light's direction is not a finite unit vector");
+    }
+    if (!irradiance.allFinite()) throw Error("directional light weights: the irradiance holds NaN or Inf");
+    DomeLighting out;
+    out.weight.assign(lights.size(), Eigen::Vector3d::Zero());
+    out.solid_angle_sr.assign(lights.size(), 0.0);
+    const Eigen::Vector3d d = options.sample_from_env * direction;
+    if (d.z() <= 0) {  // at or below the sample's plane: no light direction sees it
+        out.below_horizon = irradiance;
+        return out;
+    }
+    std::vector<Eigen::Vector3d> lv;
+    for (const Direction& l : lights) lv.push_back(l.vector());
+    switch (options.rule) {
+        case CellRule::kConstant:
+            out.weight[static_cast<size_t>(nearest_light(lv, d))] = irradiance;
+            break;
+        case CellRule::kCosine: {
+            std::vector<char> eligible(lv.size(), 1);
+            for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
+            if (std::none_of(eligible.begin(), eligible.end(), [](char e) { return e != 0; })) {
+                throw Error("directional light weights: every light direction lies within 0.5 deg of the horizon");
+            }
+            const auto k = static_cast<size_t>(nearest_light(lv, d, &eligible));
+            out.weight[k] = irradiance * (d.z() / lv[k].z());
+            break;
+        }
+        case CellRule::kBarycentric: {
+            const HorizonTriangulation tri(lights);
+            size_t hint = 0;
+            tri.spread(d, hint, [&](size_t k, double beta) { out.weight[k] += irradiance * beta; });
+            break;
+        }
+    }
     return out;
 }
 

@@ -1,5 +1,7 @@
 #include "bundle/contents.h"
 
+#include "image/image.h"
+
 #include <filesystem>
 #include <map>
 
@@ -69,7 +71,48 @@ class Listing {
 };
 
 const std::map<std::string, std::string> kShaderFileRoles = {
-    {"vertex", "shader_vertex"}, {"fragment", "shader_fragment"}, {"brdf_data", "shader_data"}};
+    {"vertex", "shader_vertex"},     {"fragment", "shader_fragment"},
+    {"brdf_data", "shader_data"},    {"albedo_texture", "shader_texture"},
+    {"normal_texture", "shader_texture"}};
+
+// A raw RGBA8 texture the shader manifest `f` lists holds exactly its width x height texels:
+// a texture of the wrong size would be bound as garbage (glTexImage2D reads width x height x 4
+// bytes whatever the file holds).
+void check_shader_textures(const FileEntry& f, const nlohmann::json& j, const Listing& listing) {
+    const nlohmann::json& textures = member(j, "textures");
+    if (!textures.is_array()) return;  // a manifest written before the textures were listed
+    for (size_t i = 0; i < textures.size(); ++i) {
+        const nlohmann::json& t = textures[i];
+        const nlohmann::json& file = member(t, "file");
+        if (!file.is_string()) continue;
+        const std::string key = str("textures[", i, "].file");
+        const bool table = member(t, "uniform") == "u_brdf_texture";  // the BRDF table's data
+        const FileEntry* target =
+            &listing.resolve(f, file, key, table ? "shader_data" : "shader_texture");
+        const nlohmann::json& format = member(t, "file_format");
+        const std::string fmt = format.is_string() ? format.get<std::string>() : "";
+        const nlohmann::json &w = member(t, "width"), &h = member(t, "height");
+        if (!w.is_number_integer() || !h.is_number_integer()) continue;
+        const uint64_t width = w.get<uint64_t>(), height = h.get<uint64_t>();
+        if (fmt.rfind("raw RGBA8", 0) == 0 && target->bytes != width * height * 4) {
+            throw Error(str(listing.where(f), ": ", key, ": '", target->path, "' holds ",
+                            target->bytes, " bytes; its ", width, "x", height,
+                            " RGBA8 texels need ", width * height * 4));
+        }
+        if (fmt.rfind("PNG, 8-bit RGBA", 0) == 0) {
+            const image::ImageInfo info =
+                image::read_info((stdfs::path(listing.dir()) / target->path).string());
+            if (static_cast<uint64_t>(info.width) != width ||
+                static_cast<uint64_t>(info.height) != height || info.channels != 4 ||
+                info.bits_per_channel != 8 || info.is_float) {
+                throw Error(str(listing.where(f), ": ", key, ": '", target->path, "' is ",
+                                info.width, "x", info.height, " with ", info.channels, " ",
+                                info.bits_per_channel, "-bit channels; the manifest binds ",
+                                width, "x", height, " 8-bit RGBA"));
+            }
+        }
+    }
+}
 
 void check_shaders(const Manifest& m, const Listing& listing) {
     for (const FileEntry& f : m.files) {
@@ -83,10 +126,11 @@ void check_shaders(const Manifest& m, const Listing& listing) {
                 const auto role = kShaderFileRoles.find(it.key());
                 if (role == kShaderFileRoles.end()) {
                     throw Error(str(listing.where(f), ": files.", it.key(),
-                                    ": unknown entry (known: vertex, fragment, brdf_data)"));
+                                    ": unknown entry (known: vertex, fragment, brdf_data, albedo_texture, normal_texture)"));
                 }
                 listing.resolve(f, it.value(), "files." + it.key(), role->second);
             }
+            check_shader_textures(f, j, listing);
         } else if (f.role == "shader_index") {
             const nlohmann::json j = listing.read_json(f, "inlight_gles_export_index");
             if (!member(j, "variants").is_array()) {

@@ -85,7 +85,10 @@ struct Fabric {
     // One exported GLES variant as render/brdf-sh-bake --export-gles write it (manifest naming
     // its vertex and fragment shaders and table data), plus the index of the variants.
     // A Lambert material has no table: its manifest's brdf_data is null.
-    void add_shader(const std::string& name, const std::string& vertex_file, bool table = true) {
+    // `texture_px` > 0: the variant binds an albedo texture of texture_px^2 RGBA8 texels from
+    // shaders/<name>.albedo.png, an 8-bit RGBA PNG of `png_px` x texture_px pixels.
+    void add_shader(const std::string& name, const std::string& vertex_file, bool table = true,
+                    int texture_px = 0, int png_px = 0) {
         add(name + ".vert", "void main() {}\n", "shaders/" + name + ".vert", "shader_vertex");
         add(name + ".frag", "void main() { /* " + name + " */ }\n", "shaders/" + name + ".frag",
             "shader_fragment");
@@ -95,13 +98,20 @@ struct Fabric {
                 "shader_data");
             data = name + ".brdf.bin";
         }
-        add(name + ".json",
-            nlohmann::json({{"format", "inlight_gles_export"},
+        nlohmann::json j = {{"format", "inlight_gles_export"},
                             {"files", {{"vertex", vertex_file},
                                        {"fragment", name + ".frag"},
-                                       {"brdf_data", data}}}})
-                .dump(),
-            "shaders/" + name + ".json", "shader_manifest");
+                                       {"brdf_data", data}}}};
+        if (texture_px > 0) {
+            const std::string file = name + ".albedo.png";
+            image::write_image(src + "/" + file, image::Image(png_px, texture_px, 4, image::ColorSpace::kData));
+            request.files.push_back({src + "/" + file, "shaders/" + file, "shader_texture", -1});
+            j["files"]["albedo_texture"] = file;
+            j["textures"] = {{{"uniform", "u_albedo_texture"}, {"file", file},
+                              {"width", texture_px}, {"height", texture_px},
+                              {"file_format", "PNG, 8-bit RGBA: the decoded samples are the texel bytes"}}};
+        }
+        add(name + ".json", j.dump(), "shaders/" + name + ".json", "shader_manifest");
     }
     void add_shader_index(const std::vector<std::string>& names) {
         nlohmann::json variants = nlohmann::json::array();
@@ -246,6 +256,24 @@ TEST(BundleContents, Version1ManifestsAreReadWithoutTheVersion2Roles) {
     s.edit_manifest([](nlohmann::json& j) { j["version"] = 1; });
     const std::string e = error_of([&] { read_bundle(s.bundle); });
     EXPECT_TRUE(contains(e, "role 'shader_data' needs manifest version 2")) << e;
+}
+
+TEST(BundleContents, ShaderTexturesAreResolvedAndSizeChecked) {
+    Fabric good("shader_texture");
+    good.add_shader("v", "v.vert", true, 4, 4);
+    write_bundle(good.bundle, good.request);
+    int textures = 0;
+    for (const FileEntry& e : read_bundle(good.bundle).files) textures += e.role == "shader_texture";
+    EXPECT_EQ(textures, 1);
+    // One column short of what the manifest binds: the app would upload a wrong-sized texture.
+    Fabric narrow("shader_texture_narrow");
+    narrow.add_shader("v", "v.vert", true, 4, 3);
+    std::string e = error_of([&] { write_bundle(narrow.bundle, narrow.request); });
+    EXPECT_TRUE(contains(e, "textures[0].file: 'shaders/v.albedo.png' is 3x4 with 4 8-bit channels; the manifest binds 4x4 8-bit RGBA")) << e;
+    // A version-2 manifest may not carry the role version 3 added.
+    good.edit_manifest([](nlohmann::json& j) { j["version"] = 2; });
+    e = error_of([&] { read_bundle(good.bundle); });
+    EXPECT_TRUE(contains(e, "role 'shader_texture' needs manifest version 3")) << e;
 }
 
 TEST(Manifest, StreamIndicesRunFromZeroWithoutGaps) {

@@ -28,6 +28,9 @@ const std::vector<RoleSpec> kFabricRoles = {
     {"shader_manifest", false, true, false, "", "json"},
     {"shader_index", false, false, false, "", "json", 2},
     {"shader_data", false, true, false, "", "bin", 2},
+    // The shaders' own textures (gles/export.h: the material's albedo and normal map as the
+    // variants bind them, named by the manifests' files.albedo_texture / normal_texture).
+    {"shader_texture", false, true, false, "", "png", 3},
     {"btf_manifest", false, false, false, "", "json"},
     {"btf_weights", false, false, false, "", "bin", 2},
     {"btf_mean", false, true, false, "data", "png|exr", 2},

@@ -16,8 +16,10 @@ namespace inlight::bundle {
 inline constexpr const char* kFormatName = "inlight_bundle";
 /// The manifest version this code writes. Version 2 added the roles that carry the exported
 /// GLES variants whole (shader_index, shader_data) and a compressed BTF whole (btf_weights,
-/// btf_mean); a version-1 manifest naming one of them is rejected.
-inline constexpr int kFormatVersion = 2;
+/// btf_mean); a version-1 manifest naming one of them is rejected. Version 3 added
+/// shader_texture (the textures the exported shaders bind); a version-1 or 2 manifest naming it
+/// is rejected.
+inline constexpr int kFormatVersion = 3;
 /// The oldest manifest version this code reads (1 .. kFormatVersion are accepted).
 inline constexpr int kOldestReadVersion = 1;
 /// File name of the manifest at the root of a bundle folder.

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/validators.h"
+#include "image/image.h"
 #include "render/realtime_lights.h"
 
 namespace inlight::gles {
@@ -31,6 +32,53 @@ ExportSet ExportArgs::prepare(Report& report) const {
     fs::declare_output(dir + "/index.json", dir_option);
     if (!lighting.empty()) report.add_input(lighting);
     return set();
+}
+
+void ExportArgs::add_textures(MaterialInputs& material, Report& report) const {
+    const struct {
+        const std::string& path;
+        const char* option;
+        Eigen::Vector2i& px;
+        std::vector<uint8_t>& rgba8;
+    } textures[] = {{albedo_texture, "--gles-albedo-texture", material.albedo_texture_px, material.albedo_rgba8},
+                    {normal_texture, "--gles-normal-texture", material.normal_texture_px, material.normal_rgba8}};
+    for (const auto& t : textures) {
+        if (t.path.empty()) continue;
+        const image::ImageInfo info = image::read_info(t.path);
+        if (info.is_float || info.bits_per_channel != 8) {
+            throw UsageError(str(t.option, ": ", t.path, " has ", info.bits_per_channel, "-bit ",
+                                 info.is_float ? "float" : "integer",
+                                 " samples; the shaders bind 8-bit texels: give the 8-bit PNG the "
+                                 "bundle ships (bundle fabric-maps writes it)"));
+        }
+        if (&t.path == &normal_texture && info.channels < 3) {
+            throw UsageError(str(t.option, ": ", t.path, " has ", info.channels,
+                                 " channel(s); a normal map needs rgb (n = 2 rgb - 1)"));
+        }
+        report.add_input(t.path);
+        image::ReadOptions raw;
+        raw.decode_srgb = false;  // the codes as stored: the shader decodes sRGB itself
+        const image::Image img = image::read_image(t.path, raw);
+        t.px = {img.width, img.height};
+        t.rgba8.clear();
+        t.rgba8.reserve(img.pixel_count() * 4);
+        for (int y = 0; y < img.height; ++y) {
+            for (int x = 0; x < img.width; ++x) {
+                for (int c = 0; c < 3; ++c) {  // grey replicated; alpha ignored (opaque fabric)
+                    const float v = img.at(x, y, img.channels < 3 ? 0 : c);
+                    t.rgba8.push_back(static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)));
+                }
+                t.rgba8.push_back(255);
+            }
+        }
+    }
+    // The texture is the albedo, as in the validation scene (pipelines/validate-pair.sh: albedo
+    // [1, 1, 1] times the bundle's albedo.png): u_albedo = 1, not the material file's albedo.
+    if (!albedo_texture.empty()) material.brdf.albedo = Eigen::Vector3d::Ones();
+    if (tile_size_m > 0) {
+        material.uv_in_metres = true;
+        material.uv_scale = Eigen::Vector2f::Constant(static_cast<float>(1.0 / tile_size_m));
+    }
 }
 
 void check_before_work(const std::function<void()>& check, const std::string& option) {
@@ -81,6 +129,21 @@ void add_export_options(CLI::App& app, ExportArgs& a, bool with_dir) {
     app.add_option("--gles-lighting", a.lighting,
                    "Lighting file with dominant lights (envmap-project --max-error JSON, "
                    "docs/formats.md): the consistent variants shade its lights analytically");
+}
+
+void add_texture_options(CLI::App& app, ExportArgs& a) {
+    app.add_option("--gles-albedo-texture", a.albedo_texture,
+                   "8-bit albedo PNG (sRGB) the shaders bind, e.g. the bundle's albedo.png; it "
+                   "multiplies the material's albedo")
+        ->check(CLI::ExistingFile);
+    app.add_option("--gles-normal-texture", a.normal_texture,
+                   "8-bit tangent-space normal map PNG (data, n = 2 rgb - 1) the shaders bind, "
+                   "e.g. the bundle's normal.png")
+        ->check(CLI::ExistingFile);
+    app.add_option("--gles-tile-size-m", a.tile_size_m,
+                   "Size of one texture tile on the fabric in metres: a_uv is then in metres "
+                   "and u_uv_scale = 1 / this (0: a_uv in tiles)")
+        ->check(app::finite_range(0.0, 1e3));
 }
 
 }  // namespace inlight::gles

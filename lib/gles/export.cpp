@@ -18,6 +18,7 @@
 #include "core/json_out.h"
 #include "gles/export_glsl.h"
 #include "image/color.h"
+#include "image/image.h"
 #include "sh/sh.h"
 
 namespace inlight::gles {
@@ -31,6 +32,17 @@ using detail::vertex_source;
 
 namespace {
 void pack_f32(float v, uint8_t* out);
+
+/// The PNG of RGBA8 texels whose decoded samples are `rgba8` byte for byte: values code / 255
+/// written linearly (no sRGB step, alpha never premultiplied: it is 255).
+std::string texture_png(const std::vector<uint8_t>& rgba8, const Eigen::Vector2i& px,
+                        const std::string& name) {
+    image::Image img(px.x(), px.y(), 4, image::ColorSpace::kData);
+    for (size_t i = 0; i < rgba8.size(); ++i) img.pixels[i] = rgba8[i] / 255.0f;
+    image::WriteOptions w;
+    w.encode_srgb = false;
+    return image::encode_image(name, img, w);
+}
 }  // namespace
 
 Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& asked,
@@ -264,13 +276,12 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
             throw UsageError(str("GLES export ", e.name, ": the ", which, " texture has ", bytes->size(),
                                  " bytes, its ", px.x(), "x", px.y(), " RGBA8 texels need ", px.x() * px.y() * 4));
         }
-        if (p.trilinear()) {
+        const std::string file = texture_file_name(mat.name, i == 0, p.trilinear());
+        if (p.trilinear()) {  // the mip atlas, the same PNG format
             const MipAtlas8 atlas = mip_atlas_rgba8(*bytes, px, i == 0);
-            e.texture_files.emplace_back(texture_file_name(mat.name, i == 0, true),
-                                         std::string(atlas.rgba.begin(), atlas.rgba.end()));
+            e.texture_files.emplace_back(file, texture_png(atlas.rgba, {atlas.width, atlas.height}, file));
         } else {
-            e.texture_files.emplace_back(texture_file_name(mat.name, i == 0),
-                                         std::string(bytes->begin(), bytes->end()));
+            e.texture_files.emplace_back(file, texture_png(*bytes, px, file));
         }
     }
     e.vertex_source = vertex_source(p, e.name);

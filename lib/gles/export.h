@@ -110,9 +110,14 @@ struct MaterialInputs {
     /// lights and a table only; the lobe the table was baked from).
     brdf::Material brdf;
     Eigen::Vector2f uv_scale{1, 1};  ///< tiles per unit of a_uv: u_uv_scale's value
+    /// a_uv's unit: false = tiles (the mesh's own uv, 1 = one tile), true = metres on the
+    /// fabric (u along the tangent, v down), so u_uv_scale = 1 / tile size in metres and the
+    /// app's quad shows the fabric at its physical scale (brdf-sh-bake --gles-tile-size-m).
+    bool uv_in_metres = false;
     /// The textures' RGBA8 bytes exactly as the app binds them (width x height x 4, rows top
-    /// first: the first row is glTexImage2D's first): written beside the manifest as
-    /// <name>.albedo.rgba8 and <name>.normal.rgba8, which the manifest names. Empty = not
+    /// first: the first row is glTexImage2D's first): written beside the manifest as the PNGs
+    /// <name>.albedo.png and <name>.normal.png (trilinear variants: their mip atlases,
+    /// <name>.albedo.mip.png and <name>.normal.mip.png), which the manifest names. Empty = not
     /// written (write_exports() then refuses a manifest that names them).
     std::vector<uint8_t> albedo_rgba8, normal_rgba8;
     bool has_albedo_texture() const { return albedo_texture_px.x() > 0; }

@@ -52,11 +52,13 @@ std::string exp_log_functions();
 /// irradiance factor and, with a table, the material's specular lobe. Needs atan2_f32.
 std::string lights_functions(const Plan& p);
 
-/// "<material>.albedo.rgba8" | "<material>.normal.rgba8": a material texture's file beside the
-/// manifests (raw RGBA8 texels, rows top first); its mip atlas (trilinear variants):
-/// "<material>.albedo.mip.rgba8" | "<material>.normal.mip.rgba8".
+/// "<material>.albedo.png" | "<material>.normal.png": a material texture's file beside the
+/// manifests (an 8-bit RGBA PNG whose samples are the texel bytes, rows top first; PNG, not raw
+/// texels, because the app downloads it: about a quarter of the raw size for the sample
+/// fabrics); its mip atlas (trilinear variants): "<material>.albedo.mip.png" |
+/// "<material>.normal.mip.png", the same format.
 inline std::string texture_file_name(const std::string& material, bool albedo, bool mip = false) {
-    return material + (albedo ? ".albedo" : ".normal") + (mip ? ".mip" : "") + ".rgba8";
+    return material + (albedo ? ".albedo" : ".normal") + (mip ? ".mip" : "") + ".png";
 }
 
 /// The variant's manifest: every uniform with its value or source, every texture with its file,

@@ -21,6 +21,9 @@ namespace inlight::gles::detail {
 
 namespace {
 
+constexpr const char* kPngRgba8 =
+    "PNG, 8-bit RGBA: the decoded samples are the texel bytes glTexImage2D takes (rows top first; decode without "
+    "gamma, colour management or premultiplication: alpha is 255)";
 constexpr const char* kRawRgba8 =
     "raw RGBA8, width x height x 4 bytes, rows top first (the file's first row is glTexImage2D's first), no header";
 
@@ -104,7 +107,13 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
     if (mat.has_normal_texture()) {
         attrs.push_back({{"name", "a_tangent"}, {"type", "vec3"}, {"meaning", "dp/du, device frame (normal-map x axis)"}});
     }
-    if (uv) attrs.push_back({{"name", "a_uv"}, {"type", "vec2"}, {"meaning", "texture uv, v down (1 = one tile)"}});
+    if (uv) {
+        attrs.push_back({{"name", "a_uv"}, {"type", "vec2"},
+                         {"meaning", mat.uv_in_metres ? "position on the fabric in metres (u along a_tangent, v down): the quad's "
+                                                        "physical size, so the weave shows at its real scale"
+                                                      : "texture uv, v down (1 = one tile)"},
+                         {"units", mat.uv_in_metres ? "m" : "tiles"}});
+    }
     m["attributes"] = attrs;
     json uniforms = json::array();
     uniforms.push_back({{"name", "u_clip_from_object"}, {"type", "mat4"}, {"count", 1}, {"stage", "vertex"},
@@ -115,7 +124,8 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                                             "scene export (render export-gles) gives its camera's in scene.clip_from_object"}}}});
     if (uv) {
         uniforms.push_back({{"name", "u_uv_scale"}, {"type", "vec2"}, {"count", 1}, {"stage", "vertex"},
-                            {"meaning", "tiles per unit of a_uv"}, {"units", "tiles"},
+                            {"meaning", mat.uv_in_metres ? "tiles per metre of a_uv (1 / the tile size in metres)" : "tiles per unit of a_uv"},
+                            {"units", mat.uv_in_metres ? "tiles per m" : "tiles"},
                             {"value", {mat.uv_scale.x(), mat.uv_scale.y()}}});
     }
     const int sh_count = sh::count(p.v->sh_bands);
@@ -187,7 +197,7 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                             {"width", mat.albedo_texture_px.x()}, {"height", mat.albedo_texture_px.y()},
                             {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "srgb"},
                             {"meaning", "albedo texture, sRGB bytes (not an sRGB internal format): the shader decodes each texel exactly, then filters"},
-                            {"range", {0.0, 1.0}}, {"file", albedo_file}, {"file_format", kRawRgba8},
+                            {"range", {0.0, 1.0}}, {"file", albedo_file}, {"file_format", kPngRgba8},
                             {"padding", "none"}});
         if (p.trilinear()) add_mip(textures.back(), p.albedo_levels, p.albedo_atlas_px, true);
     }
@@ -196,7 +206,7 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                             {"type", "UNSIGNED_BYTE"}, {"width", mat.normal_texture_px.x()}, {"height", mat.normal_texture_px.y()},
                             {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "data"},
                             {"meaning", "tangent-space normal map, n = 2 rgb - 1"}, {"range", {0.0, 1.0}},
-                            {"file", normal_file}, {"file_format", kRawRgba8}, {"padding", "none"}});
+                            {"file", normal_file}, {"file_format", kPngRgba8}, {"padding", "none"}});
         if (p.trilinear()) add_mip(textures.back(), p.normal_levels, p.normal_atlas_px, false);
     }
     if (p.table) {

@@ -2,6 +2,7 @@
 // (glslangValidator) for its GLSL ES version, declares nothing it does not use, picks its data
 // layout from the limits given and refuses what does not fit.
 #include "gles/export.h"
+#include "image/image.h"
 
 #include <gtest/gtest.h>
 
@@ -467,12 +468,22 @@ TEST(ExportVariant, ManifestGivesEveryUniformAValueOrASource) {
             ASSERT_TRUE(t.contains("file")) << e.name << " " << t["uniform"];
             EXPECT_TRUE(t.contains("padding"));
         }
-        ASSERT_EQ(m["textures"][0]["file"], "velvet.albedo.rgba8");
+        ASSERT_EQ(m["textures"][0]["file"], "velvet.albedo.png");
         const auto files = export_files(e);
         const auto albedo = std::find_if(files.begin(), files.end(),
-                                         [](const auto& f) { return f.first == "velvet.albedo.rgba8"; });
+                                         [](const auto& f) { return f.first == "velvet.albedo.png"; });
         ASSERT_NE(albedo, files.end());
-        EXPECT_EQ(albedo->second, std::string("\x01\x02\x03\xff\x04\x05\x06\xff", 8));
+        // The PNG's samples, decoded without any colour step, are the texel bytes.
+        image::ReadOptions raw;
+        raw.decode_srgb = false;
+        const image::Image png = image::read_image_memory(albedo->second.data(), albedo->second.size(),
+                                                          albedo->first, raw);
+        ASSERT_EQ(png.width, 2);
+        ASSERT_EQ(png.height, 1);
+        ASSERT_EQ(png.channels, 4);
+        std::string codes;
+        for (float v : png.pixels) codes.push_back(static_cast<char>(std::lround(v * 255.0f)));
+        EXPECT_EQ(codes, std::string("\x01\x02\x03\xff\x04\x05\x06\xff", 8));
         EXPECT_EQ(m["output"]["encoding_8bit"]["steps"].size(), 4u);
     }
     mat.albedo_rgba8.pop_back();  // 7 bytes for 2 x 1 texels: refused, naming both
@@ -668,7 +679,7 @@ TEST(ExportTrilinear, ManifestNamesTheAtlasItsLevelsTheLodAndTheExtension) {
         const Export e = export_variant(nullptr, mat, v, roomy_limits());
         EXPECT_EQ(e.name, str("cloth-es", to_string(version), "-consistent-b3-highp-trilinear"));
         EXPECT_EQ(e.manifest["texture_filter"], "trilinear");
-        EXPECT_EQ(e.manifest["files"]["albedo_texture"], "cloth.albedo.mip.rgba8");
+        EXPECT_EQ(e.manifest["files"]["albedo_texture"], "cloth.albedo.mip.png");
         const nlohmann::json& t = e.manifest["textures"][0];
         EXPECT_EQ(t["width"], 24);
         EXPECT_EQ(t["height"], 8);
@@ -684,11 +695,24 @@ TEST(ExportTrilinear, ManifestNamesTheAtlasItsLevelsTheLodAndTheExtension) {
         const std::string lod = t["mip"]["level_of_detail"];
         EXPECT_NE(lod.find("0.5 * log2(max(dot(dx, dx), dot(dy, dy)) / 3 + 2 / 3)"), std::string::npos);
         EXPECT_EQ(e.manifest["gl_limits_needed"]["max_texture_size"], 24);
-        // The files: the atlases, as many bytes as the manifest's sizes.
+        // The files: the atlases' PNGs, whose samples are mip_atlas_rgba8()'s bytes.
         ASSERT_EQ(e.texture_files.size(), 2u);
-        EXPECT_EQ(e.texture_files[0].first, "cloth.albedo.mip.rgba8");
-        EXPECT_EQ(e.texture_files[0].second.size(), 24u * 8 * 4);
-        EXPECT_EQ(e.texture_files[1].second.size(), 7u * 3 * 4);
+        EXPECT_EQ(e.texture_files[0].first, "cloth.albedo.mip.png");
+        EXPECT_EQ(e.texture_files[1].first, "cloth.normal.mip.png");
+        for (int i = 0; i < 2; ++i) {
+            const auto& [file, bytes] = e.texture_files[i];
+            image::ReadOptions raw;
+            raw.decode_srgb = false;
+            const image::Image png = image::read_image_memory(bytes.data(), bytes.size(), file, raw);
+            const MipAtlas8 want = i == 0 ? mip_atlas_rgba8(mat.albedo_rgba8, mat.albedo_texture_px, true)
+                                          : mip_atlas_rgba8(mat.normal_rgba8, mat.normal_texture_px, false);
+            ASSERT_EQ(png.width, want.width) << file;
+            ASSERT_EQ(png.height, want.height) << file;
+            ASSERT_EQ(png.channels, 4) << file;
+            for (size_t k = 0; k < want.rgba.size(); ++k)
+                ASSERT_EQ(std::lround(png.pixels[k] * 255.0f), want.rgba[k]) << file << " byte " << k;
+        }
+        EXPECT_EQ(e.manifest["textures"][1]["height"], 3);
         // ES 1.00 needs the derivatives extension, declared in the shader and the manifest.
         const bool es1 = version == GlslVersion::kEs100;
         const bool declared = e.fragment_source.find("#extension GL_OES_standard_derivatives : require") !=
@@ -702,7 +726,7 @@ TEST(ExportTrilinear, ManifestNamesTheAtlasItsLevelsTheLodAndTheExtension) {
         v.texture_filter = TextureFilter::kBilinear;
         const Export b = export_variant(nullptr, mat, v, roomy_limits());
         EXPECT_EQ(b.fragment_source.find("texture_lod"), std::string::npos);
-        EXPECT_EQ(b.texture_files[0].first, "cloth.albedo.rgba8");
+        EXPECT_EQ(b.texture_files[0].first, "cloth.albedo.png");
         EXPECT_FALSE(b.manifest["textures"][0].contains("mip"));
     }
 }

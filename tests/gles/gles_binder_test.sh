@@ -54,14 +54,15 @@ EOF
     expect_stderr "GL_MAX_TEXTURE_SIZE = 64" "and the limit"
     T="$WORK/gt/satin-es100-consistent-b3-highp-trilinear.json"
     expect_true "a trilinear manifest names the atlas file, its size, its 10 levels and the derivatives extension" -- jq -e \
-        '(.files.albedo_texture == "satin.albedo.mip.rgba8") and (.texture_filter == "trilinear")
+        '(.files.albedo_texture == "satin.albedo.mip.png") and (.texture_filter == "trilinear")
          and (.textures[0] | .width == 768 and .height == 512 and (.mip.levels | length) == 10
               and .mip.levels[1] == {level: 1, x: 512, y: 0, width: 256, height: 256})
          and (.gl_limits_needed.requires | map(startswith("GL_OES_standard_derivatives")) | any)' "$T"
-    expect_true "the atlas file is 768 x 512 x 4 bytes" -- bash -c "test \$(stat -c %s '$WORK/gt/satin.albedo.mip.rgba8') -eq 1572864"
-    expect_true "the albedo texture's file is written beside the manifests, width x height x 4 bytes" -- bash -c \
-        "test \$(stat -c %s '$WORK/g/satin.albedo.rgba8') -eq \
-         \$(jq '.textures[0] | .width * .height * 4' '$WORK/g/satin-es300-consistent-b3-highp.json')"
+    expect_true "the atlas file is an 8-bit RGBA PNG of 768 x 512" -- bash -c \
+        "file -b '$WORK/gt/satin.albedo.mip.png' | grep -qF 'PNG image data, 768 x 512, 8-bit/color RGBA'"
+    expect_true "the albedo texture's file is written beside the manifests, an 8-bit RGBA PNG of width x height" -- bash -c \
+        "file -b '$WORK/g/satin.albedo.png' | grep -qF \"PNG image data, \$(jq -r '.textures[0] | \"\\(.width) x \\(.height)\"' \
+         '$WORK/g/satin-es300-consistent-b3-highp.json'), 8-bit/color RGBA\""
     expect_true "every uniform has a value or a source, every texture a file or a source" -- jq -e \
         '[.uniforms[] | has("value") or has("source")] + [.textures[] | (.file != null) or has("source")] | all' \
         "$WORK/gl/satin-es100-consistent-b4-l1-highp.json"
@@ -129,6 +130,68 @@ for manifest in "$WORK"/b/gles/satin-*.json; do
         "$BINDER" "$manifest" --lighting "$WORK/sh2b.json" --quad 24 -o "$WORK/b/$v.ppm" --reference "$WORK/b/$v.ref.ppm"
     grep -h "worst" "$WORK/stdout" | sed 's/^/    /'
 done
+# A built fabric bundle's shaders (pipelines/bake-fabric.sh: brdf-sh-bake --export-gles with
+# the bundle's own albedo and normal map at the fabric's tile size), bound from the bundle folder
+# as the app downloads it: every variant of its index, textures decoded from the bundle's PNGs.
+VELVET="$SRC/samples/catalog/fabrics/archimesh-velvet"
+if have_package_file /usr/share/blender/scripts/addons/archimesh/images/fabric_diffuse.png blender-data; then
+    expect_exit 0 "bake-fabric archimesh-velvet (a bundle whose shaders bind its textures)" -- \
+        env INLIGHT_BIN="$BIN" "$SRC/pipelines/bake-fabric.sh" "$VELVET" "$WORK/bf"
+    BUNDLE="$WORK/bf/bundles/fabrics/archimesh-velvet"
+    expect_true "the bundle's shaders bind its albedo and normal map (role shader_texture)" -- jq -e \
+        '[.files[] | select(.role == "shader_texture") | .path] == ["shaders/table.albedo.png", "shaders/table.normal.png"]' \
+        "$BUNDLE/manifest.json"
+    TILE=$(jq '.properties.tile_size_m' "$BUNDLE/manifest.json")
+    while read -r manifest; do
+        v=${manifest%.json}
+        if ! "$HARNESS" --table "$BUNDLE/brdf/table.bin" "$BUNDLE/material.toml" "$BUNDLE/shaders" "$v" \
+            "$WORK/sh2b.json" "$WORK/bf/$v.ref.ppm" 48 "$BUNDLE/albedo.png" "$BUNDLE/normal.png" "$TILE" \
+            > "$WORK/harness.log" 2>&1; then
+            fail "$v: harness image: $(cat "$WORK/harness.log")"
+            continue
+        fi
+        expect_exit 0 "$v (the bundle's): the binder's 8-bit image within one code of the harness's" -- \
+            "$BINDER" "$BUNDLE/shaders/$manifest" --lighting "$WORK/sh2b.json" --quad 48 -o "$WORK/bf/$v.ppm" \
+            --reference "$WORK/bf/$v.ref.ppm"
+        grep -h "worst" "$WORK/stdout" | sed 's/^/    /'
+    done < <(jq -r '.variants[].manifest' "$BUNDLE/shaders/index.json")
+    # What validation grades is what ships: validate-pair's scene (pipelines/validate-pair.sh: the
+    # bundle's material, albedo [1, 1, 1] times albedo.png, normal.png, an orthographic camera
+    # along -z), exported by render export-gles with the bundle's grid and samples per normal, as
+    # render compare's GLES column does, gives the bundle's shader files byte for byte (sources,
+    # BRDF data, textures; the material named as the bundle's, "table", so the names agree).
+    uv=$(jq '0.1 / .properties.tile_size_m' "$BUNDLE/manifest.json")
+    printf '%s\n' "[environment]" "path = \"/usr/share/blender/datafiles/studiolights/world/city.exr\"" \
+        "[camera]" "projection = \"orthographic\"" "ortho_height = 1.0" "[material.table]" \
+        "file = \"$BUNDLE/material.toml\"" "albedo = [1, 1, 1]" "albedo_texture = \"$BUNDLE/albedo.png\"" \
+        "normal_texture = \"$BUNDLE/normal.png\"" "uv_scale = [$uv, $uv]" "[[object]]" "name = \"fabric\"" \
+        "shape = \"patch\"" "material = \"table\"" "size = [1, 1]" > "$WORK/bf/scene.toml"
+    expect_exit 0 "render export-gles of validate-pair's scene with the bundle's table options" -- \
+        "$R" export-gles "$WORK/bf/scene.toml" -o "$WORK/bf/validated" -q \
+        --grid "$(jq -r '.properties.brdf_grid' "$BUNDLE/manifest.json")" \
+        --bake-samples "$(jq '.properties.brdf_samples_per_normal' "$BUNDLE/manifest.json")" \
+        --gles-versions "$(jq -r '[.variants[].variant.glsl_version | rtrimstr(" es")] | unique | join(",")' \
+            "$BUNDLE/shaders/index.json")"
+    differ=0 compared=0
+    while read -r f; do
+        compared=$((compared + 1))
+        cmp -s "$BUNDLE/shaders/$f" "$WORK/bf/validated/$f" || { echo "    differs: $f"; differ=1; }
+    done < <(jq -r '.files[] | select(.role == "shader_vertex" or .role == "shader_fragment" or
+                    .role == "shader_data" or .role == "shader_texture") | .path | ltrimstr("shaders/")' \
+                "$BUNDLE/manifest.json")
+    expect_true "the validated shaders, their data and textures are the bundle's, byte for byte ($compared files)" -- \
+        test "$differ" -eq 0 -a "$compared" -ge 5
+    # The texture is bound, not ignored: the normal map's bytes in place of the albedo's move the
+    # image by more than a code.
+    cp -r "$BUNDLE/shaders" "$WORK/bf/swapped"
+    cp "$BUNDLE/shaders/table.normal.png" "$WORK/bf/swapped/table.albedo.png"
+    expect_exit 1 "another albedo texture is seen by the comparison" -- \
+        "$BINDER" "$WORK/bf/swapped/$v.json" --lighting "$WORK/sh2b.json" --quad 48 -o "$WORK/x.ppm" \
+        --reference "$WORK/bf/$v.ref.ppm"
+else
+    skip "blender-data's fabric texture is absent: no fabric bundle to bind"
+fi
+
 expect_exit 1 "without a scene or --quad the binder has nothing to draw" -- \
     "$BINDER" "$WORK/b/gles/satin-es300-consistent-b3-highp.json" --lighting "$WORK/sh2b.json" -o "$WORK/x.ppm"
 expect_stderr "missing field 'scene'" "the error names the scene"

@@ -29,6 +29,36 @@ expect_true "report lists the export's files" -- \
 expect_true "index names the variant to load per capability, none without highp" -- jq -e \
     '[.load.satin[].variant] == ["satin-es300-consistent-b3-highp", "satin-es100-consistent-b3-highp", null]' \
     "$WORK/g/index.json"
+# Textures for the shaders (a fabric bundle's albedo.png and normal.png): 8-bit images only, read
+# byte for byte, with the tile size making a_uv metres. Bad ones are usage errors before the bake.
+"$TBIN/inlight_make_test_image" "$WORK/albedo.png" 5 3 0.5
+"$TBIN/inlight_make_test_image" "$WORK/albedo.exr" 5 3 0.5
+expect_exit 2 "a float albedo texture is a usage error (the shaders bind 8-bit texels)" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" --gles-albedo-texture "$WORK/albedo.exr"
+expect_stderr "--gles-albedo-texture: $WORK/albedo.exr has 32-bit float samples" "the error names the option, file and depth"
+expect_exit 2 "a missing normal map is a usage error" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" --gles-normal-texture "$WORK/none.png"
+expect_exit 2 "a NaN tile size is a usage error" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" --gles-tile-size-m nan
+expect_exit 2 "textures without --export-gles are a usage error" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/t" --gles-albedo-texture "$WORK/albedo.png"
+printf '\x89PNG\r\n\x1a\nnot really a png' > "$WORK/garbage.png"
+expect_exit 1 "a garbage PNG normal map is a runtime error before the bake" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" --gles-normal-texture "$WORK/garbage.png"
+expect_stderr "garbage.png" "the error names the file"
+expect_true "nothing written by those errors" -- test ! -e "$WORK/gt" -a ! -e "$WORK/t.bin"
+expect_exit 0 "brdf-sh-bake with the bundle's textures" -- "$B" "${BAKE[@]}" -o "$WORK/t" --export-gles "$WORK/gt" \
+    --gles-albedo-texture "$WORK/albedo.png" --gles-normal-texture "$WORK/albedo.png" --gles-tile-size-m 0.05 \
+    --gles-versions 100
+expect_true "its manifests bind both textures from their files, a_uv in metres, u_uv_scale = 1 / tile, the texture as the albedo" -- jq -e \
+    '([.textures[] | select(.uniform != "u_brdf_texture") | [.uniform, .file, .width, .height]] ==
+      [["u_albedo_texture", "t.albedo.png", 5, 3], ["u_normal_texture", "t.normal.png", 5, 3]]) and
+     ((.attributes[] | select(.name == "a_uv") | .units) == "m") and
+     ((.uniforms[] | select(.name == "u_uv_scale") | .value) == [20, 20]) and
+     ((.uniforms[] | select(.name == "u_albedo") | .value) == [1, 1, 1])' \
+    "$WORK/gt/t-es100-consistent-b3-highp.json"
+expect_true "the texture's PNG holds the input's codes (8-bit RGBA, code 128 = 0.5)" -- bash -c \
+    "file -b '$WORK/gt/t.albedo.png' | grep -q '5 x 3, 8-bit/color RGBA'"
 expect_exit 0 "mediump on request" -- "$B" "${BAKE[@]}" -o "$WORK/satin_m" --export-gles "$WORK/gm" \
     --gles-precisions highp,mediump --gles-modes consistent
 expect_true "the mediump variant is named for ES 2.0 without highp, not validated" -- jq -e \

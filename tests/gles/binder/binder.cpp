@@ -14,6 +14,8 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GLES3/gl3.h>
+#include <png.h>
+#include <csetjmp>
 
 #include <algorithm>
 #include <cmath>
@@ -57,6 +59,31 @@ std::string read_bytes(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     if (!f) throw Fail(path + ": cannot read");
     return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+/// An 8-bit RGBA PNG's samples as stored (no gamma, colour or alpha step: libpng's plain read
+/// with no transforms), as the manifest's file_format "PNG, 8-bit RGBA" asks.
+std::string read_png_rgba8(const std::string& path) {
+    FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) throw Fail(path + ": cannot read");
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    std::string out;
+    bool ok = false;
+    if (info && !setjmp(png_jmpbuf(png))) {
+        png_init_io(png, f);
+        png_read_png(png, info, PNG_TRANSFORM_IDENTITY, nullptr);
+        const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+        if (png_get_bit_depth(png, info) == 8 && png_get_color_type(png, info) == PNG_COLOR_TYPE_RGBA) {
+            png_bytepp rows = png_get_rows(png, info);
+            for (png_uint_32 y = 0; y < h; ++y) out.append(reinterpret_cast<const char*>(rows[y]), w * 4);
+            ok = true;
+        }
+    }
+    png_destroy_read_struct(&png, &info, nullptr);
+    std::fclose(f);
+    if (!ok) throw Fail(path + ": not an 8-bit RGBA PNG");
+    return out;
 }
 
 json read_json(const std::string& path) {
@@ -373,7 +400,9 @@ int run(const Options& o) {
         const GLenum type = gl_enum(need(t, "type"), name + ".type");
         std::string data;
         if (t.contains("file") && !t["file"].is_null()) {
-            data = read_bytes(dir + "/" + t["file"].get<std::string>());
+            const std::string file = dir + "/" + t["file"].get<std::string>();
+            const std::string format = need(t, "file_format");
+            data = format.rfind("PNG", 0) == 0 ? read_png_rgba8(file) : read_bytes(file);
         } else if (t.contains("source")) {
             const int k_count = need(t, "source.count");
             data = pack_lighting(t, lighting(k_count).sh, k_count);

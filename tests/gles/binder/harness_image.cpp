@@ -10,9 +10,12 @@
 // (MAX_TEXTURE_SIZE: export-gles' --gles-max-texture-size, default 0; a "...-trilinear" variant
 // is re-exported with --gles-texture-filter trilinear.)
 //   inlight_gles_harness_image --table TABLE.bin MATERIAL.toml EXPORT_DIR VARIANT LIGHTING OUT.ppm N
+//                              [ALBEDO.png NORMAL.png TILE_SIZE_M]
 // The second form is brdf-sh-bake's export (a bundle's shaders: no scene): the variant re-exported
-// from the table and material at the minimum limits, drawn with gles::draw on the quad the binder
-// states for --quad (tests/gles/binder/binder.cpp, quad_vertices()) into N x N pixels.
+// from the table and material (and the textures and tile size brdf-sh-bake was given, as
+// --gles-albedo-texture, --gles-normal-texture, --gles-tile-size-m) at the minimum limits, drawn
+// with gles::draw on the quad the binder states for --quad (tests/gles/binder/binder.cpp,
+// quad_vertices()) into N x N pixels.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +25,8 @@
 #include "brdf/brdf.h"
 #include "brdf/table.h"
 #include "core/error.h"
+#include "core/report.h"
+#include "gles/cli.h"
 #include "gles/scene.h"
 #include "image/color.h"
 #include "render/compare.h"
@@ -66,12 +71,20 @@ Eigen::MatrixXd padded(const render::LightingFile& lighting, int bands) {
 }
 
 /// brdf-sh-bake's variant `name` (<stem>-es<v>-<mode>-b<bands>-<precision>) of the table.
-int table_image(char** argv) {
+int table_image(int argc, char** argv) {
     const brdf::Table table = brdf::read_binary(argv[2]);
     gles::MaterialInputs in;
     in.brdf = brdf::load_material(argv[3]);
     const std::string dir = argv[4], name = argv[5];
     in.name = name.substr(0, name.find("-es"));
+    if (argc == 12) {
+        gles::ExportArgs args;
+        args.albedo_texture = argv[9];
+        args.normal_texture = argv[10];
+        args.tile_size_m = std::stod(argv[11]);
+        Report report("harness_image");
+        args.add_textures(in, report);
+    }
     gles::Variant v;
     v.version = name.find("-es100-") != std::string::npos ? gles::GlslVersion::kEs100 : gles::GlslVersion::kEs300;
     v.mode = name.find("-seed-") != std::string::npos ? gles::ShaderMode::kSeed : gles::ShaderMode::kConsistent;
@@ -93,6 +106,11 @@ int table_image(char** argv) {
     gles::Bindings b;
     b.sh = padded(lighting, std::max(3, v.sh_bands));
     b.albedo = in.brdf.albedo.cast<float>();
+    b.uv_scale = in.uv_scale;
+    gles::Texture8 albedo{in.albedo_texture_px.x(), in.albedo_texture_px.y(), in.albedo_rgba8};
+    gles::Texture8 normal{in.normal_texture_px.x(), in.normal_texture_px.y(), in.normal_rgba8};
+    if (in.has_albedo_texture()) b.albedo_texture = &albedo;
+    if (in.has_normal_texture()) b.normal_texture = &normal;
     const gles::Context context(v.version == gles::GlslVersion::kEs300 ? 3 : 2);
     const gles::Readback rb = gles::draw(context, e, b, quad, n, n, gles::TargetFormat::kRgba32f);
     image::Image r(n, n, 3, image::ColorSpace::kLinearSrgb);
@@ -107,9 +125,9 @@ int table_image(char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc == 9 && std::string(argv[1]) == "--table") {
+    if ((argc == 9 || argc == 12) && std::string(argv[1]) == "--table") {
         try {
-            return table_image(argv);
+            return table_image(argc, argv);
         } catch (const std::exception& ex) {
             std::fprintf(stderr, "harness_image: %s\n", ex.what());
             return 1;
