@@ -28,6 +28,7 @@ struct CompareArgs {
     double warn_mean_rel = 0, fail_mean_rel = 0, warn_de2000 = 0, fail_de2000 = 0;
     std::vector<CLI::Option*> gate_options;  ///< the four thresholds, in that order
     std::vector<std::string> gate_modes{"consistent", "seed"};
+    std::string gles_texture_filter = "bilinear";
 };
 
 /// The gate's thresholds as given (unset options stay unset).
@@ -172,9 +173,16 @@ ModeBody add_compare(CLI::App& app, const app::CommonArgs& common) {
                    "Real-time fragments per pixel side (box filter like the path tracer)")
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
+    app.add_option("--gles-texture-filter", a->gles_texture_filter,
+                   "Texture filter of the GLES column's variants and of the one-fragment-per-pixel "
+                   "CPU model they are compared with: bilinear (level 0) or trilinear (the mip "
+                   "atlas, docs/gles.md 'Texture filtering')")
+        ->check(app::parses_with([](const std::string& s) { gles::texture_filter_from_string(s); }, "NAME"))
+        ->capture_default_str();
     add_gate_options(app, *a);
     return [a, max_bands, &common](Report& report) {
         TraceArgs& t = a->trace;
+        a->cmp.gles_texture_filter = gles::texture_filter_from_string(a->gles_texture_filter);
         const render::CompareOptions& compare = a->cmp;
         const render::GateThresholds gate = gate_thresholds(*a);
         render::check_gate_thresholds(gate);

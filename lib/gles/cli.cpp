@@ -16,6 +16,7 @@ ExportSet ExportArgs::set() const {
     s.precisions = precisions_from_string(precisions);
     s.max_sh_bands = max_sh_bands;
     s.max_texture_size = max_texture_size;
+    s.texture_filter = texture_filter_from_string(texture_filter);
     for (GlslVersion v : s.versions) {  // below a version's minimum: a usage error
         try {
             export_limits(s, v);
@@ -118,6 +119,12 @@ void add_export_options(CLI::App& app, ExportArgs& a, bool with_dir) {
                    "than the specification minimum (64 for ES 2.0, 2048 for ES 3.0) are laid out "
                    "within it; 0 = that minimum")
         ->check(CLI::Range(0, 1 << 16))
+        ->capture_default_str();
+    app.add_option("--gles-texture-filter", a.texture_filter,
+                   "How the shaders read a material's albedo and normal textures: bilinear (the "
+                   "texture itself) or trilinear (its mip atlas, level of detail from dFdx/dFdy; "
+                   "ES 1.00 needs GL_OES_standard_derivatives; docs/gles.md 'Texture filtering')")
+        ->check(app::parses_with([](const std::string& s) { texture_filter_from_string(s); }, "NAME"))
         ->capture_default_str();
     app.add_option("--gles-lighting", a.lighting,
                    "Lighting file with dominant lights (envmap-project --max-error JSON, "

@@ -18,6 +18,7 @@ struct ExportArgs {
     int max_sh_bands = 3;
     std::string lighting;  ///< --gles-lighting: a lighting file whose lights the shaders shade
     int max_texture_size = 0;  ///< --gles-max-texture-size: the device's; 0 = each version's minimum
+    std::string texture_filter = "bilinear";  ///< --gles-texture-filter: bilinear | trilinear
     /// --gles-albedo-texture / --gles-normal-texture: the 8-bit PNGs the bundle ships (albedo:
     /// sRGB codes; normal map: data, n = 2 rgb - 1), bound byte for byte by the shaders.
     std::string albedo_texture, normal_texture;
@@ -45,7 +46,7 @@ void check_before_work(const std::function<void()>& check,
                        const std::string& option = "--export-gles");
 
 /// Adds --gles-versions, --gles-modes, --gles-precisions, --gles-max-bands, --gles-lighting
-/// FILE, --gles-max-texture-size N, and (when `with_dir`) --export-gles DIR; without it the
+/// FILE, --gles-max-texture-size N, --gles-texture-filter bilinear|trilinear, and (when `with_dir`) --export-gles DIR; without it the
 /// tool fills args.dir and args.dir_option itself.
 void add_export_options(CLI::App& app, ExportArgs& args, bool with_dir = true);
 

@@ -17,6 +17,7 @@
 #include "core/fs.h"
 #include "core/json_out.h"
 #include "gles/export_glsl.h"
+#include "image/color.h"
 #include "image/image.h"
 #include "sh/sh.h"
 
@@ -44,8 +45,12 @@ std::string texture_png(const std::vector<uint8_t>& rgba8, const Eigen::Vector2i
 }
 }  // namespace
 
-Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& v,
+Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const Variant& asked,
                       const Limits& limits) {
+    // The texture filter of a material without textures changes nothing: such a variant is the
+    // bilinear one (same code, name and manifest).
+    Variant v = asked;
+    if (!mat.has_albedo_texture() && !mat.has_normal_texture()) v.texture_filter = TextureFilter::kBilinear;
     if (!std::regex_match(mat.name, std::regex("[A-Za-z0-9_.-]+"))) {
         throw UsageError(str("GLES export: material name '", mat.name,
                              "' must be letters, digits, '_', '.' or '-'"));
@@ -54,7 +59,8 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
     e.variant = v;
     e.material = mat.name;
     e.name = str(mat.name, "-es", to_string(v.version), "-", to_string(v.mode), "-b", v.sh_bands,
-                 v.lights > 0 ? str("-l", v.lights) : std::string(), "-", to_string(v.precision));
+                 v.lights > 0 ? str("-l", v.lights) : std::string(), "-", to_string(v.precision),
+                 v.texture_filter == TextureFilter::kTrilinear ? "-trilinear" : "");
     const int max_bands = table ? table->sh_bands : brdf::kMaxBakeBands;
     if (v.sh_bands < 3 || v.sh_bands > max_bands) {
         throw UsageError(str("GLES export ", e.name, ": bands must be in 3 .. ", max_bands,
@@ -250,19 +256,81 @@ Export export_variant(const brdf::Table* table, const MaterialInputs& mat, const
         {&mat.albedo_rgba8, mat.albedo_texture_px}, {&mat.normal_rgba8, mat.normal_texture_px}};
     for (int i = 0; i < 2; ++i) {
         const auto& [bytes, px] = textures[i];
+        const char* which = i == 0 ? "albedo" : "normal";
+        if (p.trilinear() && px.x() > 0) {
+            // The atlas is the exporter's own texture (1.5 x the width): it must fit the device.
+            (i == 0 ? p.albedo_levels : p.normal_levels) = render::mip_atlas_levels(px.x(), px.y());
+            const auto& levels = i == 0 ? p.albedo_levels : p.normal_levels;
+            const Eigen::Vector2i atlas = render::mip_atlas_size(levels);
+            (i == 0 ? p.albedo_atlas_px : p.normal_atlas_px) = atlas;
+            if (atlas.maxCoeff() > lim_size) {
+                throw Error(str("GLES export ", e.name, ": the ", which, " texture's mip atlas is ", atlas.x(),
+                                "x", atlas.y(), " texels (the ", px.x(), "x", px.y(),
+                                " texture and its levels beside it), more than GL_MAX_TEXTURE_SIZE = ", lim_size,
+                                "; give the device's limit (--gles-max-texture-size), a smaller texture or the "
+                                "bilinear filter"));
+            }
+        }
         if (bytes->empty()) continue;
         if (bytes->size() != static_cast<size_t>(px.x()) * px.y() * 4) {
-            throw UsageError(str("GLES export ", e.name, ": the ", i == 0 ? "albedo" : "normal",
-                                 " texture has ", bytes->size(), " bytes, its ", px.x(), "x",
-                                 px.y(), " RGBA8 texels need ", px.x() * px.y() * 4));
+            throw UsageError(str("GLES export ", e.name, ": the ", which, " texture has ", bytes->size(),
+                                 " bytes, its ", px.x(), "x", px.y(), " RGBA8 texels need ", px.x() * px.y() * 4));
         }
-        e.texture_files.emplace_back(texture_file_name(mat.name, i == 0),
-                                     texture_png(*bytes, px, texture_file_name(mat.name, i == 0)));
+        const std::string file = texture_file_name(mat.name, i == 0, p.trilinear());
+        if (p.trilinear()) {  // the mip atlas, the same PNG format
+            const MipAtlas8 atlas = mip_atlas_rgba8(*bytes, px, i == 0);
+            e.texture_files.emplace_back(file, texture_png(atlas.rgba, {atlas.width, atlas.height}, file));
+        } else {
+            e.texture_files.emplace_back(file, texture_png(*bytes, px, file));
+        }
     }
     e.vertex_source = vertex_source(p, e.name);
     e.fragment_source = fragment_source(p, e.name);
     e.manifest = make_manifest(e, p, limits);
     return e;
+}
+
+MipAtlas8 mip_atlas_rgba8(const std::vector<uint8_t>& rgba8, const Eigen::Vector2i& size, bool srgb) {
+    if (size.minCoeff() < 1 || rgba8.size() != static_cast<size_t>(size.x()) * size.y() * 4) {
+        throw Error(str("mip atlas: ", rgba8.size(), " bytes are not ", size.x(), "x", size.y(), " RGBA8 texels"));
+    }
+    // The texture as the CPU model holds the same 8-bit file (render::load_textures).
+    image::Image level0(size.x(), size.y(), 3);
+    for (int y = 0; y < size.y(); ++y) {
+        for (int x = 0; x < size.x(); ++x) {
+            for (int c = 0; c < 3; ++c) {
+                const float v = rgba8[(static_cast<size_t>(y) * size.x() + x) * 4 + c] / 255.0f;
+                level0.at(x, y, c) = srgb ? image::srgb_decode(v) : v;
+            }
+        }
+    }
+    const render::MipAtlas mip = render::build_mip_atlas(
+        level0, srgb ? render::TextureKind::kColor : render::TextureKind::kNormalMap, true);
+    MipAtlas8 out;
+    out.width = mip.atlas.width;
+    out.height = mip.atlas.height;
+    out.levels = mip.levels;
+    out.rgba.assign(static_cast<size_t>(out.width) * out.height * 4, 0);
+    for (size_t i = 3; i < out.rgba.size(); i += 4) out.rgba[i] = 255;  // padding (0, 0, 0, 255)
+    for (size_t k = 0; k < mip.levels.size(); ++k) {
+        const render::MipRect& r = mip.levels[k];
+        for (int y = 0; y < r.height; ++y) {
+            for (int x = 0; x < r.width; ++x) {
+                uint8_t* t = &out.rgba[(static_cast<size_t>(r.y + y) * out.width + r.x + x) * 4];
+                for (int c = 0; c < 3; ++c) {
+                    if (k == 0) {  // the bytes themselves
+                        t[c] = rgba8[(static_cast<size_t>(y) * size.x() + x) * 4 + c];
+                        continue;
+                    }
+                    // Levels >= 1 hold quantised values: their code back, exactly.
+                    const float v = mip.atlas.at(r.x + x, r.y + y, c);
+                    const float e = srgb ? image::srgb_encode(v) : v;
+                    t[c] = static_cast<uint8_t>(std::clamp(std::lround(e * 255.0f), 0L, 255L));
+                }
+            }
+        }
+    }
+    return out;
 }
 
 namespace {
@@ -360,7 +428,7 @@ std::vector<Export> export_material(const brdf::Table* table, const MaterialInpu
                 for (Precision precision : set.precisions) {
                     Export e = export_variant(table, material,
                                               {version, mode, bands, precision, lights,
-                                               common_light_shading(set.lights)},
+                                               common_light_shading(set.lights), set.texture_filter},
                                               export_limits(set, version));
                     if (lights > 0) {  // the values the app binds for these lights
                         const LightUniformArrays a = light_uniform_arrays(set.lights);

@@ -20,6 +20,14 @@
 //   albedo  = u_albedo x albedo texture (RGBA8 sRGB bytes; the shader decodes each of the 4
 //             nearest texels exactly, then filters: decode before filtering, as the CPU model;
 //             drivers' own sRGB decoders are approximations, docs/gles.md)
+//   filter  Variant::texture_filter: kBilinear reads level 0 (4 texels per texture); kTrilinear
+//             binds each texture as its mip atlas (render/mip.h, levels built by
+//             render::build_mip_atlas and stored as 8-bit codes, exactly what the CPU model
+//             reads) and reads it trilinearly (8 texels per texture) at the level of detail
+//             lod = log2(rho^2 / 3 + 2 / 3) / 2 (render::box_matched_lod), rho^2 = max(|dFdx
+//             (v_uv) size0|^2, |dFdy(v_uv) size0|^2), clamped to the levels; each level wraps
+//             inside its own rectangle (NEAREST, no GL mipmaps: ES 2.0 NPOT works). ES 1.00
+//             needs GL_OES_standard_derivatives (the manifest lists it).
 //   n       = normalize(v_normal), then the normal map (data, 2 rgb - 1, tangent frame (t,
 //             n x t, n), bilinear in the shader), falling back to v_normal when it faces away
 //             from the table's view (a constant: the table is baked for one view)
@@ -54,6 +62,7 @@
 #include "brdf/brdf.h"
 #include "brdf/table.h"
 #include "envmap/lights.h"
+#include "render/mip.h"
 
 namespace inlight::gles {
 
@@ -75,6 +84,11 @@ std::string to_string(ShaderMode m);
 std::string to_string(Precision p);
 std::string to_string(TableLayout l);
 std::string to_string(LightingLayout l);
+/// The material textures' filter in the shader (render/mip.h; the CPU model's
+/// RealtimeOptions::texture_filter): "bilinear" | "trilinear". Throws UsageError otherwise.
+using render::TextureFilter;
+TextureFilter texture_filter_from_string(const std::string& name);
+std::string to_string(TextureFilter f);
 
 /// The GL limits an export must fit (glGetIntegerv names in comments).
 struct Limits {
@@ -101,8 +115,9 @@ struct MaterialInputs {
     /// app's quad shows the fabric at its physical scale (brdf-sh-bake --gles-tile-size-m).
     bool uv_in_metres = false;
     /// The textures' RGBA8 bytes exactly as the app binds them (width x height x 4, rows top
-    /// first: the first row is glTexImage2D's first): written beside the manifest as
-    /// <name>.albedo.rgba8 and <name>.normal.rgba8, which the manifest names. Empty = not
+    /// first: the first row is glTexImage2D's first): written beside the manifest as the PNGs
+    /// <name>.albedo.png and <name>.normal.png (trilinear variants: their mip atlases,
+    /// <name>.albedo.mip.png and <name>.normal.mip.png), which the manifest names. Empty = not
     /// written (write_exports() then refuses a manifest that names them).
     std::vector<uint8_t> albedo_rgba8, normal_rgba8;
     bool has_albedo_texture() const { return albedo_texture_px.x() > 0; }
@@ -119,7 +134,23 @@ struct Variant {
     /// How those lights' irradiance is shaded (the lighting file's per-light "irradiance":
     /// envmap::LightShading, docs/formats.md); one formula for all lights of a variant.
     envmap::LightShading light_shading = envmap::LightShading::kCap;
+    /// How the material textures are read: kTrilinear binds each as its mip atlas (MipAtlas8)
+    /// and names the variant "...-trilinear". A material without textures always gets the
+    /// bilinear variant (Export::variant says which was made).
+    TextureFilter texture_filter = TextureFilter::kBilinear;
 };
+
+/// A material texture as a trilinear variant binds it: the mip atlas (render/mip.h) of its RGBA8
+/// texels (level 0 = those bytes; levels >= 1 by render::build_mip_atlas with MipFilter::kBilinear,
+/// averaged in linear values, 8-bit codes: sRGB-encoded for albedo, data for a normal map; alpha
+/// 255), rows top first, and its level rectangles (render::mip_atlas_levels).
+struct MipAtlas8 {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgba;  ///< width x height x 4
+    std::vector<render::MipRect> levels;
+};
+/// Throws Error when `rgba8` is not size.x() x size.y() x 4 bytes or the size is empty.
+MipAtlas8 mip_atlas_rgba8(const std::vector<uint8_t>& rgba8, const Eigen::Vector2i& size, bool srgb);
 
 /// The one irradiance formula of `lights` (kCap when empty); UsageError when they mix formulas.
 envmap::LightShading common_light_shading(const std::vector<envmap::DirectionalLight>& lights);
@@ -207,6 +238,8 @@ struct ExportSet {
     /// The target device's GL_MAX_TEXTURE_SIZE; 0 = the specification minimum of each version
     /// (64 for ES 2.0, 2048 for ES 3.0). Below a version's minimum: UsageError.
     int max_texture_size = 0;
+    /// The material textures' filter of every variant (Variant::texture_filter).
+    TextureFilter texture_filter = TextureFilter::kBilinear;
 };
 /// The limits `set` exports `version` against: Limits::minimum(version) with the set's
 /// max_texture_size. Throws UsageError when that is below the version's minimum.

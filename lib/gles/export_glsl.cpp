@@ -70,19 +70,31 @@ namespace {
 
 /// texture_bilinear[_srgb](sampler, size, uv): bilinear between texel centres with wrap, as
 /// render::sample_texture; `decode` = sRGB-decode each texel in the shader (ES 1.00 albedo).
-std::string bilinear_function(const Plan& p, bool decode) {
+/// `rect`: texture_rect[_srgb](sampler, atlas, rect, uv), the same inside the rectangle rect =
+/// (x, y, width, height) of an atlas of `atlas` texels (render::sample_level).
+std::string bilinear_function(const Plan& p, bool decode, bool rect = false) {
     std::ostringstream o;
-    const std::string fname = decode ? "texture_bilinear_srgb" : "texture_bilinear";
-    o << "// Bilinear between texel centres, wrapping (render::sample_texture), from 4 texels"
-      << (decode ? ",\n// each sRGB-decoded before filtering as on the CPU.\n" : ".\n")
-      << "vec3 " << fname << "(" << (p.es3() ? "highp " : "") << "sampler2D tex, vec2 size, vec2 uv) {\n"
-      << "    vec2 q = uv * size - 0.5;\n    vec2 f = floor(q);\n    vec2 a = q - f;\n"
+    const std::string fname = str(rect ? "texture_rect" : "texture_bilinear", decode ? "_srgb" : "");
+    const std::string texels = rect ? "atlas" : "size";
+    if (rect) {
+        o << "// Bilinear between texel centres inside the atlas rectangle r = (x, y, width, height),\n"
+          << "// wrapping within it (render::sample_level), from 4 texels"
+          << (decode ? ", each sRGB-decoded\n// before filtering as on the CPU.\n" : ".\n")
+          << "vec3 " << fname << "(" << (p.es3() ? "highp " : "")
+          << "sampler2D tex, vec2 atlas, vec4 r, vec2 uv) {\n    vec2 size = r.zw;\n";
+    } else {
+        o << "// Bilinear between texel centres, wrapping (render::sample_texture), from 4 texels"
+          << (decode ? ",\n// each sRGB-decoded before filtering as on the CPU.\n" : ".\n")
+          << "vec3 " << fname << "(" << (p.es3() ? "highp " : "") << "sampler2D tex, vec2 size, vec2 uv) {\n";
+    }
+    o << "    vec2 q = uv * size - 0.5;\n    vec2 f = floor(q);\n    vec2 a = q - f;\n"
       << "    vec2 i0 = f - size * floor((f + 0.5) / size);\n"
       << "    vec2 i1 = i0 + 1.0 - size * step(size - 0.5, i0 + 1.0);\n";
+    if (rect) o << "    i0 += r.xy;\n    i1 += r.xy;\n";
     auto fetch = [&](const std::string& x, const std::string& y) {
         std::string e = p.es3() ? str("texelFetch(tex, ivec2(int(", x, "), int(", y, ")), 0).rgb")
                                 : str("snap8(texture2D(tex, (vec2(", x, ", ", y,
-                                      ") + 0.5) / size)).rgb");
+                                      ") + 0.5) / ", texels, ")).rgb");
         return decode ? "srgb_decode(" + e + ")" : e;
     };
     o << "    vec3 t00 = " << fetch("i0.x", "i0.y") << ";\n"
@@ -90,6 +102,50 @@ std::string bilinear_function(const Plan& p, bool decode) {
       << "    vec3 t01 = " << fetch("i0.x", "i1.y") << ";\n"
       << "    vec3 t11 = " << fetch("i1.x", "i1.y") << ";\n"
       << "    return mix(mix(t00, t10, a.x), mix(t01, t11, a.x), a.y);\n}\n";
+    return o.str();
+}
+
+/// The level of detail of a trilinear variant (render::box_matched_lod of render::mip_lod)
+/// from the quad's uv derivatives.
+std::string lod_function() {
+    return "// Level of detail (render/mip.h): rho^2 = the longer squared uv derivative per pixel in\n"
+           "// level-0 texels (dFdx, dFdy: differences across the 2 x 2 quad), then the box-matched\n"
+           "// level log2(rho^2 / 3 + 2 / 3) / 2 (render::box_matched_lod).\n"
+           "float texture_lod(vec2 size0) {\n"
+           "    vec2 dx = dFdx(v_uv) * size0;\n"
+           "    vec2 dy = dFdy(v_uv) * size0;\n"
+           "    return 0.5 * log2(max(dot(dx, dx), dot(dy, dy)) / 3.0 + 2.0 / 3.0);\n}\n";
+}
+
+std::string size_literal(const Eigen::Vector2i& px);
+
+/// <which>_level(k) (the atlas rectangle of level k, k a whole number) and <which>_trilinear(uv,
+/// lod) (render::sample_trilinear) of one material texture of a trilinear variant.
+std::string trilinear_functions(const Plan& p, bool albedo) {
+    const std::string which = albedo ? "albedo" : "normal";
+    const std::vector<render::MipRect>& levels = albedo ? p.albedo_levels : p.normal_levels;
+    const Eigen::Vector2i atlas = albedo ? p.albedo_atlas_px : p.normal_atlas_px;
+    auto rect = [](const render::MipRect& r) {
+        return str("vec4(", lit(r.x), ", ", lit(r.y), ", ", lit(r.width), ", ", lit(r.height), ")");
+    };
+    const std::string last = lit(static_cast<double>(levels.size() - 1));
+    std::ostringstream o;
+    o << "// The " << which << " atlas' level k: (x, y, width, height) in texels (manifest: mip.levels).\n"
+      << "vec4 " << which << "_level(float k) {\n";
+    for (size_t k = 0; k + 1 < levels.size(); ++k) {
+        o << "    if (k < " << lit(k + 0.5) << ") return " << rect(levels[k]) << ";\n";
+    }
+    o << "    return " << rect(levels.back()) << ";\n}\n"
+      << "// Trilinear (render::sample_trilinear): levels floor(l) and floor(l) + 1 mixed by fract(l),\n"
+      << "// l = lod clamped to [0, " << levels.size() - 1 << "].\n"
+      << "vec3 " << which << "_trilinear(vec2 uv, float lod) {\n"
+      << "    float l = clamp(lod, 0.0, " << last << ");\n"
+      << "    float l0 = floor(l);\n";
+    const std::string call = str(albedo ? "texture_rect_srgb" : "texture_rect", "(u_", which, "_texture, ",
+                                 size_literal(atlas), ", ", which, "_level(");
+    o << "    vec3 a = " << call << "l0), uv);\n"
+      << "    vec3 b = " << call << "min(l0 + 1.0, " << last << ")), uv);\n"
+      << "    return mix(a, b, l - l0);\n}\n";
     return o.str();
 }
 
@@ -293,6 +349,7 @@ std::string fragment_source(const Plan& p, const std::string& name) {
     const int t_count = p.texels_per_node;
     std::ostringstream o;
     o << (es3 ? "#version 300 es\n" : "#version 100\n")
+      << (!es3 && uv && p.trilinear() ? "#extension GL_OES_standard_derivatives : require\n" : "")
       << "// " << name << ": fragment shader (inlight GLES export; bindings in " << name
       << ".json).\n"
       << "// Linear_srgb radiance of the " << to_string(p.v->mode) << " real-time model "
@@ -442,17 +499,27 @@ std::string fragment_source(const Plan& p, const std::string& name) {
           << "    vec3 lo = c / 12.92;\n"
           << "    return vec3(c.r <= 0.04045 ? lo.r : y.r, c.g <= 0.04045 ? lo.g : y.g,\n"
           << "                c.b <= 0.04045 ? lo.b : y.b);\n}\n"
-          << bilinear_function(p, true);
+          << bilinear_function(p, true, p.trilinear());
     }
     if (mat.has_normal_texture()) {
-        o << bilinear_function(p, false);
+        o << bilinear_function(p, false, p.trilinear());
+    }
+    if (uv && p.trilinear()) {
+        o << lod_function();
+        if (mat.has_albedo_texture()) o << trilinear_functions(p, true);
+        if (mat.has_normal_texture()) o << trilinear_functions(p, false);
     }
 
     o << "void main() {\n";
     if (mat.has_albedo_texture()) {
-        o << "    vec3 albedo = u_albedo * "
-          << "texture_bilinear_srgb(u_albedo_texture, "
-          << size_literal(mat.albedo_texture_px) << ", v_uv);\n";
+        if (p.trilinear()) {
+            o << "    vec3 albedo = u_albedo * albedo_trilinear(v_uv, texture_lod("
+              << size_literal(mat.albedo_texture_px) << "));\n";
+        } else {
+            o << "    vec3 albedo = u_albedo * "
+              << "texture_bilinear_srgb(u_albedo_texture, "
+              << size_literal(mat.albedo_texture_px) << ", v_uv);\n";
+        }
     } else {
         o << "    vec3 albedo = u_albedo;\n";
     }
@@ -464,8 +531,10 @@ std::string fragment_source(const Plan& p, const std::string& name) {
     o << "    vec3 n = normalize(v_normal);\n";
     if (mat.has_normal_texture()) {
         o << "    // Normal map: data, 2 rgb - 1 in the frame (t, n x t, n) (render/material.h).\n"
-          << "    vec3 c = texture_bilinear(u_normal_texture, " << size_literal(mat.normal_texture_px)
-          << ", v_uv) * 2.0 - 1.0;\n"
+          << "    vec3 c = "
+          << (p.trilinear() ? str("normal_trilinear(v_uv, texture_lod(", size_literal(mat.normal_texture_px), "))")
+                            : str("texture_bilinear(u_normal_texture, ", size_literal(mat.normal_texture_px), ", v_uv)"))
+          << " * 2.0 - 1.0;\n"
           << "    vec3 mapped = v_tangent * c.x + cross(n, v_tangent) * c.y + n * c.z;\n"
           << "    vec3 ng = n;\n"
           << "    if (dot(mapped, mapped) > "

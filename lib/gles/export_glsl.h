@@ -28,6 +28,11 @@ struct Plan {
     bool wrapped = false;                 ///< the texels in rows of data_width (linear order)
     bool scale_in_texture = false;        ///< RGBA8: scale/offset texels after the table's
     int scale_texel = 0;                  ///< the first of them (linear index)
+    /// Trilinear variants: the atlas level rectangles of each material texture (empty = none
+    /// or bilinear) and the atlas size (texels).
+    std::vector<render::MipRect> albedo_levels, normal_levels;
+    Eigen::Vector2i albedo_atlas_px{0, 0}, normal_atlas_px{0, 0};
+    bool trilinear() const { return v->texture_filter == TextureFilter::kTrilinear; }
     bool es3() const { return v->version == GlslVersion::kEs300; }
     int channels() const { return table ? table->channels : 0; }
 };
@@ -50,9 +55,10 @@ std::string lights_functions(const Plan& p);
 /// "<material>.albedo.png" | "<material>.normal.png": a material texture's file beside the
 /// manifests (an 8-bit RGBA PNG whose samples are the texel bytes, rows top first; PNG, not raw
 /// texels, because the app downloads it: about a quarter of the raw size for the sample
-/// fabrics).
-inline std::string texture_file_name(const std::string& material, bool albedo) {
-    return material + (albedo ? ".albedo.png" : ".normal.png");
+/// fabrics); its mip atlas (trilinear variants): "<material>.albedo.mip.png" |
+/// "<material>.normal.mip.png", the same format.
+inline std::string texture_file_name(const std::string& material, bool albedo, bool mip = false) {
+    return material + (albedo ? ".albedo" : ".normal") + (mip ? ".mip" : "") + ".png";
 }
 
 /// The variant's manifest: every uniform with its value or source, every texture with its file,

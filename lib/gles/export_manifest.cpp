@@ -43,6 +43,38 @@ nlohmann::json output_encoding_8bit() {
                       "out = vec4(oetf(clamp(exposure * radiance, 0.0, 1.0)), 1.0) in an RGBA8 (not sRGB) target"}};
 }
 
+/// A trilinear variant's texture entry: the file is the mip atlas (render/mip.h); its size,
+/// level rectangles, the level-of-detail rule and the lookup.
+void add_mip(nlohmann::json& t, const std::vector<render::MipRect>& levels, const Eigen::Vector2i& atlas, bool albedo) {
+    nlohmann::json rects = nlohmann::json::array();
+    for (size_t k = 0; k < levels.size(); ++k) {
+        const render::MipRect& r = levels[k];
+        rects.push_back({{"level", k}, {"x", r.x}, {"y", r.y}, {"width", r.width}, {"height", r.height}});
+    }
+    t["width"] = atlas.x();
+    t["height"] = atlas.y();
+    t["meaning"] = str(t["meaning"].get<std::string>(), "; as its mip atlas (mip)");
+    t["padding"] = "texels outside every level's rectangle (the column's foot) are (0, 0, 0, 255) and never read";
+    t["mip"] = {
+        {"filter", "trilinear"},
+        {"atlas", "level 0 (the texture) at (0, 0); levels 1 .. in a column at x = level 0's width, top to bottom; "
+                  "level k+1 is max(1, floor(w_k / 2)) x max(1, floor(h_k / 2)) texels, down to 1 x 1"},
+        {"levels", rects},
+        {"level_texels", albedo ? "level k >= 1: each texel the exact average, over its footprint on level 0, of level 0's "
+                                  "bilinear reconstruction (wrapping), in linear values (the sRGB bytes decoded), stored "
+                                  "sRGB-encoded as the nearest code (render::build_mip_atlas)"
+                                : "level k >= 1: each texel the exact average, over its footprint on level 0, of level 0's "
+                                  "bilinear reconstruction (wrapping) of the bytes / 255, not renormalised, stored as the "
+                                  "nearest code (render::build_mip_atlas)"},
+        {"level_of_detail", "size0 = level 0's (width, height); dx = dFdx(v_uv) * size0, dy = dFdy(v_uv) * size0 (texels "
+                            "per pixel, differences across the 2 x 2 quad); lod = 0.5 * log2(max(dot(dx, dx), dot(dy, dy)) "
+                            "/ 3 + 2 / 3) (the box-matched level, render::box_matched_lod); l = clamp(lod, 0, levels - 1)"},
+        {"lookup", str("bilinear between texel centres in level floor(l) and in level min(floor(l) + 1, levels - 1), each "
+                       "wrapping inside its own rectangle (texel i of a w-texel level at x + (i mod w)), mixed by l - floor(l); "
+                       "8 texel fetches per fragment", albedo ? ", each sRGB-decoded before filtering" : "")},
+        {"gl", "NEAREST, no GL mipmaps, CLAMP_TO_EDGE: the shader wraps and filters (ES 2.0 NPOT textures allow this)"}};
+}
+
 }  // namespace
 
 nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limits) {
@@ -59,13 +91,14 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                     {"sh_bands", p.v->sh_bands},
                     {"precision", to_string(p.v->precision)},
                     {"material", mat.name}};
-    const std::string albedo_file = texture_file_name(mat.name, true);
-    const std::string normal_file = texture_file_name(mat.name, false);
+    const std::string albedo_file = texture_file_name(mat.name, true, p.trilinear());
+    const std::string normal_file = texture_file_name(mat.name, false, p.trilinear());
     m["files"] = {{"vertex", e.name + ".vert"},
                   {"fragment", e.name + ".frag"},
                   {"brdf_data", p.table ? json(e.name + ".brdf.bin") : json(nullptr)},
                   {"albedo_texture", mat.has_albedo_texture() ? json(albedo_file) : json(nullptr)},
                   {"normal_texture", mat.has_normal_texture() ? json(normal_file) : json(nullptr)}};
+    m["texture_filter"] = to_string(p.v->texture_filter);
     m["paths"] = "every file named here is relative to this manifest's folder";
     m["frame"] = "device: +z out of the screen toward the viewer (docs/conventions.md)";
     json attrs = json::array();
@@ -166,6 +199,7 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                             {"meaning", "albedo texture, sRGB bytes (not an sRGB internal format): the shader decodes each texel exactly, then filters"},
                             {"range", {0.0, 1.0}}, {"file", albedo_file}, {"file_format", kPngRgba8},
                             {"padding", "none"}});
+        if (p.trilinear()) add_mip(textures.back(), p.albedo_levels, p.albedo_atlas_px, true);
     }
     if (mat.has_normal_texture()) {
         textures.push_back({{"uniform", "u_normal_texture"}, {"unit", unit++}, {"internal_format", "RGBA8"}, {"format", "RGBA"},
@@ -173,6 +207,7 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
                             {"filter", "NEAREST"}, {"wrap", "CLAMP_TO_EDGE"}, {"color_space", "data"},
                             {"meaning", "tangent-space normal map, n = 2 rgb - 1"}, {"range", {0.0, 1.0}},
                             {"file", normal_file}, {"file_format", kPngRgba8}, {"padding", "none"}});
+        if (p.trilinear()) add_mip(textures.back(), p.normal_levels, p.normal_atlas_px, false);
     }
     if (p.table) {
         const brdf::Table& t = *p.table;
@@ -270,10 +305,12 @@ nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limit
     m["uniforms"] = uniforms;
     m["textures"] = textures;
     int max_side = std::max(mat.albedo_texture_px.maxCoeff(), mat.normal_texture_px.maxCoeff());
+    if (p.trilinear()) max_side = std::max({max_side, p.albedo_atlas_px.maxCoeff(), p.normal_atlas_px.maxCoeff()});
     if (p.table && p.layout != TableLayout::kUniformArray) max_side = std::max({max_side, e.data_width, e.data_height});
     if (p.lighting != LightingLayout::kUniformArray) max_side = std::max(max_side, sh::count(p.v->sh_bands));
     json ext = json::array();
     if (!es3 && p.v->precision == Precision::kHighp) ext.push_back("GL_FRAGMENT_PRECISION_HIGH (highp in fragment shaders)");
+    if (!es3 && uv && p.trilinear()) ext.push_back("GL_OES_standard_derivatives (dFdx, dFdy: the trilinear level of detail)");
     m["gl_limits_needed"] = {{"context", es3 ? "OpenGL ES 3.0" : "OpenGL ES 2.0"},
                              {"max_fragment_uniform_vectors", e.fragment_uniform_vectors},
                              {"max_texture_image_units", unit},

@@ -38,6 +38,14 @@ constexpr EnumName<LightingLayout> kLightingLayoutNames[] = {
     {LightingLayout::kRgba8Texture, "rgba8_texture_16bit"},
 };
 
+constexpr EnumName<TextureFilter> kTextureFilterNames[] = {{TextureFilter::kBilinear, "bilinear"},
+                                                           {TextureFilter::kTrilinear, "trilinear"}};
+
+TextureFilter texture_filter_from_string(const std::string& name) {
+    return enum_from_string(kTextureFilterNames, name, "texture filter");
+}
+std::string to_string(TextureFilter f) { return enum_to_string(kTextureFilterNames, f); }
+
 GlslVersion glsl_version_from_string(const std::string& name) {
     return enum_from_string(kGlslVersionNames, name, "GLSL ES version");
 }

@@ -9,11 +9,14 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <regex>
 #include <set>
 
 #include "core/conventions.h"
 #include "core/error.h"
+#include "image/color.h"
+#include "render/mip.h"
 #include "sh/sh.h"
 #include "gles/gles_testing.h"
 #include "testing/testing.h"
@@ -65,12 +68,19 @@ std::vector<Limits> test_limits() {
 }
 
 /// all_variants plus consistent variants with 1 and 3 dominant lights (both versions and
-/// precisions, 3 bands).
-std::vector<Variant> variants_with_lights(int bands) {
+/// precisions, 3 bands) and, for a textured material, trilinear variants of both modes.
+std::vector<Variant> variants_with_lights(int bands, const MaterialInputs& mat) {
+    const bool textured = mat.has_albedo_texture() || mat.has_normal_texture();
     std::vector<Variant> out = all_variants(bands);
     for (GlslVersion ver : {GlslVersion::kEs100, GlslVersion::kEs300}) {
         for (Precision prec : {Precision::kHighp, Precision::kMediump}) {
             for (int lights : {1, 3}) out.push_back({ver, ShaderMode::kConsistent, 3, prec, lights});
+            // The trilinear texture filter (the same code as bilinear without textures).
+            for (ShaderMode mode : {ShaderMode::kConsistent, ShaderMode::kSeed}) {
+                if (!textured) break;
+                out.push_back({ver, mode, 3, prec, mode == ShaderMode::kSeed ? 0 : 1,
+                               envmap::LightShading::kCap, TextureFilter::kTrilinear});
+            }
         }
     }
     return out;
@@ -92,7 +102,7 @@ TEST(ExportVariant, EveryVariantPassesGlslangValidator) {
     const std::vector<Case> all = cases();
     for (const Case& c : all) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 1);
-        for (const Variant& v : variants_with_lights(c.bands)) {
+        for (const Variant& v : variants_with_lights(c.bands, c.mat)) {
             // Lambert (no table) for the first case only: its code is a subset of the others'.
             std::vector<const brdf::Table*> tables = {&table};
             if (&c == &all.front()) tables.push_back(nullptr);
@@ -133,7 +143,7 @@ TEST(ExportVariant, NoDeadDeclarations) {
         R"(\n(?:uniform|in|varying|attribute|const)\s+(?:highp\s+|mediump\s+)?\w+\s+(\w+)|\n\w+\s+(\w+)\()");
     for (const Case& c : cases()) {
         const brdf::Table table = random_table(c.grid, c.bands, c.channels, 2);
-        for (const Variant& v : variants_with_lights(c.bands)) {
+        for (const Variant& v : variants_with_lights(c.bands, c.mat)) {
           for (const Limits& lim : test_limits()) {
             Export e;
             try {
@@ -581,7 +591,7 @@ TEST(ExportVariant, MediumpLiteralsFitHalfFloats) {
         mat.brdf.specular = model;
         mat.albedo_texture_px = {4, 4};
         mat.normal_texture_px = {4, 4};
-        for (const Variant& base : variants_with_lights(6)) {
+        for (const Variant& base : variants_with_lights(6, mat)) {
             if (base.precision != Precision::kMediump) continue;
             for (int bands : {3, 6}) {
                 Variant v = base;
@@ -603,6 +613,152 @@ TEST(ExportVariant, MediumpLiteralsFitHalfFloats) {
         }
     }
     EXPECT_GT(sources, 40);
+}
+
+}  // namespace
+}  // namespace inlight::gles
+
+namespace inlight::gles {
+namespace {
+
+std::vector<uint8_t> random_bytes(int w, int h, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> byte(0, 255);
+    std::vector<uint8_t> out(static_cast<size_t>(w) * h * 4, 255);
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (i % 4 != 3) out[i] = static_cast<uint8_t>(byte(rng));
+    }
+    return out;
+}
+
+// The atlas file holds the CPU model's atlas exactly: level 0 the bytes themselves, levels >= 1
+// the 8-bit codes render::build_mip_atlas quantised to (decoded: the same floats, bit for bit).
+TEST(ExportTrilinear, AtlasFileIsTheCpuModelsAtlas) {
+    for (const bool srgb : {true, false}) {
+        const Eigen::Vector2i size(37, 23);
+        const std::vector<uint8_t> bytes = random_bytes(size.x(), size.y(), srgb ? 1 : 2);
+        const MipAtlas8 a = mip_atlas_rgba8(bytes, size, srgb);
+        image::Image level0(size.x(), size.y(), 3);
+        for (int y = 0; y < size.y(); ++y)
+            for (int x = 0; x < size.x(); ++x)
+                for (int c = 0; c < 3; ++c) {
+                    const float v = bytes[(static_cast<size_t>(y) * size.x() + x) * 4 + c] / 255.0f;
+                    level0.at(x, y, c) = srgb ? image::srgb_decode(v) : v;
+                }
+        const render::MipAtlas cpu = render::build_mip_atlas(
+            level0, srgb ? render::TextureKind::kColor : render::TextureKind::kNormalMap, true);
+        ASSERT_EQ(a.width, cpu.atlas.width);
+        ASSERT_EQ(a.height, cpu.atlas.height);
+        EXPECT_EQ(a.width, 37 + 18);
+        ASSERT_EQ(a.levels.size(), cpu.levels.size());
+        int compared = 0;
+        for (const render::MipRect& r : cpu.levels) {
+            for (int y = r.y; y < r.y + r.height; ++y)
+                for (int x = r.x; x < r.x + r.width; ++x)
+                    for (int c = 0; c < 3; ++c) {
+                        const float v = a.rgba[(static_cast<size_t>(y) * a.width + x) * 4 + c] / 255.0f;
+                        EXPECT_EQ(srgb ? image::srgb_decode(v) : v, cpu.atlas.at(x, y, c)) << x << "," << y;
+                        ++compared;
+                    }
+        }
+        EXPECT_EQ(compared, 3 * (37 * 23 + 18 * 11 + 9 * 5 + 4 * 2 + 2 * 1 + 1));
+    }
+}
+
+TEST(ExportTrilinear, ManifestNamesTheAtlasItsLevelsTheLodAndTheExtension) {
+    MaterialInputs mat;
+    mat.name = "cloth";
+    mat.albedo_texture_px = {16, 8};
+    mat.normal_texture_px = {5, 3};
+    mat.albedo_rgba8 = random_bytes(16, 8, 3);
+    mat.normal_rgba8 = random_bytes(5, 3, 4);
+    for (GlslVersion version : {GlslVersion::kEs100, GlslVersion::kEs300}) {
+        Variant v;
+        v.version = version;
+        v.texture_filter = TextureFilter::kTrilinear;
+        const Export e = export_variant(nullptr, mat, v, roomy_limits());
+        EXPECT_EQ(e.name, str("cloth-es", to_string(version), "-consistent-b3-highp-trilinear"));
+        EXPECT_EQ(e.manifest["texture_filter"], "trilinear");
+        EXPECT_EQ(e.manifest["files"]["albedo_texture"], "cloth.albedo.mip.png");
+        const nlohmann::json& t = e.manifest["textures"][0];
+        EXPECT_EQ(t["width"], 24);
+        EXPECT_EQ(t["height"], 8);
+        const auto levels = render::mip_atlas_levels(16, 8);
+        ASSERT_EQ(t["mip"]["levels"].size(), levels.size());
+        for (size_t k = 0; k < levels.size(); ++k) {
+            EXPECT_EQ(t["mip"]["levels"][k]["x"], levels[k].x);
+            EXPECT_EQ(t["mip"]["levels"][k]["y"], levels[k].y);
+            EXPECT_EQ(t["mip"]["levels"][k]["width"], levels[k].width);
+            EXPECT_EQ(t["mip"]["levels"][k]["height"], levels[k].height);
+        }
+        EXPECT_EQ(e.manifest["textures"][1]["width"], 7);  // 5 + 2
+        const std::string lod = t["mip"]["level_of_detail"];
+        EXPECT_NE(lod.find("0.5 * log2(max(dot(dx, dx), dot(dy, dy)) / 3 + 2 / 3)"), std::string::npos);
+        EXPECT_EQ(e.manifest["gl_limits_needed"]["max_texture_size"], 24);
+        // The files: the atlases' PNGs, whose samples are mip_atlas_rgba8()'s bytes.
+        ASSERT_EQ(e.texture_files.size(), 2u);
+        EXPECT_EQ(e.texture_files[0].first, "cloth.albedo.mip.png");
+        EXPECT_EQ(e.texture_files[1].first, "cloth.normal.mip.png");
+        for (int i = 0; i < 2; ++i) {
+            const auto& [file, bytes] = e.texture_files[i];
+            image::ReadOptions raw;
+            raw.decode_srgb = false;
+            const image::Image png = image::read_image_memory(bytes.data(), bytes.size(), file, raw);
+            const MipAtlas8 want = i == 0 ? mip_atlas_rgba8(mat.albedo_rgba8, mat.albedo_texture_px, true)
+                                          : mip_atlas_rgba8(mat.normal_rgba8, mat.normal_texture_px, false);
+            ASSERT_EQ(png.width, want.width) << file;
+            ASSERT_EQ(png.height, want.height) << file;
+            ASSERT_EQ(png.channels, 4) << file;
+            for (size_t k = 0; k < want.rgba.size(); ++k)
+                ASSERT_EQ(std::lround(png.pixels[k] * 255.0f), want.rgba[k]) << file << " byte " << k;
+        }
+        EXPECT_EQ(e.manifest["textures"][1]["height"], 3);
+        // ES 1.00 needs the derivatives extension, declared in the shader and the manifest.
+        const bool es1 = version == GlslVersion::kEs100;
+        const bool declared = e.fragment_source.find("#extension GL_OES_standard_derivatives : require") !=
+                              std::string::npos;
+        EXPECT_EQ(declared, es1);
+        bool listed = false;
+        for (const auto& r : e.manifest["gl_limits_needed"]["requires"])
+            listed = listed || r.get<std::string>().rfind("GL_OES_standard_derivatives", 0) == 0;
+        EXPECT_EQ(listed, es1);
+        // The bilinear variant of the same material is today's: no lod, the textures themselves.
+        v.texture_filter = TextureFilter::kBilinear;
+        const Export b = export_variant(nullptr, mat, v, roomy_limits());
+        EXPECT_EQ(b.fragment_source.find("texture_lod"), std::string::npos);
+        EXPECT_EQ(b.texture_files[0].first, "cloth.albedo.png");
+        EXPECT_FALSE(b.manifest["textures"][0].contains("mip"));
+    }
+}
+
+TEST(ExportTrilinear, RefusesAnAtlasWiderThanTheLimitNamingIt) {
+    MaterialInputs mat;
+    mat.albedo_texture_px = {48, 48};  // atlas 72 x 48: above ES 2.0's minimum of 64
+    Variant v;
+    v.version = GlslVersion::kEs100;
+    v.texture_filter = TextureFilter::kTrilinear;
+    try {
+        export_variant(nullptr, mat, v, Limits::minimum(GlslVersion::kEs100));
+        FAIL() << "a 72 x 48 atlas at GL_MAX_TEXTURE_SIZE 64 must be refused";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("mip atlas is 72x48"), std::string::npos) << what;
+        EXPECT_NE(what.find("GL_MAX_TEXTURE_SIZE = 64"), std::string::npos) << what;
+    }
+    // The bilinear variant binds the 48 x 48 texture itself, the app's to size (not checked).
+    v.texture_filter = TextureFilter::kBilinear;
+    EXPECT_NO_THROW(export_variant(nullptr, mat, v, Limits::minimum(GlslVersion::kEs100)));
+    v.texture_filter = TextureFilter::kTrilinear;
+    // A material without textures gets the bilinear variant whatever is asked (the same code).
+    MaterialInputs plain;
+    const Export e = export_variant(nullptr, plain, v, Limits::minimum(GlslVersion::kEs100));
+    EXPECT_EQ(e.name, "material-es100-consistent-b3-highp");
+    EXPECT_EQ(e.variant.texture_filter, TextureFilter::kBilinear);
+    EXPECT_EQ(e.manifest["texture_filter"], "bilinear");
+    // A device limit of 72 holds it.
+    Limits limits = Limits::minimum(GlslVersion::kEs100);
+    limits.max_texture_size = 72;
+    EXPECT_NO_THROW(export_variant(nullptr, mat, v, limits));
 }
 
 }  // namespace

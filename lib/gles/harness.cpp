@@ -255,13 +255,27 @@ Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) 
                       ? texture(objs, unit, GL_RGBA32F, GL_RGBA, GL_FLOAT, l.width, l.height, l.texels.data())
                       : texture(objs, unit, GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, l.width, l.height, l.bytes.data());
         } else if (name == "u_albedo_texture" || name == "u_normal_texture") {
-            const Texture8* img = name == "u_albedo_texture" ? b.albedo_texture : b.normal_texture;
-            if (!img || img->width != t["width"] || img->height != t["height"]) {
-                throw Error(str("GLES variant ", e.name, ": ", name, " needs a ", t["width"], "x",
-                                t["height"], " RGBA8 image"));
+            const bool albedo = name == "u_albedo_texture";
+            const Texture8* img = albedo ? b.albedo_texture : b.normal_texture;
+            // Level 0's size: the texture's, or (trilinear) the atlas' first level.
+            const nlohmann::json& level0 = t.contains("mip") ? t["mip"]["levels"][0] : t;
+            const Eigen::Vector2i want_px(level0["width"].get<int>(), level0["height"].get<int>());
+            if (!img || img->width != want_px.x() || img->height != want_px.y()) {
+                throw Error(str("GLES variant ", e.name, ": ", name, " needs a ", want_px.x(), "x",
+                                want_px.y(), " RGBA8 image"));
             }
-            tex = texture(objs, unit, es3 ? GL_RGBA8 : GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE,
-                          img->width, img->height, img->rgba.data());
+            if (t.contains("mip")) {  // trilinear: the atlas built from the image (the file's bytes)
+                const MipAtlas8 atlas = mip_atlas_rgba8(img->rgba, want_px, albedo);
+                if (atlas.width != t["width"] || atlas.height != t["height"]) {
+                    throw Error(str("GLES variant ", e.name, ": ", name, "'s atlas is ", atlas.width, "x",
+                                    atlas.height, ", the manifest says ", t["width"], "x", t["height"]));
+                }
+                tex = texture(objs, unit, es3 ? GL_RGBA8 : GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE,
+                              atlas.width, atlas.height, atlas.rgba.data());
+            } else {
+                tex = texture(objs, unit, es3 ? GL_RGBA8 : GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE,
+                              img->width, img->height, img->rgba.data());
+            }
         } else if (e.table_layout == TableLayout::kRgba8Texture) {
             tex = texture(objs, unit, GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, e.data_width,
                           e.data_height, e.table_bytes.data());

@@ -54,6 +54,9 @@ nlohmann::json choose(const std::vector<const Export*>& exports, const std::stri
                ? "; highp: validated against the CPU model (docs/gles.md)"
                : "; mediump: NOT validated, the only variant without highp (docs/gles.md, "
                  "'Precision')";
+    if (v.texture_filter == TextureFilter::kTrilinear && v.version == GlslVersion::kEs100) {
+        why += "; trilinear: needs GL_OES_standard_derivatives (gl_limits_needed.requires)";
+    }
     if (es3_context && v.version == GlslVersion::kEs300) {
         why += "; GLSL ES 3.00: float table data and exact texel fetches";
     }

@@ -352,6 +352,7 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
                                  common_light_shading(lit.lights)},
                                 &lit});
         }
+        for (auto& variant : variants) variant.first.texture_filter = options.gles_texture_filter;
         for (const auto& [v, source] : variants) {
             std::vector<Export> exports;
             render::RealtimeLighting bound = *source;
@@ -377,6 +378,7 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
                                                   : render::RealtimeMode::kConsistent;
             ro.sh_bands = v.sh_bands;
             ro.supersample = 1;
+            ro.texture_filter = v.texture_filter;
             const image::Image cpu = render::render_realtime(scene, bound, ro);
             int within = 0;
             const int n = cpu.width * cpu.height;
@@ -398,6 +400,7 @@ nlohmann::json compare_scene(const render::Scene& scene, const render::RenderRes
             j["mode"] = to_string(v.mode);
             j["sh_bands"] = v.sh_bands;
             j["lights"] = v.lights;
+            j["texture_filter"] = to_string(v.texture_filter);
             if (v.lights > 0) j["lighting_file_bands"] = lighting->sh.sh_bands;
             j["frame_time_ms"] = frame.frame_ms;
             j["cpu_model_fraction_within_1e-3"] = static_cast<double>(within) / n;

@@ -57,6 +57,8 @@ SceneFrame render_scene(const Context& context, const render::Scene& scene,
 /// truth (the same metrics, heat maps and PNGs as the CPU model: <prefix>_gles_<variant>_*)
 /// and against the CPU model with one fragment per pixel (fraction of pixels within 1e-3
 /// relative). Writes <prefix>_compare3_<variant>.png: truth | CPU model | GLES | GLES error.
+/// Every variant and the CPU model use options.gles_texture_filter (render compare
+/// --gles-texture-filter; trilinear variants are named "...-trilinear").
 /// With `lighting` (render compare --rt-lighting FILE): also the consistent variants at the
 /// file's bands (at least 3) with its lights, lit by its residual SH, beside the CPU model
 /// lit the same way (render/realtime_lights.h); a file above the bake's 8 bands is reported

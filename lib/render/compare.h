@@ -32,6 +32,9 @@ struct CompareOptions {
     /// --brdf-table: what brdf-sh-bake wrote), each with at least the bands the compare uses.
     /// Empty: each material is baked here at `grid` and `bake_samples` for the camera's view.
     std::vector<brdf::Table> tables;
+    /// render compare's GLES column (gles::compare_scene): the texture filter of the variants it
+    /// draws and of the CPU model (one fragment per pixel) it compares them with.
+    TextureFilter gles_texture_filter = TextureFilter::kBilinear;
 };
 
 /// The bake options of the compare's own BRDF tables: `bands` (at most brdf::kMaxBakeBands),

@@ -19,6 +19,23 @@ std::vector<Eigen::Vector2i> mip_sizes(int width, int height) {
     return sizes;
 }
 
+std::vector<MipRect> mip_atlas_levels(int width, int height) {
+    const std::vector<Eigen::Vector2i> sizes = mip_sizes(width, height);
+    std::vector<MipRect> rects;
+    int column_y = 0;
+    for (size_t k = 0; k < sizes.size(); ++k) {
+        rects.push_back({k == 0 ? 0 : width, k == 0 ? 0 : column_y, sizes[k].x(), sizes[k].y()});
+        if (k > 0) column_y += sizes[k].y();
+    }
+    return rects;
+}
+
+Eigen::Vector2i mip_atlas_size(const std::vector<MipRect>& levels) {
+    Eigen::Vector2i size(0, 0);
+    for (const MipRect& r : levels) size = size.cwiseMax(Eigen::Vector2i(r.x + r.width, r.y + r.height));
+    return size;
+}
+
 namespace {
 
 /// Weights of the level-0 texels under texel i of a level of n texels over n0, footprint
@@ -69,16 +86,13 @@ MipAtlas build_mip_atlas(const image::Image& src, TextureKind kind, bool quantiz
                          MipFilter filter) {
     if (src.width < 1 || src.height < 1 || src.channels < 1)
         throw Error("mip chain: the texture is empty");
-    const std::vector<Eigen::Vector2i> sizes = mip_sizes(src.width, src.height);
     MipAtlas mip;
-    const int w1 = sizes.size() > 1 ? sizes[1].x() : 0;
-    mip.atlas = image::Image(src.width + w1, src.height, 3, src.color_space);
-    int column_y = 0;
-    for (size_t k = 0; k < sizes.size(); ++k) {
-        const Eigen::Vector2i s = sizes[k];
-        MipRect r{k == 0 ? 0 : src.width, k == 0 ? 0 : column_y, s.x(), s.y()};
-        if (k > 0) column_y += s.y();
-        mip.levels.push_back(r);
+    mip.levels = mip_atlas_levels(src.width, src.height);
+    const Eigen::Vector2i size = mip_atlas_size(mip.levels);
+    mip.atlas = image::Image(size.x(), size.y(), 3, src.color_space);
+    for (size_t k = 0; k < mip.levels.size(); ++k) {
+        const MipRect& r = mip.levels[k];
+        const Eigen::Vector2i s(r.width, r.height);
         const std::vector<Footprint> fx = footprints(src.width, s.x(), filter);
         const std::vector<Footprint> fy = footprints(src.height, s.y(), filter);
         // Separable box: rows first (h0 x w_k), then columns.

@@ -13,13 +13,28 @@
 // renormalising so that |m| < 1 carries the spread of the normals under the footprint.
 //
 // Atlas: level 0 at (0, 0); levels 1.. stacked top to bottom in a column at x = w0. Width w0 +
-// w1, height max(h0, h1 + h2 + ...) = h0. Each level wraps inside its own rectangle, so one
+// w1, height max(h0, h1 + h2 + ...) (= h0 unless the texture is much wider than tall). Each level wraps inside its own rectangle, so one
 // NEAREST texture without GL mipmaps serves ES 2.0 (non-power-of-two) and ES 3.0 alike.
 //
 // Level of detail (OpenGL ES 3.0 spec, 3.8.10, eq. 3.21 without the anisotropic clamp): rho =
 // max(|d(uv w0,h0)/dx|, |d(uv w0,h0)/dy|) in level-0 texels per pixel, lod = log2(rho),
 // clamped to [0, levels - 1]; trilinear = mix of the bilinear lookups of floor(lod) and
 // floor(lod) + 1 by fract(lod).
+//
+// Derivatives: what the GPU's dFdx / dFdy give, not the analytic derivative. A GPU shades
+// fragments in 2 x 2 quads aligned on the window's even columns and rows (GL: rows counted from
+// the bottom) and takes a derivative as the difference of the attribute between the two
+// fragments of the quad's row (dFdx) or column (dFdy); Mesa's llvmpipe does it per row and
+// column ("fine"; a "coarse" GPU uses the quad's first row and column for all four, a second-
+// order difference). A fragment of the quad outside the triangle still interpolates the
+// attribute: its perspective-correct value on the triangle's plane. So the CPU model
+// (render/realtime.h) takes duv/dx = uv(odd column) - uv(even column) at the pixel centres of
+// the fragment's quad, the partner's uv where its ray meets the hit primitive's plane: at one
+// fragment per pixel, the shader's own numbers for planar geometry. The analytic derivative
+// (ray differentials) equals it only where uv is affine in the window (orthographic views);
+// in perspective they differ by the uv's second derivative over half a pixel, which moves the
+// level by up to a few hundredths at grazing views and so the trilinear mix by far more than
+// an 8-bit code on a texture with contrast between its levels.
 //
 // Normal variance: a filtered normal m of length r in (0, 1] is read as the mean of a von
 // Mises-Fisher distribution of normals around n = m / r with concentration kappa (Banerjee et
@@ -44,6 +59,15 @@ enum class TextureKind {
 struct MipRect {
     int x = 0, y = 0, width = 0, height = 0;
 };
+
+/// The level rectangles of the atlas of a width x height texture (mip_sizes() placed as above):
+/// what build_mip_atlas() fills and an exported shader reads (gles/export.h).
+std::vector<MipRect> mip_atlas_levels(int width, int height);
+/// The atlas' size (width, height) in texels: the bounding box of `levels`.
+Eigen::Vector2i mip_atlas_size(const std::vector<MipRect>& levels);
+
+/// How a textured surface is filtered: bilinear on level 0, or trilinear on the mip atlas.
+enum class TextureFilter { kBilinear, kTrilinear };
 
 /// A mip chain packed into one image (3 channels, same meaning as the source's).
 struct MipAtlas {

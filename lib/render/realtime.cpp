@@ -162,6 +162,37 @@ Eigen::Vector3d shade_fragment(const Eigen::Vector3d& n, const Eigen::Vector3d& 
 
 }  // namespace
 
+Eigen::Vector2d primitive_uv(const Scene& scene, const SurfaceHit& hit, const Ray& ray) {
+    const Shape& s = scene.accel().shapes().at(static_cast<size_t>(hit.shape));
+    if (s.kind == ShapeKind::kPatch) {  // the plane z = centre z, uv affine in x and y
+        const double t = (s.center.z() - ray.origin.z()) / ray.dir.z();
+        const Eigen::Vector3d p = ray.origin + t * ray.dir;
+        return {(p.x() - (s.center.x() - 0.5 * s.size.x())) / s.size.x(),
+                ((s.center.y() + 0.5 * s.size.y()) - p.y()) / s.size.y()};
+    }
+    if (s.kind == ShapeKind::kMesh) {
+        const TriangleMesh& mesh = *s.mesh;
+        if (mesh.uvs.empty()) return hit.uv;
+        const Eigen::Vector3i tri = mesh.triangles.at(static_cast<size_t>(hit.prim));
+        const Eigen::Vector3d& p0 = mesh.positions[static_cast<size_t>(tri[0])];
+        const Eigen::Vector3d& p1 = mesh.positions[static_cast<size_t>(tri[1])];
+        const Eigen::Vector3d& p2 = mesh.positions[static_cast<size_t>(tri[2])];
+        const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+        const double t = n.dot(p0 - ray.origin) / n.dot(ray.dir);
+        const Eigen::Vector3d p = ray.origin + t * ray.dir;
+        // Barycentrics on the triangle's plane (outside it too: the extrapolation).
+        const double inv = 1.0 / n.squaredNorm();
+        const double b1 = n.dot((p - p0).cross(p2 - p0)) * inv;
+        const double b2 = n.dot((p1 - p0).cross(p - p0)) * inv;
+        return (1 - b1 - b2) * mesh.uvs[static_cast<size_t>(tri[0])] +
+               b1 * mesh.uvs[static_cast<size_t>(tri[1])] + b2 * mesh.uvs[static_cast<size_t>(tri[2])];
+    }
+    // Curved shapes (no plane; a GPU draws their tessellation): the ray's own hit on the same
+    // shape, else the uv at `hit` (no derivative).
+    SurfaceHit next;
+    return scene.accel().intersect(ray, &next) && next.shape == hit.shape ? next.uv : hit.uv;
+}
+
 Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& albedo,
                                bool has_specular, const Eigen::MatrixXd& coeffs,
                                const brdf::Table* table, const RealtimeOptions& options,
@@ -204,16 +235,16 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                                                   options.mip_filter);
         }
     }
-    // uv of the fragment one step away along the image's x or y: the other side when that
-    // one misses the shape (the GPU's neighbour in the quad is always on the primitive's plane).
-    auto uv_step = [&](double px, double py, double step_x, double step_y, const SurfaceHit& at) {
-        for (const double sign : {1.0, -1.0}) {
-            SurfaceHit next;
-            if (scene.accel().intersect(cam.generate_ray(px + sign * step_x, py + sign * step_y), &next) &&
-                next.shape == at.shape)
-                return Eigen::Vector2d(sign * (next.uv - at.uv));
-        }
-        return Eigen::Vector2d(Eigen::Vector2d::Zero());
+    // The GPU's uv derivatives (render/mip.h, "Derivatives"): differences across the 2 x 2
+    // quad of the fragment grid (ss fragments per pixel side), columns paired from the left,
+    // rows from the bottom (GL's window y), the partner's uv read on the hit primitive's plane.
+    const int grid_h = h * ss;
+    auto fragment_ray = [&](int gx, int gy) { return cam.generate_ray((gx + 0.5) / ss, (gy + 0.5) / ss); };
+    auto quad_duv = [&](int gx, int gy, const SurfaceHit& at, Eigen::Vector2d* dx, Eigen::Vector2d* dy) {
+        const int px = gx ^ 1, py = grid_h - 1 - ((grid_h - 1 - gy) ^ 1);
+        // (A partner outside an odd-sized image is a helper fragment too: its ray all the same.)
+        *dx = primitive_uv(scene, at, fragment_ray(px, gy)) - at.uv;
+        *dy = primitive_uv(scene, at, fragment_ray(gx, py)) - at.uv;
     };
     parallel::for_chunks(h, 1, [&](int64_t y0, int64_t y1) {
         for (int64_t y = y0; y < y1; ++y) {
@@ -221,8 +252,8 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                 Eigen::Vector3d sum = Eigen::Vector3d::Zero();
                 for (int sy = 0; sy < ss; ++sy) {
                     for (int sx = 0; sx < ss; ++sx) {
-                        const Ray ray = cam.generate_ray(x + (sx + 0.5) / ss,
-                                                         static_cast<double>(y) + (sy + 0.5) / ss);
+                        const int gx = x * ss + sx, gy = static_cast<int>(y) * ss + sy;
+                        const Ray ray = fragment_ray(gx, gy);
                         SurfaceHit hit;
                         if (!scene.accel().intersect(ray, &hit)) {
                             sum += scene.environment().eval(ray.dir);
@@ -232,12 +263,9 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                         const auto mi = static_cast<size_t>(scene.material_index(hit.shape));
                         FilteredLookup fl;
                         if (trilinear && (m.albedo_texture || m.normal_texture)) {
-                            const double px = x + (sx + 0.5) / ss;
-                            const double py = static_cast<double>(y) + (sy + 0.5) / ss;
                             fl.albedo = m.albedo_texture ? &albedo_mips[mi] : nullptr;
                             fl.normal = m.normal_texture ? &normal_mips[mi] : nullptr;
-                            fl.duv_dx = uv_step(px, py, 1.0 / ss, 0.0, hit);
-                            fl.duv_dy = uv_step(px, py, 0.0, 1.0 / ss, hit);
+                            quad_duv(gx, gy, hit, &fl.duv_dx, &fl.duv_dy);
                             fl.box_matched_lod = options.box_matched_lod;
                         }
                         const ShadingPoint sp =

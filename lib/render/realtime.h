@@ -25,9 +25,10 @@
 // averaged (the box filter of the path tracer; 1 = the pixel centre, as a GPU does).
 // Texture filtering (TextureFilter): bilinear on the texture (level 0 only, which aliases when
 // minified), or trilinear on its mip atlas (render/mip.h) at the level of detail of the uv
-// derivatives, taken as a GPU takes them: the difference to the neighbouring fragment along
-// the image's x and y (one pixel / supersample away; the one on the other side when that
-// misses the shape). Normal variance (NormalVariance, consistent mode only): with the filtered
+// derivatives, taken as a GPU takes them (render/mip.h, "Derivatives"): differences across
+// the 2 x 2 quad of the fragment grid (one pixel / supersample apart), the partner fragment's
+// uv read on the hit primitive's plane (primitive_uv()), so that at supersample 1 they are
+// the exported shader's dFdx / dFdy of v_uv. Normal variance (NormalVariance, consistent mode only): with the filtered
 // normal's length r, 1/kappa = render::vmf_inv_kappa(r); the irradiance's band l scales by
 // f_l = vmf_band_factor(l, 1/kappa), and with kDiffuseSpecular the specular sum's band l by
 // vmf_band_factor(l, specular_spread / kappa) (the reflected direction spreads twice the
@@ -50,7 +51,6 @@ enum class RealtimeMode { kConsistent, kSeed };
 RealtimeMode realtime_mode_from_string(const std::string& name);
 std::string to_string(RealtimeMode mode);
 
-enum class TextureFilter { kBilinear, kTrilinear };
 enum class NormalVariance { kNone, kDiffuse, kDiffuseSpecular };
 
 struct RealtimeOptions {
@@ -85,6 +85,12 @@ Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& 
                                bool has_specular, const Eigen::MatrixXd& coeffs,
                                const brdf::Table* table, const RealtimeOptions& options,
                                double normal_length = 1);
+
+/// The uv that the primitive `hit` lies on gives where `ray` meets its plane, extrapolated
+/// beyond its edges (what a GPU interpolates for a helper fragment of the quad): patches and
+/// mesh triangles (their affine uv; a mesh without uv: hit.uv). Curved shapes have no plane:
+/// the ray's own hit when it is on the same shape, else hit.uv.
+Eigen::Vector2d primitive_uv(const Scene& scene, const SurfaceHit& hit, const Ray& ray);
 
 /// Renders the scene's camera view with the real-time model. Rays that miss show the
 /// environment (nearest pixel, as the path tracer). Parallel and deterministic.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 #include "brdf/bake.h"
 #include "core/conventions.h"
@@ -233,6 +234,48 @@ TEST(Realtime, TrilinearAtOneFragmentPerPixelAveragesAMinifiedTexture) {
         ro.texture_filter = TextureFilter::kBilinear;
         for (float v : render_realtime(scene, lighting, ro).pixels)
             EXPECT_GT(std::abs(v - 0.5), 0.49) << minified << "x, bilinear: a single stripe";
+    }
+}
+
+TEST(Realtime, PrimitiveUvExtrapolatesThePlanesAffineUv) {
+    // What a GPU interpolates for a quad's helper fragment off the triangle: the uv of the
+    // triangle's plane, extended. A patch (uv affine in x, y) and a one-triangle mesh whose uv
+    // is an affine map of the plane's (x, y): rays that miss both give the map's value where
+    // they meet the plane, exactly (double rounding: 1e-12).
+    constexpr double kDoubleTol = 1e-12;
+    const std::string dir = testing::temp_dir("primitive_uv");
+    // uv = (0.25 + 0.5 x + 0.1 y, 0.75 - 0.2 x + 0.4 y) at the corners (0, 0), (1, 0), (0, 1).
+    auto map = [](double x, double y) { return Eigen::Vector2d(0.25 + 0.5 * x + 0.1 * y, 0.75 - 0.2 * x + 0.4 * y); };
+    std::ofstream(dir + "/tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                                    << "vt " << map(0, 0).x() << " " << 1 - map(0, 0).y() << "\n"
+                                    << "vt " << map(1, 0).x() << " " << 1 - map(1, 0).y() << "\n"
+                                    << "vt " << map(0, 1).x() << " " << 1 - map(0, 1).y() << "\n"
+                                    << "f 1/1 2/2 3/3\n";
+    SceneDesc d = patch_scene(lambert({1, 1, 1}), 4);
+    ObjectSpec mesh;
+    mesh.shape.kind = ShapeKind::kMesh;
+    mesh.mesh_path = dir + "/tri.obj";
+    mesh.translate = {3, 0, -1};  // beside the patch, one unit below it
+    mesh.material = d.materials[0].name;
+    d.objects.push_back(mesh);
+    const Scene scene(d);
+    const Ray onto_patch{{0.1, 0.05, 2}, Eigen::Vector3d(0.02, -0.01, -1).normalized()};
+    const Ray onto_mesh{{3.2, 0.2, 1}, Eigen::Vector3d(0.01, 0.03, -1).normalized()};
+    for (const Ray* on : {&onto_patch, &onto_mesh}) {
+        SurfaceHit hit;
+        ASSERT_TRUE(scene.accel().intersect(*on, &hit));
+        // Rays far off the primitive, toward its plane from above, and one from below it.
+        for (const Eigen::Vector3d& dir_to : {Eigen::Vector3d(1.5, -0.7, -1), Eigen::Vector3d(-2, 3, -1),
+                                              Eigen::Vector3d(0.4, 0.4, 1)}) {
+            Ray r{on->origin - Eigen::Vector3d(0, 0, dir_to.z() > 0 ? 4 : 0), dir_to.normalized()};
+            const double plane_z = on == &onto_patch ? 0.0 : -1.0;
+            const double t = (plane_z - r.origin.z()) / r.dir.z();
+            const Eigen::Vector3d p = r.origin + t * r.dir;
+            const Eigen::Vector2d want = on == &onto_patch ? Eigen::Vector2d(p.x() + 0.5, 0.5 - p.y())
+                                                           : map(p.x() - 3, p.y());
+            EXPECT_LT((primitive_uv(scene, hit, r) - want).cwiseAbs().maxCoeff(), kDoubleTol)
+                << (on == &onto_patch ? "patch" : "mesh") << " toward " << dir_to.transpose();
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 # tests/gles/binder (EGL + GLES + nlohmann-json, no inlight code) binds every variant render
 # export-gles writes for patch_city (ES 1.00 and 3.00; SH in uniforms and in both lighting
 # textures; the BRDF table as uniforms, RGBA32F and wrapped RGBA8 textures; with and without a
-# light), draws the manifest's patch with its camera, applies the manifest's 8-bit step and must
+# light; the bilinear and the trilinear texture filter, whose texture file is the mip atlas), draws the manifest's patch with its camera, applies the manifest's 8-bit step and must
 # match the project's harness image of the same draw within one code on every value; then the same
 # for brdf-sh-bake's export (a fabric bundle's shaders) on a stated quad. A manifest missing a
 # field the binder needs makes it fail, naming the field.
@@ -34,16 +34,32 @@ if have_package_file /usr/share/blender/datafiles/studiolights/world/city.exr bl
 EOF
     jq '. + {lights: [{direction: [0.0, 0.6, 0.8], flux: [3.0, 2.5, 2.0], angular_radius_deg: 2.0}]}' \
         "$WORK/sh2.json" > "$WORK/lit.json"
-    # Each export: folder, lighting file, grid, bands, further options.
-    EXPORTS=("g $WORK/sh2.json $GRID $BANDS" "gl $WORK/lit.json $GRID $BANDS --gles-lighting $WORK/lit.json"
-             "go $WORK/sh2.json octa:5 3 --gles-versions 300 --gles-modes consistent")
+    # Each export: folder, lighting file, grid, bands, GL_MAX_TEXTURE_SIZE (0 = each version's
+    # minimum), further options. gt: the trilinear filter, whose 768 x 512 atlas of the 512 x 512
+    # texture (42x minified at 24 px) needs a device limit above ES 2.0's minimum of 64.
+    EXPORTS=("g $WORK/sh2.json $GRID $BANDS 0" "gl $WORK/lit.json $GRID $BANDS 0 --gles-lighting $WORK/lit.json"
+             "go $WORK/sh2.json octa:5 3 0 --gles-versions 300 --gles-modes consistent"
+             "gt $WORK/sh2.json octa:5 3 2048 --gles-texture-filter trilinear")
     for x in "${EXPORTS[@]}"; do
-        read -r dir lighting grid bands extra <<< "$x"
+        read -r dir lighting grid bands mts extra <<< "$x"
         # shellcheck disable=SC2086  # extra: further options, split on purpose
         expect_exit 0 "render export-gles of patch_city ($dir: $grid, $bands bands ${extra:-})" -- \
             "$R" export-gles "$WORK/city.toml" -o "$WORK/$dir" --grid "$grid" --bake-samples "$SAMPLES" \
-            --gles-max-bands "$bands" $extra
+            --gles-max-bands "$bands" --gles-max-texture-size "$mts" $extra
     done
+    expect_exit 1 "the trilinear atlas above ES 2.0's minimum texture size is refused" -- \
+        "$R" export-gles "$WORK/city.toml" -o "$WORK/gx" --grid octa:5 --bake-samples "$SAMPLES" \
+        --gles-texture-filter trilinear
+    expect_stderr "mip atlas is 768x512 texels" "the refusal names the atlas' size"
+    expect_stderr "GL_MAX_TEXTURE_SIZE = 64" "and the limit"
+    T="$WORK/gt/satin-es100-consistent-b3-highp-trilinear.json"
+    expect_true "a trilinear manifest names the atlas file, its size, its 10 levels and the derivatives extension" -- jq -e \
+        '(.files.albedo_texture == "satin.albedo.mip.png") and (.texture_filter == "trilinear")
+         and (.textures[0] | .width == 768 and .height == 512 and (.mip.levels | length) == 10
+              and .mip.levels[1] == {level: 1, x: 512, y: 0, width: 256, height: 256})
+         and (.gl_limits_needed.requires | map(startswith("GL_OES_standard_derivatives")) | any)' "$T"
+    expect_true "the atlas file is an 8-bit RGBA PNG of 768 x 512" -- bash -c \
+        "file -b '$WORK/gt/satin.albedo.mip.png' | grep -qF 'PNG image data, 768 x 512, 8-bit/color RGBA'"
     expect_true "the albedo texture's file is written beside the manifests, an 8-bit RGBA PNG of width x height" -- bash -c \
         "file -b '$WORK/g/satin.albedo.png' | grep -qF \"PNG image data, \$(jq -r '.textures[0] | \"\\(.width) x \\(.height)\"' \
          '$WORK/g/satin-es300-consistent-b3-highp.json'), 8-bit/color RGBA\""
@@ -52,14 +68,14 @@ EOF
         "$WORK/gl/satin-es100-consistent-b4-l1-highp.json"
     expect_true "the layouts covered: uniform array, RGBA32F and wrapped RGBA8 tables; SH textures of both kinds" -- \
         bash -c "jq -r '.brdf_table.layout + \" \" + .lighting_layout + \" \" + (.brdf_table.wrapped | tostring)' \
-                 '$WORK'/g*/satin-*-consistent-*.json | sort -u | tr '\n' ';' |
+                 '$WORK'/{g,gl,go}/satin-*-consistent-*.json | sort -u | tr '\n' ';' |
                  grep -qx 'rgba32f_texture uniform_array false;rgba8_texture rgba8_texture_16bit true;rgba8_texture uniform_array true;uniform_array uniform_array false;'"
     for x in "${EXPORTS[@]}"; do
-        read -r dir lighting grid bands _ <<< "$x"
+        read -r dir lighting grid bands mts _ <<< "$x"
         for manifest in "$WORK/$dir"/satin-*.json; do
             v=$(basename "$manifest" .json)
             if ! "$HARNESS" "$WORK/city.toml" "$WORK/$dir" "$v" "$lighting" "$WORK/$dir-$v.ref.ppm" "$grid" "$SAMPLES" \
-                "$bands" "$PX" > "$WORK/harness.log" 2>&1; then
+                "$bands" "$PX" "$mts" > "$WORK/harness.log" 2>&1; then
                 fail "$v: harness image: $(cat "$WORK/harness.log")"
                 continue
             fi
@@ -72,20 +88,22 @@ EOF
         "$BINDER" "$WORK/gl/index.json" --lighting "$WORK/lit.json" -o "$WORK/load.ppm" \
         --reference "$WORK/gl-satin-es300-consistent-b4-l1-highp.ref.ppm"
 
-    # It can fail: a manifest without u_albedo's value, or without the albedo texture's file.
+    # It can fail: a manifest without u_albedo's value, without the albedo texture's file, without
+    # the 8-bit step; a trilinear one whose level lies outside its atlas, or that requires an
+    # extension the context lacks. Each: manifest @ jq edit @ what fails @ what the error names.
     M="$WORK/g/satin-es100-consistent-b3-highp.json"
-    jq '(.uniforms[] | select(.name == "u_albedo")) |= del(.value)' "$M" > "$WORK/g/no_albedo.json"
-    expect_exit 1 "a uniform without value or source fails the binder" -- \
-        "$BINDER" "$WORK/g/no_albedo.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "uniform u_albedo has neither 'value' nor 'source'" "the error names the uniform"
-    jq '(.textures[] | select(.uniform == "u_albedo_texture")) |= del(.file)' "$M" > "$WORK/g/no_file.json"
-    expect_exit 1 "a texture without its file fails the binder" -- \
-        "$BINDER" "$WORK/g/no_file.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "texture u_albedo_texture has neither 'file' nor 'source'" "the error names the texture"
-    jq 'del(.output.encoding_8bit)' "$M" > "$WORK/g/no_encoding.json"
-    expect_exit 1 "a manifest without the 8-bit step fails the binder" -- \
-        "$BINDER" "$WORK/g/no_encoding.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
-    expect_stderr "missing field 'output.encoding_8bit.steps'" "the error names the field"
+    BROKEN=("$M@(.uniforms[] | select(.name == \"u_albedo\")) |= del(.value)@a uniform without value or source@uniform u_albedo has neither 'value' nor 'source'"
+            "$M@(.textures[] | select(.uniform == \"u_albedo_texture\")) |= del(.file)@a texture without its file@texture u_albedo_texture has neither 'file' nor 'source'"
+            "$M@del(.output.encoding_8bit)@a manifest without the 8-bit step@missing field 'output.encoding_8bit.steps'"
+            "$T@.textures[0].mip.levels[9].x = 768@a mip level outside the atlas@mip level"
+            "$T@.gl_limits_needed.requires += [\"GL_OES_no_such_extension (a test)\"]@a required extension the context lacks@lacks GL_OES_no_such_extension")
+    for i in "${!BROKEN[@]}"; do
+        IFS='@' read -r manifest edit what error <<< "${BROKEN[$i]}"
+        jq "$edit" "$manifest" > "$(dirname "$manifest")/broken$i.json"
+        expect_exit 1 "$what fails the binder" -- \
+            "$BINDER" "$(dirname "$manifest")/broken$i.json" --lighting "$WORK/sh2.json" -o "$WORK/x.ppm"
+        expect_stderr "$error" "the error names it"
+    done
     # And a wrong binding is seen: L_10 (the z band) negated moves the image by more than a code.
     jq '.coefficients[2] |= map(-.)' "$WORK/sh2.json" > "$WORK/other.json"
     expect_exit 1 "the comparison sees a different lighting" -- \

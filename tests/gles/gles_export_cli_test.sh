@@ -14,6 +14,9 @@ expect_exit 2 "an unknown GLSL version is a usage error" -- \
     "$B" "${BAKE[@]}" -o "$WORK/a" --export-gles "$WORK/g" --gles-versions 100,200
 expect_exit 2 "more lighting bands than the table has is a usage error" -- \
     "$B" "${BAKE[@]}" -o "$WORK/a" --export-gles "$WORK/g" --gles-max-bands 4
+expect_exit 2 "an unknown texture filter is a usage error" -- \
+    "$B" "${BAKE[@]}" -o "$WORK/a" --export-gles "$WORK/g" --gles-texture-filter nearest
+expect_stderr "--gles-texture-filter" "the error names the option"
 expect_true "nothing written by a usage error" -- test ! -e "$WORK/g"
 
 expect_exit 0 "brdf-sh-bake --export-gles" -- \

@@ -377,6 +377,22 @@ int run(const Options& o) {
         if (c == 1) glUniform1fv(loc, n, v.data());
     }
 
+    // What the variant requires of the context (gl_limits_needed.requires: an extension name or
+    // GL_FRAGMENT_PRECISION_HIGH, then its explanation).
+    const std::string extensions = reinterpret_cast<const char*>(glGetString(GL_EXTENSIONS));
+    for (const json& r : need(m, "gl_limits_needed.requires")) {
+        const std::string what = r.get<std::string>(), name = what.substr(0, what.find(' '));
+        bool offered = false;
+        if (name == "GL_FRAGMENT_PRECISION_HIGH") {
+            GLint range[2] = {0, 0}, precision = 0;
+            glGetShaderPrecisionFormat(GL_FRAGMENT_SHADER, GL_HIGH_FLOAT, range, &precision);
+            offered = precision > 0;
+        } else {
+            offered = (" " + extensions + " ").find(" " + name + " ") != std::string::npos;
+        }
+        if (!offered) throw Fail(g_manifest + ": the context lacks " + name + ", which the variant requires");
+    }
+
     // Textures: "file" or "source".
     for (const json& t : need(m, "textures")) {
         const std::string name = need(t, "uniform");
@@ -392,6 +408,15 @@ int run(const Options& o) {
             data = pack_lighting(t, lighting(k_count).sh, k_count);
         } else {
             throw Fail(g_manifest + ": texture " + name + " has neither 'file' nor 'source'");
+        }
+        if (t.contains("mip")) {  // a mip atlas: the shader reads its levels; they must lie inside it
+            for (const json& level : need(t, "mip.levels")) {
+                const int x = need(level, "x"), y = need(level, "y"), lw = need(level, "width"), lh = need(level, "height");
+                if (x < 0 || y < 0 || lw < 1 || lh < 1 || x + lw > w || y + lh > h) {
+                    throw Fail(g_manifest + ": texture " + name + ": mip level " + level.dump() + " is not inside its " +
+                               std::to_string(w) + "x" + std::to_string(h) + " texels");
+                }
+            }
         }
         const size_t want = static_cast<size_t>(w) * h * 4 * (type == GL_FLOAT ? 4 : 1);
         if (data.size() != want) {

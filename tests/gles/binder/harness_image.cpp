@@ -6,7 +6,9 @@
 // and encodes the radiance to 8 bits with render's auto exposure and image::srgb_encode.
 //
 //   inlight_gles_harness_image SCENE EXPORT_DIR VARIANT LIGHTING OUT.ppm GRID BAKE_SAMPLES
-//                              MAX_BANDS WIDTH_PX
+//                              MAX_BANDS WIDTH_PX [MAX_TEXTURE_SIZE]
+// (MAX_TEXTURE_SIZE: export-gles' --gles-max-texture-size, default 0; a "...-trilinear" variant
+// is re-exported with --gles-texture-filter trilinear.)
 //   inlight_gles_harness_image --table TABLE.bin MATERIAL.toml EXPORT_DIR VARIANT LIGHTING OUT.ppm N
 //                              [ALBEDO.png NORMAL.png TILE_SIZE_M]
 // The second form is brdf-sh-bake's export (a bundle's shaders: no scene): the variant re-exported
@@ -131,9 +133,9 @@ int main(int argc, char** argv) {
             return 1;
         }
     }
-    if (argc != 10) {
+    if (argc != 10 && argc != 11) {
         std::fprintf(stderr, "usage: %s SCENE EXPORT_DIR VARIANT LIGHTING OUT.ppm GRID BAKE_SAMPLES MAX_BANDS "
-                             "WIDTH_PX\n", argv[0]);
+                             "WIDTH_PX [MAX_TEXTURE_SIZE]\n", argv[0]);
         return 2;
     }
     try {
@@ -147,6 +149,12 @@ int main(int argc, char** argv) {
         options.grid = argv[6];
         options.bake_samples = std::stoi(argv[7]);
         options.set.max_sh_bands = std::stoi(argv[8]);
+        if (argc == 11) options.set.max_texture_size = std::stoi(argv[10]);
+        const std::string trilinear = "-trilinear";
+        if (variant.size() > trilinear.size() &&
+            variant.compare(variant.size() - trilinear.size(), trilinear.size(), trilinear) == 0) {
+            options.set.texture_filter = gles::TextureFilter::kTrilinear;
+        }
         const bool with_lights = variant.find("-l") != std::string::npos;
         if (with_lights) options.set.lights = lighting.lights;
         const std::vector<gles::Export> exports = gles::export_scene(scene, options);
