@@ -97,9 +97,17 @@ decompose=()
 [ "${VALIDATE_DECOMPOSE:-0}" = 1 ] && decompose=(--decompose)
 # Exit 3 is a failed quality gate (this gate, or the config's --max-rel-error on the truth's
 # noise): the outputs and report are written, so the pair is still summarised, then fails.
+# The GLES column draws the bundle's variants with the texture filter they were exported with.
+filter=()
+index=$(role shader_index)
+if [ -n "$index" ]; then
+    first=$(jq -r '.variants[0].manifest // empty' "$BUNDLE/$index")
+    tf=$([ -n "$first" ] && jq -r '.texture_filter // empty' "$BUNDLE/$(dirname "$index")/$first")
+    [ -n "$tf" ] && filter=(--gles-texture-filter "$tf")
+fi
 compare_rc=0
 "$BIN/render" compare "$OUTDIR/scene.toml" -o "$OUTDIR/render.exr" --config "$CONFIG" \
-    "${decompose[@]}" "${gate[@]}" --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
+    "${decompose[@]}" "${gate[@]}" "${filter[@]}" --rt-grid "$(jq -r '.properties.brdf_grid' "$M")" \
     --rt-bake-samples "$(jq '.properties.brdf_samples_per_normal' "$M")" \
     -q --report "$OUTDIR/render.json" || compare_rc=$?
 if [ "$compare_rc" -ne 0 ] && [ "$compare_rc" -ne 3 ]; then

@@ -139,7 +139,7 @@ if have_package_file /usr/share/blender/scripts/addons/archimesh/images/fabric_d
         env INLIGHT_BIN="$BIN" "$SRC/pipelines/bake-fabric.sh" "$VELVET" "$WORK/bf"
     BUNDLE="$WORK/bf/bundles/fabrics/archimesh-velvet"
     expect_true "the bundle's shaders bind its albedo and normal map (role shader_texture)" -- jq -e \
-        '[.files[] | select(.role == "shader_texture") | .path] == ["shaders/table.albedo.png", "shaders/table.normal.png"]' \
+        '[.files[] | select(.role == "shader_texture") | .path] == ["shaders/table.albedo.mip.png", "shaders/table.normal.mip.png"]' \
         "$BUNDLE/manifest.json"
     TILE=$(jq '.properties.tile_size_m' "$BUNDLE/manifest.json")
     while read -r manifest; do
@@ -171,7 +171,8 @@ if have_package_file /usr/share/blender/scripts/addons/archimesh/images/fabric_d
         --grid "$(jq -r '.properties.brdf_grid' "$BUNDLE/manifest.json")" \
         --bake-samples "$(jq '.properties.brdf_samples_per_normal' "$BUNDLE/manifest.json")" \
         --gles-versions "$(jq -r '[.variants[].variant.glsl_version | rtrimstr(" es")] | unique | join(",")' \
-            "$BUNDLE/shaders/index.json")"
+            "$BUNDLE/shaders/index.json")" --gles-texture-filter "$(jq -r '.texture_filter' "$BUNDLE/shaders/$v.json")" \
+        --gles-max-texture-size "$(jq -r '.gl_limits_needed.limits_given.max_texture_size' "$BUNDLE/shaders/$v.json")"
     differ=0 compared=0
     while read -r f; do
         compared=$((compared + 1))
@@ -184,7 +185,7 @@ if have_package_file /usr/share/blender/scripts/addons/archimesh/images/fabric_d
     # The texture is bound, not ignored: the normal map's bytes in place of the albedo's move the
     # image by more than a code.
     cp -r "$BUNDLE/shaders" "$WORK/bf/swapped"
-    cp "$BUNDLE/shaders/table.normal.png" "$WORK/bf/swapped/table.albedo.png"
+    cp "$BUNDLE/shaders/table.normal.mip.png" "$WORK/bf/swapped/table.albedo.mip.png"
     expect_exit 1 "another albedo texture is seen by the comparison" -- \
         "$BINDER" "$WORK/bf/swapped/$v.json" --lighting "$WORK/sh2b.json" --quad 48 -o "$WORK/x.ppm" \
         --reference "$WORK/bf/$v.ref.ppm"

@@ -89,9 +89,22 @@ int table_image(int argc, char** argv) {
     v.version = name.find("-es100-") != std::string::npos ? gles::GlslVersion::kEs100 : gles::GlslVersion::kEs300;
     v.mode = name.find("-seed-") != std::string::npos ? gles::ShaderMode::kSeed : gles::ShaderMode::kConsistent;
     v.sh_bands = std::stoi(name.substr(name.find("-b") + 2));
-    v.precision = gles::precision_from_string(name.substr(name.rfind('-') + 1));
+    std::string rest = name;
+    const std::string trilinear = "-trilinear";
+    if (rest.size() > trilinear.size() && rest.compare(rest.size() - trilinear.size(), trilinear.size(), trilinear) == 0) {
+        v.texture_filter = gles::TextureFilter::kTrilinear;
+        rest.resize(rest.size() - trilinear.size());
+    }
+    v.precision = gles::precision_from_string(rest.substr(rest.rfind('-') + 1));
+    // The limits the variant was exported for (--gles-max-texture-size), from its manifest.
+    gles::Limits limits = gles::Limits::minimum(v.version);
+    {
+        std::ifstream mf(dir + "/" + name + ".json");
+        const nlohmann::json m = nlohmann::json::parse(std::string(std::istreambuf_iterator<char>(mf), {}));
+        limits.max_texture_size = m.at("gl_limits_needed").at("limits_given").at("max_texture_size").get<int>();
+    }
     const bool lambert = in.brdf.specular == brdf::Model::kLambert;
-    const gles::Export e = gles::export_variant(lambert ? nullptr : &table, in, v, gles::Limits::minimum(v.version));
+    const gles::Export e = gles::export_variant(lambert ? nullptr : &table, in, v, limits);
     if (e.name != name) throw Error(str("re-exported ", e.name, ", not ", name));
     check_sources(e, dir);
     const render::LightingFile lighting = render::read_lighting_file(argv[6]);
