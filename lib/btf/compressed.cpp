@@ -274,7 +274,7 @@ image::Image CompressedBtf::decode(int light, int view, const std::vector<int>& 
     const int g = m_group_of_view[static_cast<size_t>(view)];
     const Group& group = m_groups[static_cast<size_t>(g)];
     const int c = per_group[static_cast<size_t>(g)];
-    const int64_t base = (int64_t(m_index_in_group[static_cast<size_t>(view)]) * m_shape.n_lights() + light) * 3;
+    const int64_t base = weights_row(light, view);
     image::Image img(m_shape.width, m_shape.height, 3);
     for (int ch = 0; ch < 3; ++ch) {
         Eigen::VectorXf col = group.mean;
@@ -345,7 +345,7 @@ image::Image CompressedBtf::combine_with(const std::vector<ImageTerm>& terms, co
     for (const ImageTerm& t : terms) {
         INLIGHT_CHECK(t.light >= 0 && t.light < m_shape.n_lights() && t.view >= 0 && t.view < m_shape.n_views());
         const auto g = static_cast<size_t>(m_group_of_view[static_cast<size_t>(t.view)]);
-        const int64_t base = (int64_t(m_index_in_group[static_cast<size_t>(t.view)]) * m_shape.n_lights() + t.light) * 3;
+        const int64_t base = weights_row(t.light, t.view);
         used[g] = true;
         mean_w[g] += t.weight;
         for (int ch = 0; ch < 3; ++ch)
@@ -384,10 +384,11 @@ Eigen::MatrixXd CompressedBtf::lighting_matrix(int view, int channel, const Eige
     const auto g = static_cast<size_t>(m_group_of_view[static_cast<size_t>(view)]);
     const Group& gr = m_groups[g];
     const Eigen::Index lights = m_shape.n_lights(), comps = gr.basis.cols();
-    // Rows of V for this view and channel, one per light: (index_in_group x lights + l) x 3 + ch.
+    // Rows of V for this view and channel, one per light.
     Eigen::MatrixXd v(lights, comps);
-    const int64_t first = int64_t(m_index_in_group[static_cast<size_t>(view)]) * lights;
-    for (Eigen::Index l = 0; l < lights; ++l) v.row(l) = gr.weights.row((first + l) * 3 + channel).cast<double>();
+    for (Eigen::Index l = 0; l < lights; ++l) {
+        v.row(l) = gr.weights.row(weights_row(static_cast<int>(l), view) + channel).cast<double>();
+    }
     Eigen::MatrixXd m(1 + comps, a.cols());
     m.row(0) = a.colwise().sum() / irradiance_w_m2;
     m.bottomRows(comps) = v.transpose() * a / irradiance_w_m2;

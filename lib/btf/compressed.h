@@ -141,6 +141,10 @@ class CompressedBtf : public BtfSource {
         Eigen::MatrixXf basis;    // P x C
         Eigen::MatrixXf weights;  // N x C
     };
+    /// Row of the red channel of image (light, view) in its group's V (green and blue follow).
+    int64_t weights_row(int light, int view) const {
+        return (int64_t(m_index_in_group[static_cast<size_t>(view)]) * m_shape.n_lights() + light) * 3;
+    }
     image::Image decode(int light, int view, const std::vector<int>& components_per_group) const;
     std::vector<int> components_after(int64_t sent) const;
     image::Image combine_with(const std::vector<ImageTerm>& terms, const std::vector<int>& per_group) const;

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/fs.h"
 #include "core/validators.h"
+#include "gles/scene.h"
 #include "image/image.h"
 #include "render/realtime_lights.h"
 
@@ -58,19 +59,9 @@ void ExportArgs::add_textures(MaterialInputs& material, Report& report) const {
         report.add_input(t.path);
         image::ReadOptions raw;
         raw.decode_srgb = false;  // the codes as stored: the shader decodes sRGB itself
-        const image::Image img = image::read_image(t.path, raw);
-        t.px = {img.width, img.height};
-        t.rgba8.clear();
-        t.rgba8.reserve(img.pixel_count() * 4);
-        for (int y = 0; y < img.height; ++y) {
-            for (int x = 0; x < img.width; ++x) {
-                for (int c = 0; c < 3; ++c) {  // grey replicated; alpha ignored (opaque fabric)
-                    const float v = img.at(x, y, img.channels < 3 ? 0 : c);
-                    t.rgba8.push_back(static_cast<uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)));
-                }
-                t.rgba8.push_back(255);
-            }
-        }
+        const Texture8 texels = to_texture8(image::read_image(t.path, raw), false);
+        t.px = {texels.width, texels.height};
+        t.rgba8 = texels.rgba;
     }
     // The texture is the albedo, as in the validation scene (pipelines/validate-pair.sh: albedo
     // [1, 1, 1] times the bundle's albedo.png): u_albedo = 1, not the material file's albedo.

@@ -43,28 +43,6 @@ void add_patch(Mesh& m, const render::Shape& s) {
     }
 }
 
-
-
-Texture8 to_texture8(const image::Image& img, bool srgb) {
-    Texture8 t;
-    t.width = img.width;
-    t.height = img.height;
-    t.rgba.reserve(static_cast<size_t>(img.width) * img.height * 4);
-    for (int y = 0; y < img.height; ++y) {
-        for (int x = 0; x < img.width; ++x) {
-            for (int c = 0; c < 3; ++c) {
-                // The 8-bit file's code: the CPU holds it decoded (sRGB) or as code / 255.
-                const float v = img.at(x, y, std::min(c, img.channels - 1));
-                const float e = srgb ? image::srgb_encode(v) : v;
-                t.rgba.push_back(static_cast<uint8_t>(std::clamp(std::lround(e * 255.0f), 0L, 255L)));
-            }
-            t.rgba.push_back(255);
-        }
-    }
-    return t;
-}
-
-
 /// The draw's depth range from the meshes' extent along the view (1% margin; perspective: near
 /// at least 1e-3 far) and the camera's clip_from_world over it.
 Eigen::Matrix4f clip_for_meshes(const render::Camera& cam, const std::vector<Mesh>& meshes) {
@@ -169,6 +147,25 @@ std::vector<Export> export_materials(const render::Scene& scene,
 }
 
 }  // namespace
+
+Texture8 to_texture8(const image::Image& img, bool srgb) {
+    Texture8 t;
+    t.width = img.width;
+    t.height = img.height;
+    t.rgba.reserve(static_cast<size_t>(img.width) * img.height * 4);
+    for (int y = 0; y < img.height; ++y) {
+        for (int x = 0; x < img.width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                // The 8-bit file's code: the CPU holds it decoded (sRGB) or as code / 255.
+                const float v = img.at(x, y, std::min(c, img.channels - 1));
+                const float e = srgb ? image::srgb_encode(v) : v;
+                t.rgba.push_back(static_cast<uint8_t>(std::clamp(std::lround(e * 255.0f), 0L, 255L)));
+            }
+            t.rgba.push_back(255);
+        }
+    }
+    return t;
+}
 
 std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOptions& options) {
     return export_materials(scene, options, false);

@@ -29,6 +29,12 @@ std::vector<Export> export_scene(const render::Scene& scene, const SceneExportOp
 /// render refuses a variant that does not fit before any rendering or baking.
 void check_scene_export(const render::Scene& scene, const SceneExportOptions& options);
 
+/// An image's 8-bit texels as the app binds them (RGBA, alpha 255): each value in [0, 1] as its
+/// code, sRGB-encoded first when `srgb` (an albedo the CPU holds decoded). Texel channel c is
+/// the image's channel min(c, channels - 1), as the CPU model reads a texture
+/// (render/material.cpp).
+Texture8 to_texture8(const image::Image& img, bool srgb);
+
 /// clip_from_world of the scene's camera (the rays of render::Camera: image row 0 at clip
 /// y = +1), depth mapping [near, far] (world distance along the view) to [-1, 1].
 Eigen::Matrix4f clip_from_world(const render::Camera& camera, double near, double far);
