@@ -24,14 +24,15 @@ std::string to_string(CellRule rule) {
         case CellRule::kConstant: return "constant";
         case CellRule::kCosine: return "cosine";
         case CellRule::kBarycentric: return "barycentric";
+        case CellRule::kExtrapolated: return "extrapolated";
     }
     return "?";
 }
 
 CellRule cell_rule_from_string(const std::string& name) {
-    for (CellRule r : {CellRule::kConstant, CellRule::kCosine, CellRule::kBarycentric})
+    for (CellRule r : {CellRule::kConstant, CellRule::kCosine, CellRule::kBarycentric, CellRule::kExtrapolated})
         if (name == to_string(r)) return r;
-    throw Error(str("light cell rule '", name, "': expected constant, cosine or barycentric"));
+    throw Error(str("light cell rule '", name, "': expected constant, cosine, barycentric or extrapolated"));
 }
 
 namespace {
@@ -75,6 +76,59 @@ class HorizonTriangulation {
     std::vector<std::array<int, 3>> m_tri;
     std::vector<Eigen::Vector3d> m_vec;
 };
+
+/// Per light: its inner partner for CellRule::kExtrapolated (the nearest light of the next ring
+/// in, by angle) when the light lies on the outermost ring (within 1 deg of the largest theta),
+/// else -1.
+std::vector<int> outer_ring_partners(const std::vector<Eigen::Vector3d>& lv, const std::vector<char>& eligible) {
+    double min_z = 2;
+    for (size_t k = 0; k < lv.size(); ++k)
+        if (eligible[k]) min_z = std::min(min_z, lv[k].z());
+    const double theta_max = std::acos(std::clamp(min_z, -1.0, 1.0));
+    constexpr double kRingTol = kPi / 180;
+    // The next ring in: the largest theta below theta_max - 1 deg.
+    double inner_theta = -1;
+    for (size_t k = 0; k < lv.size(); ++k) {
+        const double th = std::acos(std::clamp(lv[k].z(), -1.0, 1.0));
+        if (eligible[k] && th < theta_max - kRingTol) inner_theta = std::max(inner_theta, th);
+    }
+    std::vector<int> partner(lv.size(), -1);
+    if (inner_theta < 0) return partner;
+    for (size_t k = 0; k < lv.size(); ++k) {
+        const double th = std::acos(std::clamp(lv[k].z(), -1.0, 1.0));
+        if (!eligible[k] || th < theta_max - kRingTol) continue;
+        double best = -2;
+        for (size_t j = 0; j < lv.size(); ++j) {
+            const double tj = std::acos(std::clamp(lv[j].z(), -1.0, 1.0));
+            if (!eligible[j] || std::abs(tj - inner_theta) > kRingTol) continue;
+            if (lv[j].dot(lv[k]) > best) {
+                best = lv[j].dot(lv[k]);
+                partner[k] = static_cast<int>(j);
+            }
+        }
+    }
+    return partner;
+}
+
+/// Adds light arriving from unit d (sample frame) with radiance x solid angle `l_omega` to the
+/// weights under the cosine-type rules: the cell's light k, and beyond an outer light its
+/// extrapolation partner.
+template <typename Add>
+void add_cosine_weight(const std::vector<Eigen::Vector3d>& lv, const std::vector<int>* partner, size_t k,
+                       const Eigen::Vector3d& d, const Add& add) {
+    const double cos_ratio = d.z() / lv[k].z();
+    const int j = partner ? (*partner)[k] : -1;
+    if (j < 0 || d.z() >= lv[k].z()) {
+        add(k, cos_ratio);
+        return;
+    }
+    const double th = std::acos(std::clamp(d.z(), -1.0, 1.0));
+    const double tk = std::acos(std::clamp(lv[k].z(), -1.0, 1.0));
+    const double tj = std::acos(std::clamp(lv[size_t(j)].z(), -1.0, 1.0));
+    const double t = (th - tk) / (tk - tj);
+    add(k, cos_ratio * (1 + t));
+    add(size_t(j), -d.z() / lv[size_t(j)].z() * t);
+}
 
 }  // namespace
 
@@ -131,7 +185,8 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
     }
     std::vector<Eigen::Vector3d> lv;
     for (const Direction& d : lights) lv.push_back(d.vector());
-    const bool cosine = options.rule == CellRule::kCosine;
+    const bool extrapolated = options.rule == CellRule::kExtrapolated;
+    const bool cosine = options.rule == CellRule::kCosine || extrapolated;
     const bool barycentric = options.rule == CellRule::kBarycentric;
     std::unique_ptr<HorizonTriangulation> tri;
     if (barycentric) tri = std::make_unique<HorizonTriangulation>(lights);
@@ -142,6 +197,7 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
             throw Error("dome lighting: every light direction lies within 0.5 deg of the horizon");
         }
     }
+    const std::vector<int> partner = extrapolated ? outer_ring_partners(lv, eligible) : std::vector<int>();
 
     const int w = latlong.width, h = latlong.height, s = options.subsamples;
     const size_t n = lights.size();
@@ -186,9 +242,13 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
                             }
                             const auto k = static_cast<size_t>(
                                 nearest_light(lv, d, cosine ? &eligible : nullptr));
-                            p.weight[k] += cosine ? Eigen::Vector3d(l * (sub_omega * d.z() / lv[k].z()))
-                                                  : Eigen::Vector3d(l * sub_omega);
                             p.omega[k] += sub_omega;
+                            if (!cosine) {
+                                p.weight[k] += l * sub_omega;
+                                continue;
+                            }
+                            add_cosine_weight(lv, extrapolated ? &partner : nullptr, k, d,
+                                              [&](size_t i, double f) { p.weight[i] += l * (sub_omega * f); });
                         }
                     }
                 }
@@ -237,14 +297,18 @@ DomeLighting directional_light_weights(const std::vector<Direction>& lights,
         case CellRule::kConstant:
             out.weight[static_cast<size_t>(nearest_light(lv, d))] = irradiance;
             break;
-        case CellRule::kCosine: {
+        case CellRule::kCosine:
+        case CellRule::kExtrapolated: {
             std::vector<char> eligible(lv.size(), 1);
             for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
             if (std::none_of(eligible.begin(), eligible.end(), [](char e) { return e != 0; })) {
                 throw Error("directional light weights: every light direction lies within 0.5 deg of the horizon");
             }
             const auto k = static_cast<size_t>(nearest_light(lv, d, &eligible));
-            out.weight[k] = irradiance * (d.z() / lv[k].z());
+            const std::vector<int> partner = options.rule == CellRule::kExtrapolated
+                                                 ? outer_ring_partners(lv, eligible) : std::vector<int>();
+            add_cosine_weight(lv, partner.empty() ? nullptr : &partner, k, d,
+                              [&](size_t i, double f) { out.weight[i] += irradiance * f; });
             break;
         }
         case CellRule::kBarycentric: {

@@ -44,6 +44,11 @@ enum class CellRule {
     /// horizon points (every 5 deg at theta 90) where btf is 0: W_k = integral of L beta_k,
     /// beta_k the barycentric weight of light k (those of the horizon points are dropped).
     kBarycentric,
+    /// kCosine, and beyond the outermost ring (theta > theta_k of an outer light k, where its
+    /// cell is one-sided) btf / cos extrapolated linearly in theta from k and its inner partner
+    /// j (the nearest light of the next ring in): btf / cos = rho_k (1 + t) - rho_j t,
+    /// t = (theta - theta_k) / (theta_k - theta_j). Its weights may be negative for j.
+    kExtrapolated,
 };
 
 struct DomeLightingOptions {

@@ -244,8 +244,10 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
                    "divided out and integrated exactly over its cell: right at the horizon) or "
                    "constant (the image constant over the cell, the thesis' rule: too bright "
                    "where light comes from near the horizon) or barycentric (images linear over "
-                   "the light directions' triangles, black at the horizon); docs/btf.md")
-        ->check(CLI::IsMember({"constant", "cosine", "barycentric"}))
+                   "the light directions' triangles, black at the horizon) or extrapolated (cosine, with "
+                   "the image's ratio to the cosine continued linearly beyond the last ring); "
+                   "docs/btf.md")
+        ->check(CLI::IsMember({"constant", "cosine", "barycentric", "extrapolated"}))
         ->capture_default_str();
     app.add_option("--cell-subsamples", a.subsamples,
                    "BTF shading: directions per map pixel side when integrating light cells")
