@@ -225,10 +225,11 @@ TEST(GlesTrilinear, GrazingViewMatchesTheCpuModel) {
     TexturedPatch s;
     s.material = lambert({0.9, 0.8, 0.7});
     s.material.albedo_texture = as_image(random_texture(32, 32, 31, false), true);
-    // Normals within 5 degrees of the geometric one: none faces away from the view (at 80
-    // degrees the CPU model's per-pixel view and the shader's constant VIEW would pick the
-    // fallback normal differently: export.h, a rule of the normal map, not of the filter).
-    s.material.normal_texture = as_image(gentle_normals(16, 16, 32, 5.0), false);
+    // Normals tilted up to 60 degrees: many face away from the pixel's 80-degree view. Both
+    // sides decide the fallback to the geometric normal by the model's constant view (the
+    // shader's VIEW, +z here), not the pixel's (a CPU model that used the pixel's view failed
+    // this test before 2026-11-28).
+    s.material.normal_texture = as_image(gentle_normals(16, 16, 32, 60.0), false);
     // The patch lies wholly in front of the camera (y from -1.5 to 20, the camera at y = -1.97):
     // no near-plane clipping. 1 tile per unit.
     s.patch_size = {10, 21.5};

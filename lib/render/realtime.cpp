@@ -268,10 +268,14 @@ image::Image render_realtime(const Scene& scene, const RealtimeLighting& lightin
                             quad_duv(gx, gy, hit, &fl.duv_dx, &fl.duv_dy);
                             fl.box_matched_lod = options.box_matched_lod;
                         }
-                        const ShadingPoint sp =
-                            shade(m, hit, -ray.dir, trilinear ? &fl : nullptr);
                         const brdf::Table* table =
                             mi < lighting.tables.size() ? &lighting.tables[mi] : nullptr;
+                        // The model's view is the table's (else +z, the device's), as the
+                        // exported shader's VIEW: it also decides when a mapped normal faces
+                        // away and falls back to the geometric one.
+                        const Eigen::Vector3d model_view =
+                            table ? table->view.normalized() : Eigen::Vector3d::UnitZ();
+                        const ShadingPoint sp = shade(m, hit, model_view, trilinear ? &fl : nullptr);
                         const Eigen::Vector3d n = sp.world_from_local.col(2);
                         const bool has_specular = sp.brdf.specular != brdf::Model::kLambert;
                         sum += shade_fragment(n, sp.brdf.albedo, has_specular, uniforms, table,

@@ -93,7 +93,9 @@ Eigen::Vector3d shade_realtime(const Eigen::Vector3d& n, const Eigen::Vector3d& 
 Eigen::Vector2d primitive_uv(const Scene& scene, const SurfaceHit& hit, const Ray& ray);
 
 /// Renders the scene's camera view with the real-time model. Rays that miss show the
-/// environment (nearest pixel, as the path tracer). Parallel and deterministic.
+/// environment (nearest pixel, as the path tracer). Parallel and deterministic. A mapped
+/// normal facing away from the model's view (the material table's view, else +z: the exported
+/// shader's VIEW) falls back to the geometric normal, as in the shader.
 /// Throws UsageError when options ask for more bands than `lighting` has, or kSeed without 3
 /// bands or with lights (the report's shader has none).
 image::Image render_realtime(const Scene& scene, const RealtimeLighting& lighting,
