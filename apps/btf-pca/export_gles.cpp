@@ -34,9 +34,9 @@ int export_gles(int argc, char** argv) {
     if (auto code = app::parse(app, argc, argv, 1)) return *code;
     if (precision != "highp") {
         std::cerr << "btf-pca export-gles: --precision " << precision
-                  << ": refused: mediump floats keep 10 mantissa bits, and the shader sums 3 x (1 + C) decoded "
-                     "8-bit terms of either sign, whose rounding (up to 2^-11 of each term) exceeds one 8-bit "
-                     "code of dark output (docs/btf-gles.md, \"Precision\"); use highp\n";
+                  << ": refused: mediump guarantees a 10-bit mantissa, and the shader sums 3 x (1 + C) decoded "
+                     "8-bit terms of either sign, often 10 times the pixel's value: the rounding bound, 3 (1 + C) "
+                     "x 2^-11 x the terms' size, exceeds one 8-bit code (docs/btf-gles.md, \"Precision\"); use highp\n";
         return app::kExitUsage;
     }
     o.versions = gles::glsl_versions_from_string(versions);

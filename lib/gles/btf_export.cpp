@@ -318,8 +318,9 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
           {"encoding_8bit", detail::output_encoding_8bit()}}},
         {"precision",
          {{"declared", "highp"},
-          {"mediump", "refused: 3 slots x (1 + C) decoded terms of either sign summed at a 10-bit mantissa lose up to "
-                      "(1 + C) x 3 x 2^-11 of the terms' magnitude, above one 8-bit code of dark output (docs/btf-gles.md)"}}},
+          {"mediump", "refused: a 10-bit mantissa on 3 x (1 + C) decoded terms of either sign, often 10 times the "
+                      "pixel's value, bounds the error by 3 (1 + C) x 2^-11 x the terms' size, above one 8-bit code "
+                      "(docs/btf-gles.md, \"Precision\")"}}},
         {"not_done", {"no filtering (nearest texel, no mipmaps)", "no dominant lights (SH lighting only)"}}};
     return e;
 }

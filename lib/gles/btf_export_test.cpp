@@ -100,14 +100,16 @@ Mesh quad() {
     return m;
 }
 
-int srgb_code(double v) {
+/// 255 x the sRGB encoding of v clamped to [0, 1] (the manifest's output steps before rounding).
+double srgb_255(double v) {
     v = std::clamp(v, 0.0, 1.0);
-    const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
-    return static_cast<int>(std::lround(255 * e));
+    return 255 * (v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
 }
+int srgb_code(double v) { return static_cast<int>(std::lround(srgb_255(v))); }
 
 struct Result {
     int max_code_diff = 0;
+    double max_diff_in_codes = 0;  ///< before rounding to codes
     double largest = 0;
 };
 
@@ -141,6 +143,8 @@ Result compare(Context& ctx, const btf::CompressedBtf* btf, const Eigen::MatrixX
             for (int ch = 0; ch < 3; ++ch) {
                 const int d = std::abs(srgb_code(exposure * out.at(x, y, ch)) - srgb_code(exposure * ref.at(x, y, ch)));
                 r.max_code_diff = std::max(r.max_code_diff, d);
+                r.max_diff_in_codes = std::max(r.max_diff_in_codes, std::abs(srgb_255(exposure * out.at(x, y, ch)) -
+                                                                            srgb_255(exposure * ref.at(x, y, ch))));
             }
         }
     }
@@ -179,9 +183,9 @@ void check_version(GlslVersion ver, const std::string& dir, const char* what) {
                 EXPECT_LE(r.max_code_diff, 1) << what << " bands " << bands << " view " << view.theta_deg << " "
                                               << view.phi_deg << " sent " << sent;
                 EXPECT_GT(r.largest, 0.05) << "a lit image, not zeros on both sides";
-                std::printf("[btf-gles] %s bands %d view (%g, %g) sent %lld/%lld: max code diff %d\n", what, bands,
+                std::printf("[btf-gles] %s bands %d view (%g, %g) sent %lld/%lld: max code diff %d (%.4f codes before rounding)\n", what, bands,
                             view.theta_deg, view.phi_deg, static_cast<long long>(sent), static_cast<long long>(all),
-                            r.max_code_diff);
+                            r.max_code_diff, r.max_diff_in_codes);
             }
         }
     }

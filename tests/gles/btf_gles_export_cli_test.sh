@@ -35,7 +35,7 @@ expect_true "no ES 1.00 shader" -- test ! -e "$WORK/out3/btf-es100-highp.frag"
 
 # Usage errors: exit 2, nothing written.
 expect_exit 2 "mediump refused" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad1" --precision mediump
-expect_stderr "mediump floats keep 10 mantissa bits" "says why mediump is refused"
+expect_stderr "mediump guarantees a 10-bit mantissa" "says why mediump is refused"
 expect_exit 2 "bands 10" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad2" --bands 10
 expect_exit 2 "unknown version" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad3" --gles-versions 200
 expect_exit 2 "NaN irradiance" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad4" --irradiance-w-m2 nan
