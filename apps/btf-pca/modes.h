@@ -1,6 +1,7 @@
-// apps/btf-pca/modes.h: btf-pca's two modes (docs/btf.md), each a thin function over one
+// apps/btf-pca/modes.h: btf-pca's modes (docs/btf.md), each a thin function over one
 // library call in its own file: compress.cpp (btf::run_pca), interpolate.cpp
-// (btf::run_interpolation); main.cpp dispatches and refuses the old spelling.
+// (btf::run_interpolation), export_gles.cpp (gles::export_btf_gles); main.cpp dispatches and
+// refuses the old spelling.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -25,7 +26,7 @@ inline constexpr const char* kExportGlesPurpose =
     "that draw a btf-pca folder under SH lighting (docs/btf-gles.md)";
 inline constexpr const char* kExportGlesExample = "btf-pca export-gles out/wool -o out/wool-gles --bands 3";
 
-/// The options both modes read a raw BTF with; `linear` is --linear-input (interpolate.cpp).
+/// The options compress and interpolate read a raw BTF with; `linear` is --linear-input (interpolate.cpp).
 void add_open_options(CLI::App& app, btf::OpenOptions& open, bool& linear);
 
 /// The modes: argv[1] is the mode's name; return the process exit code.
