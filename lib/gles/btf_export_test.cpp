@@ -16,6 +16,7 @@
 #include "btf/synthetic.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "gles/gles_testing.h"
 #include "gles/harness_testing.h"
 #include "render/btf_shade.h"
 #include "sh/sh.h"
@@ -294,6 +295,23 @@ TEST(BtfGlesFiles, MatricesFileHoldsEveryViewsLightingMatrix) {
             const double ulp = (std::abs(e.offset[2][size_t(k)]) + std::abs(e.scale[2][size_t(k)])) * 1.2e-7;
             EXPECT_NEAR(dec, col[p], 2 * ulp) << "column " << k << " pixel " << p;
         }
+    }
+}
+
+TEST(BtfGlesFiles, ShadersPassGlslangValidator) {
+    // The reference compiler for each GLSL ES version, independent of the driver the draws ran on.
+    ASSERT_EQ(std::system("glslangValidator --version > /dev/null 2>&1"), 0)
+        << "glslangValidator (Debian glslang-tools, in make deps) is required";
+    const std::string dir = inlight::testing::temp_dir("btf_gles_glslang");
+    const BtfGlesExport e = export_btf_gles(folder6(), {});
+    ASSERT_EQ(e.variants.size(), 2u);
+    for (const auto& [name, bytes] : e.files()) {
+        if (name.size() < 5 || (name.substr(name.size() - 5) != ".vert" && name.substr(name.size() - 5) != ".frag"))
+            continue;
+        const std::string path = dir + "/" + name;
+        fs::write_text_atomic(path, bytes);
+        std::string log;
+        EXPECT_EQ(testing::run_glslang(path, &log), 0) << path << "\n" << log << "\n" << bytes;
     }
 }
 
