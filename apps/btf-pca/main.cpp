@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "compress") return compress(argc, argv);
     if (mode == "interpolate") return interpolate(argc, argv);
+#ifdef INLIGHT_BTF_PCA_GLES
+    if (mode == "export-gles") return export_gles(argc, argv);
+#endif
     if (const char* meant = old_mode(argc, argv)) {
         std::cerr << "btf-pca: modes are subcommands now: use 'btf-pca " << meant
                   << "' (see btf-pca --help)\n";
@@ -46,6 +49,10 @@ int main(int argc, char** argv) {
     return app::list_modes("btf-pca", "btf-pca: the codec of a bidirectional texture function: "
                            "PCA compression, and decompression at arbitrary directions",
                            {{"compress", kCompressPurpose, kCompressExample},
-                            {"interpolate", kInterpolatePurpose, kInterpolateExample}},
+                            {"interpolate", kInterpolatePurpose, kInterpolateExample},
+#ifdef INLIGHT_BTF_PCA_GLES
+                            {"export-gles", kExportGlesPurpose, kExportGlesExample},
+#endif
+                           },
                            "0 ok, 1 runtime error, 2 usage error, 3 quality gate failed.", argc, argv);
 }

@@ -1,6 +1,7 @@
-// apps/btf-pca/modes.h: btf-pca's two modes (docs/btf.md), each a thin function over one
+// apps/btf-pca/modes.h: btf-pca's modes (docs/btf.md), each a thin function over one
 // library call in its own file: compress.cpp (btf::run_pca), interpolate.cpp
-// (btf::run_interpolation); main.cpp dispatches and refuses the old spelling.
+// (btf::run_interpolation), export_gles.cpp (gles::export_btf_gles); main.cpp dispatches and
+// refuses the old spelling.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -20,11 +21,18 @@ inline constexpr const char* kInterpolatePurpose =
 inline constexpr const char* kInterpolateExample =
     "btf-pca interpolate out/wool --pairs pairs.txt -o out/wool_interp --scheme delaunay";
 
-/// The options both modes read a raw BTF with; `linear` is --linear-input (interpolate.cpp).
+inline constexpr const char* kExportGlesPurpose =
+    "btf-pca export-gles: OpenGL ES 3.00 / 1.00 shaders, texture atlases and per-view lighting matrices "
+    "that draw a btf-pca folder under SH lighting (docs/btf-gles.md)";
+inline constexpr const char* kExportGlesExample = "btf-pca export-gles out/wool -o out/wool-gles --bands 3";
+
+/// The options compress and interpolate read a raw BTF with; `linear` is --linear-input (interpolate.cpp).
 void add_open_options(CLI::App& app, btf::OpenOptions& open, bool& linear);
 
 /// The modes: argv[1] is the mode's name; return the process exit code.
 int compress(int argc, char** argv);
 int interpolate(int argc, char** argv);
+/// Built with the gles module (Embree builds): INLIGHT_BTF_PCA_GLES.
+int export_gles(int argc, char** argv);
 
 }  // namespace inlight::btf_pca_cli

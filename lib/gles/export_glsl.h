@@ -63,6 +63,10 @@ inline std::string texture_file_name(const std::string& material, bool albedo, b
 
 /// The variant's manifest: every uniform with its value or source, every texture with its file,
 /// layout and encoding (docs/gles.md).
+/// How an app turns the linear HDR output into 8-bit display codes (docs/gles.md, "What the app
+/// binds"): the recipe render's PNGs, the harness comparisons and the BTF export follow.
+nlohmann::json output_encoding_8bit();
+
 nlohmann::json make_manifest(const Export& e, const Plan& p, const Limits& limits);
 
 }  // namespace inlight::gles::detail

@@ -27,8 +27,8 @@ constexpr const char* kPngRgba8 =
 constexpr const char* kRawRgba8 =
     "raw RGBA8, width x height x 4 bytes, rows top first (the file's first row is glTexImage2D's first), no header";
 
-/// How an app turns the linear HDR output into 8-bit display codes (docs/gles.md, "What the app
-/// binds"): the recipe render's PNGs and the harness comparisons follow.
+}  // namespace
+
 nlohmann::json output_encoding_8bit() {
     return {{"exposure", {{"default", "auto"},
                           {"auto", "exposure = 0.18 / Y_mean, Y_mean = the mean over the frame's drawn pixels of "
@@ -42,6 +42,8 @@ nlohmann::json output_encoding_8bit() {
                       "colour buffers needs a fixed exposure and the steps appended to the output line: "
                       "out = vec4(oetf(clamp(exposure * radiance, 0.0, 1.0)), 1.0) in an RGBA8 (not sRGB) target"}};
 }
+
+namespace {
 
 /// A trilinear variant's texture entry: the file is the mip atlas (render/mip.h); its size,
 /// level rectangles, the level-of-detail rule and the lookup.

@@ -27,6 +27,7 @@ namespace {
 using testing::all_variants;
 using testing::random_table;
 using testing::roomy_limits;
+using testing::run_glslang;
 
 struct Case {
     std::string grid;
@@ -84,14 +85,6 @@ std::vector<Variant> variants_with_lights(int bands, const MaterialInputs& mat) 
         }
     }
     return out;
-}
-
-int run_glslang(const std::string& path, std::string* log) {
-    const std::string out = path + ".log";
-    const int rc = std::system(("glslangValidator '" + path + "' > '" + out + "' 2>&1").c_str());
-    std::ifstream in(out);
-    *log = std::string(std::istreambuf_iterator<char>(in), {});
-    return rc;
 }
 
 TEST(ExportVariant, EveryVariantPassesGlslangValidator) {

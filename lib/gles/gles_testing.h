@@ -1,6 +1,9 @@
 // gles/gles_testing.h: the tables, materials and variants the gles tests share.
 #pragma once
 
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
@@ -47,6 +50,16 @@ inline Limits roomy_limits() {
     l.max_texture_size = 8192;
     l.max_texture_image_units = 16;
     return l;
+}
+
+/// Runs glslangValidator on `path` (the stage from its extension); its output goes to *log.
+/// Returns the exit status (0: valid).
+inline int run_glslang(const std::string& path, std::string* log) {
+    const std::string out = path + ".log";
+    const int rc = std::system(("glslangValidator '" + path + "' > '" + out + "' 2>&1").c_str());
+    std::ifstream in(out);
+    *log = std::string(std::istreambuf_iterator<char>(in), {});
+    return rc;
 }
 
 }  // namespace inlight::gles::testing

@@ -249,7 +249,14 @@ Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) 
         const std::string name = t["uniform"];
         const int unit = t["unit"];
         GLuint tex = 0;
-        if (name == "u_sh_texture") {
+        const Texture8* given = nullptr;
+        for (const auto& [n, img] : b.textures8) {
+            if (n == name) given = img;
+        }
+        if (given) {
+            tex = texture(objs, unit, es3 ? GL_RGBA8 : GL_RGBA, GL_RGBA, GL_UNSIGNED_BYTE, given->width,
+                          given->height, given->rgba.data());
+        } else if (name == "u_sh_texture") {
             const BoundLighting l = bind_lighting(e, b.sh);
             tex = l.bytes.empty()
                       ? texture(objs, unit, GL_RGBA32F, GL_RGBA, GL_FLOAT, l.width, l.height, l.texels.data())
@@ -295,6 +302,9 @@ Prepared prepare(GlObjects& objs, const Context& context, const DrawItem& item) 
     }
     for (const auto& [name, values] : b.float_arrays) {
         glUniform1fv(loc(name.c_str()), static_cast<GLsizei>(values.size()), values.data());
+    }
+    for (const auto& [name, values] : b.vec4_arrays) {
+        glUniform4fv(loc(name.c_str()), static_cast<GLsizei>(values.size() / 4), values.data());
     }
     check_gl(str(e.name, ": binding uniforms and textures"));
 

@@ -68,6 +68,12 @@ struct Bindings {
     /// Further `uniform float name[n]` arrays (for shaders that are not exports, e.g. the
     /// brdf/glsl.h lookup snippet); set with glUniform1fv.
     std::vector<std::pair<std::string, std::vector<float>>> float_arrays;
+    /// Further `uniform vec4 name[n]` arrays (4 floats each; glUniform4fv), e.g. the BTF
+    /// export's weights (gles/btf_export.h).
+    std::vector<std::pair<std::string, std::vector<float>>> vec4_arrays;
+    /// RGBA8 textures of the manifest's "textures" entries by uniform name (taking precedence
+    /// over the export's own data), e.g. the BTF export's group atlases.
+    std::vector<std::pair<std::string, const Texture8*>> textures8;
 };
 
 enum class TargetFormat { kRgba32f, kRgba8 };

@@ -7,10 +7,7 @@ source "$(dirname "$0")/lib.sh"
 PCA="$BIN/btf-pca"
 MK="$TBIN/inlight_make_test_btf"
 
-printf '0 0\n15 0\n15 120\n30 60\n30 240\n45 0\n60 90\n75 300\n' >"$WORK/lights.txt"
-printf '0 0\n30 0\n30 120\n45 180\n60 270\n' >"$WORK/views.txt"
-DIRS=(--light-directions "$WORK/lights.txt" --view-directions "$WORK/views.txt")
-"$MK" "$WORK/btf" 24 16 4 1.0 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf"
+make_small_btf
 
 # Two modes, each a subcommand with only its own options (docs/btf.md).
 expect_exit 0 "--help lists the modes" -- "$PCA" --help

@@ -75,6 +75,16 @@ have_package_file() {
     return 1
 }
 
+# make_small_btf: an analytic 24 x 16 BTF folder $WORK/btf on 8 lights and 5 views (the files
+# $WORK/lights.txt and $WORK/views.txt), and DIRS, the options that name them.
+make_small_btf() {
+    printf '0 0\n15 0\n15 120\n30 60\n30 240\n45 0\n60 90\n75 300\n' >"$WORK/lights.txt"
+    printf '0 0\n30 0\n30 120\n45 180\n60 270\n' >"$WORK/views.txt"
+    # shellcheck disable=SC2034  # used by the sourcing scripts
+    DIRS=(--light-directions "$WORK/lights.txt" --view-directions "$WORK/views.txt")
+    "$TBIN/inlight_make_test_btf" "$WORK/btf" 24 16 4 1.0 "$WORK/lights.txt" "$WORK/views.txt" || fail "make_test_btf"
+}
+
 skip() { echo "skip: $*"; SKIPS=$((SKIPS + 1)); }
 
 # finish: exit 0 when every check passed, 77 (ctest's SKIP_RETURN_CODE, see cmake/inlight.cmake)

@@ -1,0 +1,406 @@
+// gles/btf_export.cpp: the BTF export's atlases, matrices, shaders and manifest
+// (gles/btf_export.h, docs/btf-gles.md).
+#include "gles/btf_export.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "btf/sh_lighting.h"
+#include "core/error.h"
+#include "core/json_out.h"
+#include "gles/export_glsl.h"
+#include "image/image.h"
+#include "render/btf_shade.h"
+#include "sh/sh.h"
+
+namespace inlight::gles {
+
+namespace {
+
+constexpr int kSlots = 3;              // groups drawn at once: the 3 nearest views' groups
+constexpr int kVectorsPerSlab = 5;     // per slot: scale, offset, 3 colours' weights
+constexpr const char* kManifest = "btf-gles.json";
+constexpr const char* kMatrices = "lighting-matrices.bin";
+
+std::string atlas_file(int g) {
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "g%03d-atlas.png", g);
+    return buf;
+}
+
+/// The 8-bit codes of one stored column (code = round(255 x stored), stored = code / 255).
+std::vector<uint8_t> read_codes(const std::string& dir, const nlohmann::json& meta, int w, int h) {
+    const std::string file = meta.at("file").get<std::string>();
+    const std::string path = dir + "/" + file;
+    if (file.size() < 4 || file.substr(file.size() - 4) != ".png")
+        throw Error(str(path, ": the GLES export needs 8-bit PNG components (btf-pca --format png)"));
+    const image::Image img = image::read_image(path, {false});
+    if (img.width != w || img.height != h || img.channels != 1)
+        throw Error(str(path, ": expected a ", w, "x", h, " one-channel image"));
+    std::vector<uint8_t> codes(img.pixels.size());
+    for (size_t i = 0; i < codes.size(); ++i) {
+        const float c = std::round(img.pixels[i] * 255.0f);
+        if (!(c >= 0 && c <= 255) || std::abs(c - img.pixels[i] * 255.0f) > 1e-3f)
+            throw Error(str(path, ": not an 8-bit image (sample ", i, " is ", img.pixels[i] * 255.0f, "/255)"));
+        codes[i] = static_cast<uint8_t>(c);
+    }
+    return codes;
+}
+
+std::string vertex_source(bool es3) {
+    std::ostringstream s;
+    s << (es3 ? "#version 300 es\n" : "#version 100\n")
+      << "// inlight BTF export: passes the texture coordinate (docs/btf-gles.md).\n"
+      << "uniform highp mat4 u_clip_from_object;\nuniform highp vec2 u_uv_scale;\n"
+      << (es3 ? "in" : "attribute") << " highp vec3 a_position;\n"
+      << (es3 ? "in" : "attribute") << " highp vec2 a_uv;\n"
+      << (es3 ? "out" : "varying") << " highp vec2 v_uv;\n"
+      << "void main() {\n  v_uv = a_uv * u_uv_scale;\n"
+      << "  gl_Position = u_clip_from_object * vec4(a_position, 1.0);\n}\n";
+    return s.str();
+}
+
+/// The fragment shader, unrolled with literal indices (GLSL ES 1.00 fragment shaders index
+/// uniform arrays only with constant-index expressions).
+std::string fragment_source(bool es3, int w, int h, int slabs, int used) {
+    std::ostringstream s;
+    s << (es3 ? "#version 300 es\n" : "#version 100\n")
+      << "// inlight BTF export (docs/btf-gles.md): per slot g (the 3 nearest views' groups) and\n"
+      << "// slab s, t = the atlas texel (RGBA8, nearest, UV wrapped), v = u_offset + u_scale * t\n"
+      << "// (the folder's decode), radiance_ch += dot(v, u_weight[(g * 3 + ch) * S + s]).\n"
+      << "precision highp float;\n";
+    if (es3) s << "precision highp int;\n";
+    for (int g = 0; g < kSlots; ++g) s << "uniform highp sampler2D u_group" << g << ";  // highp: the default lowp result loses codes\n";
+    const int n = kSlots * used;
+    s << "uniform vec4 u_scale[" << n << "];\nuniform vec4 u_offset[" << n << "];\n"
+      << "uniform vec4 u_weight[" << 3 * n << "];\n"
+      << (es3 ? "in" : "varying") << " highp vec2 v_uv;\n";
+    if (es3) s << "layout(location = 0) out vec4 o_radiance;\n";
+    s << "void main() {\n  vec2 f = fract(v_uv);\n"
+      << "  vec2 texel = min(floor(f * vec2(" << w << ".0, " << h << ".0)), vec2(" << w - 1 << ".0, " << h - 1
+      << ".0));\n  vec3 sum = vec3(0.0);\n  vec4 t;\n  vec4 v;\n";
+    for (int g = 0; g < kSlots; ++g) {
+        for (int sl = 0; sl < used; ++sl) {
+            if (es3) {
+                s << "  t = texelFetch(u_group" << g << ", ivec2(texel) + ivec2(0, " << sl * h << "), 0);\n";
+            } else {
+                s << "  t = texture2D(u_group" << g << ", vec2((texel.x + 0.5) / " << w << ".0, (texel.y + "
+                  << sl * h << ".5) / " << h * slabs << ".0));\n";
+            }
+            const int i = g * used + sl;
+            s << "  v = u_offset[" << i << "] + u_scale[" << i << "] * t;\n"
+              << "  sum += vec3(dot(v, u_weight[" << (g * 3) * used + sl << "]), dot(v, u_weight["
+              << (g * 3 + 1) * used + sl << "]), dot(v, u_weight[" << (g * 3 + 2) * used + sl << "]));\n";
+        }
+    }
+    s << "  " << (es3 ? "o_radiance" : "gl_FragColor") << " = vec4(sum, 1.0);\n}\n";
+    return s.str();
+}
+
+void append_floats_le(std::string& out, const std::vector<float>& v) {
+    for (float f : v) {
+        uint32_t u;
+        std::memcpy(&u, &f, 4);
+        for (int b = 0; b < 4; ++b) out.push_back(static_cast<char>((u >> (8 * b)) & 0xff));
+    }
+}
+
+}  // namespace
+
+BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
+    if (o.sh_bands < 1 || o.sh_bands > 9) throw UsageError(str("--bands must be in 1..9, got ", o.sh_bands));
+    if (!(o.irradiance_w_m2 > 0) || !std::isfinite(o.irradiance_w_m2))
+        throw UsageError("--irradiance must be finite and > 0");
+    const auto btf = btf::CompressedBtf::open(dir);
+    const std::string manifest_path = dir + "/btf-pca.json";
+    if (btf->fit_space() != btf::FitSpace::kLinear)
+        throw Error(str(manifest_path, ": fit space '", btf::to_string(btf->fit_space()),
+                        "': the GLES export folds lighting into component weights, which only the linear "
+                        "fit space allows (compress with --fit-space linear)"));
+    const nlohmann::json& m = btf->manifest();
+    BtfGlesExport e;
+    e.width = btf->shape().width;
+    e.height = btf->shape().height;
+    e.sh_bands = o.sh_bands;
+    e.views = btf->shape().views;
+    const int groups = static_cast<int>(m.at("groups").size());
+    int max_c = 0;
+    for (int g = 0; g < groups; ++g) {
+        e.components.push_back(btf->components(g));
+        max_c = std::max(max_c, e.components.back());
+    }
+    e.slabs = (1 + max_c + 3) / 4;
+    for (const auto& sj : m.at("stream")) e.stream.emplace_back(sj.at(0).get<int>(), sj.at(1).get<int>());
+
+    // Atlases: slab s = columns 4s .. 4s + 3 of [mean | components], stacked top to bottom.
+    const size_t px = static_cast<size_t>(e.width) * e.height;
+    for (int g = 0; g < groups; ++g) {
+        const nlohmann::json& gj = m.at("groups")[static_cast<size_t>(g)];
+        Texture8 atlas;
+        atlas.width = e.width;
+        atlas.height = e.height * e.slabs;
+        atlas.rgba.assign(px * e.slabs * 4, 0);
+        std::vector<float> scale(static_cast<size_t>(e.slabs) * 4, 0.f), offset(scale.size(), 0.f);
+        for (int k = 0; k <= e.components[static_cast<size_t>(g)]; ++k) {
+            const nlohmann::json& meta = k == 0 ? gj.at("mean") : gj.at("components")[static_cast<size_t>(k - 1)];
+            const std::vector<uint8_t> codes = read_codes(dir, meta, e.width, e.height);
+            // The decoder multiplies scale by stored = code / 255 (btf/compressed.cpp read_column).
+            scale[static_cast<size_t>(k)] = meta.at("scale").get<float>();
+            offset[static_cast<size_t>(k)] = meta.at("offset").get<float>();
+            const size_t base = static_cast<size_t>(k / 4) * px * 4;
+            for (size_t p = 0; p < px; ++p) atlas.rgba[base + p * 4 + static_cast<size_t>(k % 4)] = codes[p];
+        }
+        e.atlases.push_back(std::move(atlas));
+        e.scale.push_back(std::move(scale));
+        e.offset.push_back(std::move(offset));
+    }
+
+    // M_v,ch for every view: the app's per-frame fold (CompressedBtf::lighting_matrix).
+    const Eigen::MatrixXd a = btf::sh_light_weight_matrix(btf->shape().lights, o.sh_bands, o.lighting, o.map_height);
+    const int j_count = sh::count(o.sh_bands);
+    for (int v = 0; v < btf->shape().n_views(); ++v) {
+        e.matrices_offset.push_back(static_cast<int64_t>(e.matrices.size()));
+        for (int ch = 0; ch < 3; ++ch) {
+            const Eigen::MatrixXd mv = btf->lighting_matrix(v, ch, a, o.irradiance_w_m2);
+            for (Eigen::Index r = 0; r < mv.rows(); ++r) {
+                for (int j = 0; j < j_count; ++j) e.matrices.push_back(static_cast<float>(mv(r, j)));
+            }
+        }
+    }
+
+    // Variants against their versions' guaranteed limits.
+    nlohmann::json variants = nlohmann::json::array();
+    for (GlslVersion ver : o.versions) {
+        const bool es3 = ver == GlslVersion::kEs300;
+        const Limits lim = Limits::minimum(ver);
+        BtfGlesVariant var;
+        var.version = ver;
+        var.name = es3 ? "btf-es300-highp" : "btf-es100-highp";
+        // ES 2.0's 16 vectors hold one slab (15); ES 3.0's 224 hold 14 slabs.
+        const int fit = lim.max_fragment_uniform_vectors / (kSlots * kVectorsPerSlab);
+        var.slabs_used = std::min(e.slabs, fit);
+        if (es3 && var.slabs_used < e.slabs)
+            throw Error(str(manifest_path, ": ", max_c, " components need ", e.slabs * kSlots * kVectorsPerSlab,
+                            " fragment uniform vectors, OpenGL ES 3.0 guarantees ",
+                            lim.max_fragment_uniform_vectors, " (at most ", fit * 4 - 1, " components)"));
+        var.fragment_uniform_vectors = var.slabs_used * kSlots * kVectorsPerSlab;
+        const int side = std::max(e.width, e.height * e.slabs);
+        var.vertex_source = vertex_source(es3);
+        var.fragment_source = fragment_source(es3, e.width, e.height, e.slabs, var.slabs_used);
+        nlohmann::json tex = nlohmann::json::array();
+        for (int g = 0; g < kSlots; ++g) {
+            tex.push_back({{"uniform", str("u_group", g)}, {"unit", g},
+                           {"file", "the atlas of the group slot " + std::to_string(g) + " shows this frame (g###-atlas.png)"}});
+        }
+        nlohmann::json vm = {
+            {"name", var.name},
+            {"vertex_shader", var.name + ".vert"},
+            {"fragment_shader", var.name + ".frag"},
+            {"glsl_version", es3 ? "300 es" : "100"},
+            {"precision", "highp"},
+            {"slabs_read", var.slabs_used},
+            {"max_components_per_group", var.slabs_used * 4 - 1},
+            {"texel_fetches_per_pixel", kSlots * var.slabs_used},
+            {"multiply_adds_per_pixel", kSlots * var.slabs_used * 4 * 4},
+            {"gl_limits_needed",
+             {{"context", es3 ? "OpenGL ES 3.0" : "OpenGL ES 2.0"},
+              {"max_fragment_uniform_vectors", var.fragment_uniform_vectors},
+              {"max_texture_image_units", kSlots},
+              {"max_texture_size", side},
+              {"max_texture_size_guaranteed", lim.max_texture_size},
+              {"requires", es3 ? nlohmann::json::array()
+                               : nlohmann::json::array({"GL_FRAGMENT_PRECISION_HIGH (highp in fragment shaders)"})}}}};
+        if (side > lim.max_texture_size)
+            vm["gl_limits_needed"]["note"] = str("the atlases are ", side, " texels on a side, above the ",
+                                                 lim.max_texture_size, " every device guarantees: check GL_MAX_TEXTURE_SIZE");
+        variants.push_back(vm);
+        var.as_export.name = var.name;
+        var.as_export.variant.version = ver;
+        var.as_export.vertex_source = var.vertex_source;
+        var.as_export.fragment_source = var.fragment_source;
+        var.as_export.fragment_uniform_vectors = var.fragment_uniform_vectors;
+        var.as_export.manifest = {{"variant", {{"glsl_version", es3 ? "300 es" : "100"}, {"sh_bands", o.sh_bands}}},
+                                  {"textures", tex}};
+        e.variants.push_back(std::move(var));
+    }
+
+    // The manifest.
+    nlohmann::json groups_j = nlohmann::json::array();
+    for (int g = 0; g < groups; ++g) {
+        nlohmann::json channels = nlohmann::json::array();
+        for (int k = 0; k < e.slabs * 4; ++k) {
+            channels.push_back({{"column", k == 0 ? "mean" : (k <= e.components[size_t(g)] ? str("component ", k - 1) : "unused")},
+                                {"scale", e.scale[size_t(g)][size_t(k)]}, {"offset", e.offset[size_t(g)][size_t(k)]}});
+        }
+        groups_j.push_back({{"file", atlas_file(g)}, {"components", e.components[size_t(g)]}, {"channels", channels}});
+    }
+    nlohmann::json views_j = nlohmann::json::array();
+    for (int v = 0; v < btf->shape().n_views(); ++v) {
+        const int g = btf->group_of_view(v);
+        views_j.push_back({{"theta_deg", e.views[size_t(v)].theta_deg}, {"phi_deg", e.views[size_t(v)].phi_deg},
+                           {"group", g}, {"rows", 1 + e.components[size_t(g)]},
+                           {"offset_bytes", e.matrices_offset[size_t(v)] * 4}});
+    }
+    nlohmann::json stream = nlohmann::json::array();
+    for (const auto& [g, c] : e.stream) stream.push_back({g, c});
+    const int64_t tex_bytes = static_cast<int64_t>(groups) * e.width * e.height * e.slabs * 4;
+    e.manifest = {
+        {"format", "inlight_btf_gles_export"},
+        {"version", 1},
+        {"source", {{"format", "inlight-btf-pca"}, {"color_space", "linear_srgb"}}},
+        {"image", {{"width", e.width}, {"height", e.height}}},
+        {"frames",
+         {{"fabric", "x = the texture's +u direction, z = the fabric's normal (the BTF's sample frame: its views' "
+                     "theta and phi, btf-pca.json)"},
+          {"lighting", "c = the lighting file's coefficients (docs/formats.md; sh/sh.h order, no Condon-Shortley "
+                       "phase) rotated into the fabric frame: the rotation the BRDF shaders' u_sh gets for the "
+                       "device (docs/gles.md) composed with the fabric's orientation in the device frame"}}},
+        {"variants", variants},
+        {"textures",
+         {{"groups", groups_j},
+          {"layout", str("per view group one RGBA8 atlas, ", e.width, " x ", e.height * e.slabs, " texels: ", e.slabs,
+                         " slabs of ", e.width, " x ", e.height, " stacked top to bottom; slab s channel k (r, g, b, "
+                         "a) = column 4 s + k of [mean | components] (8-bit code)")},
+          {"encoding", "PNG, 8-bit RGBA, rows top first, decoded without gamma or colour management (the texel "
+                       "bytes glTexImage2D takes, GL_RGBA / GL_UNSIGNED_BYTE)"},
+          {"decode", "value = offset + scale x code / 255 per channel (the folder's own decode; unused channels "
+                     "scale 0, offset 0)"},
+          {"sampling", "GL_NEAREST, GL_CLAMP_TO_EDGE, no mipmaps; the shader wraps UV (fract) and picks the texel "
+                       "floor(fract(uv) x (width, height)), v = 0 at the image's top row: nearest-texel sampling"},
+          {"units", "u_group0, u_group1, u_group2 on texture units 0, 1, 2: the atlases of the frame's 3 group "
+                    "slots; an unused slot (the blend touches fewer groups) binds slot 0's atlas (its weights are 0)"},
+          {"streaming", "an atlas is uploaded when its group's mean arrives, with code 0 in channels whose "
+                        "component has not arrived (their weight is 0), and updated with glTexSubImage2D as they do"},
+          {"bytes_per_group", static_cast<int64_t>(e.width) * e.height * e.slabs * 4},
+          {"bytes_total", tex_bytes}}},
+        {"uniforms",
+         {{"u_clip_from_object", "mat4: clip from object (vertex stage)"},
+          {"u_uv_scale", "vec2: texture repeats per UV unit (vertex stage)"},
+          {"u_scale", "vec4[3 S] (S = the variant's slabs_read): index slot x S + s = the channels' scale of slab s "
+                      "of the slot's group (textures.groups[g].channels[4 s .. 4 s + 3].scale)"},
+          {"u_offset", "vec4[3 S]: as u_scale with the offsets"},
+          {"u_weight", "vec4[9 S]: index (slot x 3 + ch) x S + s, channel k = w_slot,ch[4 s + k] (0 when that column "
+                       "has not arrived or is unused)"}}},
+        {"weights",
+         {{"per_frame", "blend = the 3 views nearest the view direction (fabric frame) by angle, alpha_v = (1 / angle_v) "
+                        "/ sum (1 / angle); a view within 1e-9 degrees of a measured one takes it alone (alpha 1). "
+                        "Slots: the distinct groups of the blend's views in blend order. w_slot,ch = sum over the "
+                        "blend's views v in the slot's group of alpha_v M_v,ch c_ch (M_v,ch: (1 + C) x bands^2, "
+                        "c_ch: the lighting's channel ch, bands^2 values); then row 0 weighs the mean, row 1 + i "
+                        "component i"},
+          {"neighbours", 3},
+          {"weights_rule", "inverse angle (render::select_views)"},
+          {"streaming", "with the first N entries of \"stream\" arrived, group g's components with index below the "
+                        "number of entries naming g get their weight; the others 0 (the mean always)"},
+          {"stream", stream}}},
+        {"matrices",
+         {{"file", kMatrices},
+          {"dtype", "float32_le"},
+          {"bands", o.sh_bands},
+          {"columns", j_count},
+          {"layout", "per view (views[v].offset_bytes), channel ch = 0, 1, 2, row r = 0 .. rows - 1, column j: "
+                     "M_v,ch(r, j) at offset_bytes + 4 ((ch x rows + r) x columns + j)"},
+          {"formula", "M_v,ch = [1^T; V_v,ch^T] A / E (btf/compressed.h lighting_matrix): A(k, j) = the light "
+                      "weight of light k for SH basis function j (btf/sh_lighting.h, cell rule " +
+                          btf::to_string(o.lighting.rule) + ", quadrature " + std::to_string(o.map_height) + ")"},
+          {"irradiance_w_m2", o.irradiance_w_m2},
+          {"bytes", static_cast<int64_t>(e.matrices.size()) * 4}}},
+        {"views", views_j},
+        {"output",
+         {{"variable", "o_radiance (300 es) / gl_FragColor (100)"},
+          {"quantity", "radiance (rgb; alpha 1)"},
+          {"color_space", "linear_srgb"},
+          {"clamped", false},
+          {"units", "the lighting's radiance units (c)"},
+          {"framebuffer", "RGBA32F (EXT_color_buffer_float) keeps HDR radiance; an 8-bit target clamps to [0, 1]"},
+          {"encoding_8bit", detail::output_encoding_8bit()}}},
+        {"precision",
+         {{"declared", "highp"},
+          {"mediump", "refused: a 10-bit mantissa on 3 x (1 + C) decoded terms of either sign, often 10 times the "
+                      "pixel's value, bounds the error by 3 (1 + C) x 2^-11 x the terms' size, above one 8-bit code "
+                      "(docs/btf-gles.md, \"Precision\")"}}},
+        {"not_done", {"no filtering (nearest texel, no mipmaps)", "no dominant lights (SH lighting only)"}}};
+    return e;
+}
+
+std::vector<std::pair<std::string, std::string>> BtfGlesExport::files() const {
+    std::vector<std::pair<std::string, std::string>> out;
+    out.emplace_back(kManifest, dump_finite(manifest, 2, kManifest) + "\n");
+    for (const BtfGlesVariant& v : variants) {
+        out.emplace_back(v.name + ".vert", v.vertex_source);
+        out.emplace_back(v.name + ".frag", v.fragment_source);
+    }
+    for (size_t g = 0; g < atlases.size(); ++g) {
+        const Texture8& t = atlases[g];
+        image::Image img(t.width, t.height, 4);
+        for (size_t i = 0; i < t.rgba.size(); ++i) img.pixels[i] = t.rgba[i] / 255.0f;
+        image::WriteOptions wo;
+        wo.encode_srgb = false;
+        out.emplace_back(atlas_file(static_cast<int>(g)), image::encode_image(atlas_file(static_cast<int>(g)), img, wo));
+    }
+    std::string bin;
+    append_floats_le(bin, matrices);
+    out.emplace_back(kMatrices, bin);
+    return out;
+}
+
+BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant, const btf::Direction& view,
+                           const Eigen::MatrixXd& sh, int64_t sent) {
+    const int j_count = sh::count(e.sh_bands);
+    if (sh.rows() < j_count || sh.cols() != 3 || !sh.allFinite())
+        throw Error(str("BTF GLES frame: needs ", j_count, " x 3 finite lighting coefficients"));
+    const int groups = static_cast<int>(e.components.size());
+    std::vector<int> arrived(static_cast<size_t>(groups), 0);
+    for (int64_t i = 0; i < std::min<int64_t>(sent, static_cast<int64_t>(e.stream.size())); ++i)
+        ++arrived[static_cast<size_t>(e.stream[static_cast<size_t>(i)].first)];
+    const render::ViewBlend blend = render::select_views(e.views, view, 3);
+    const int s_used = variant.slabs_used;
+    BtfFrame f;
+    f.weight.assign(static_cast<size_t>(kSlots) * 3 * s_used * 4, 0.f);
+    f.scale.assign(static_cast<size_t>(kSlots) * s_used * 4, 0.f);
+    f.offset.assign(f.scale.size(), 0.f);
+    for (size_t i = 0; i < blend.views.size(); ++i) {
+        const int v = blend.views[i];
+        const int g = e.manifest.at("views").at(static_cast<size_t>(v)).at("group").get<int>();
+        auto it = std::find(f.slot_group.begin(), f.slot_group.end(), g);
+        const int slot = static_cast<int>(it - f.slot_group.begin());
+        if (it == f.slot_group.end()) f.slot_group.push_back(g);
+        const int comps = e.components[static_cast<size_t>(g)], rows = 1 + comps;
+        const int live = 1 + arrived[static_cast<size_t>(g)];
+        if (live > s_used * 4)
+            throw Error(str("BTF GLES variant ", variant.name, ": group ", g, " has ", live - 1,
+                            " components arrived, the variant shows at most ", s_used * 4 - 1));
+        const float* m = e.matrices.data() + e.matrices_offset[static_cast<size_t>(v)];
+        for (int ch = 0; ch < 3; ++ch) {
+            for (int r = 0; r < live; ++r) {
+                double w = 0;
+                for (int j = 0; j < j_count; ++j) w += double(m[(ch * rows + r) * j_count + j]) * sh(j, ch);
+                f.weight[static_cast<size_t>(((slot * 3 + ch) * s_used) * 4 + r)] +=
+                    static_cast<float>(blend.weights[i] * w);
+            }
+        }
+    }
+    while (f.slot_group.size() < kSlots) f.slot_group.push_back(f.slot_group[0]);
+    for (int slot = 0; slot < kSlots; ++slot) {
+        const auto& sc = e.scale[static_cast<size_t>(f.slot_group[static_cast<size_t>(slot)])];
+        const auto& of = e.offset[static_cast<size_t>(f.slot_group[static_cast<size_t>(slot)])];
+        for (int k = 0; k < s_used * 4; ++k) {
+            f.scale[static_cast<size_t>(slot * s_used * 4 + k)] = sc[static_cast<size_t>(k)];
+            f.offset[static_cast<size_t>(slot * s_used * 4 + k)] = of[static_cast<size_t>(k)];
+        }
+    }
+    return f;
+}
+
+Bindings btf_bindings(const BtfGlesExport& e, const BtfFrame& frame) {
+    Bindings b;
+    b.sh = Eigen::MatrixXd::Zero(sh::count(e.sh_bands), 3);  // not a uniform of these shaders
+    for (int slot = 0; slot < kSlots; ++slot)
+        b.textures8.emplace_back(str("u_group", slot), &e.atlases[static_cast<size_t>(frame.slot_group[static_cast<size_t>(slot)])]);
+    b.vec4_arrays = {{"u_weight", frame.weight}, {"u_scale", frame.scale}, {"u_offset", frame.offset}};
+    return b;
+}
+
+}  // namespace inlight::gles

@@ -1,0 +1,91 @@
+// gles/btf_export.h: OpenGL ES shaders that draw a PCA-compressed BTF (btf/compressed.h, a
+// btf-pca folder, linear fit space) under spherical-harmonics lighting, as docs/btf-gles.md
+// describes.
+//
+// Per group g the folder holds L_g = [mean | components] (8-bit codes, value = offset + scale x
+// code / 255). The export packs them 4 per RGBA8 texel into one atlas per group: W x (H x S)
+// texels, S = ceil((1 + C) / 4) slabs stacked top to bottom, slab s holding columns 4s .. 4s + 3
+// of L_g (unused channels code 0, scale 0, offset 0). The fragment shader reads, for the 3 group
+// slots of a frame, the slabs it uses at the pixel of UV (wrapped, nearest texel), decodes them
+// with u_scale / u_offset and dots them with the frame's weights u_weight per colour:
+//   radiance_ch(uv) = sum_slot sum_k (offset_k + scale_k t_k(uv)) w_slot,ch,k.
+// The app computes the weights once per frame (btf_frame_weights): the view's 3 nearest views
+// v (inverse-angle weights alpha_v, render::select_views), and for each view's group slot
+//   w_slot,ch = sum_{v in slot's group} alpha_v M_v,ch c_ch,
+// M_v,ch = CompressedBtf::lighting_matrix (shipped in one float32 file), c the lighting's SH
+// coefficients in the fabric's frame; components not yet streamed get weight 0.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "btf/compressed.h"
+#include "btf/lighting.h"
+#include "gles/export.h"
+#include "gles/harness.h"
+
+namespace inlight::gles {
+
+struct BtfGlesOptions {
+    std::vector<GlslVersion> versions{GlslVersion::kEs100, GlslVersion::kEs300};
+    int sh_bands = 3;              ///< lighting bands the matrices take, 1..9
+    double irradiance_w_m2 = 1.0;  ///< the capture's irradiance (image = btf x E), > 0
+    int map_height = 128;          ///< sh_light_weight_matrix's quadrature, 16..2048
+    btf::DomeLightingOptions lighting;  ///< cell rule of the light weights (cosine by default)
+};
+
+/// One shader variant.
+struct BtfGlesVariant {
+    GlslVersion version = GlslVersion::kEs300;
+    std::string name;  ///< "btf-es300-highp"
+    std::string vertex_source, fragment_source;
+    int slabs_used = 0;        ///< slabs of the atlas the shader reads (ES 1.00: 1)
+    int fragment_uniform_vectors = 0;  ///< 15 x slabs_used
+    /// Export (the harness' view of it): the manifest's "variant", "textures" (u_group0..2)
+    /// and the sources, for gles::draw.
+    Export as_export;
+};
+
+/// The whole export of one folder.
+struct BtfGlesExport {
+    int width = 0, height = 0, slabs = 0;  ///< image size, slabs per atlas (all groups alike)
+    int sh_bands = 0;
+    std::vector<int> components;           ///< per group
+    std::vector<Texture8> atlases;         ///< per group, width x (height x slabs)
+    std::vector<std::vector<float>> scale, offset;  ///< per group, 4 x slabs (decode of each channel)
+    std::vector<float> matrices;           ///< every view's M_v,ch (layout: matrices_offset)
+    std::vector<int64_t> matrices_offset;  ///< per view, in floats: M_v,ch(r, j) at + (ch (1 + C) + r) J + j
+    std::vector<btf::Direction> views;
+    std::vector<std::pair<int, int>> stream;  ///< [group, component], the folder's order
+    std::vector<BtfGlesVariant> variants;
+    nlohmann::json manifest;               ///< btf-gles.json (deterministic)
+    /// file name -> bytes: btf-gles.json, shaders, atlases (PNG), lighting-matrices.bin.
+    std::vector<std::pair<std::string, std::string>> files() const;
+};
+
+/// Exports `dir` (a btf-pca folder). Throws Error naming the file for a folder that is not one,
+/// a fit space other than linear, components that are not 8-bit PNG, or a variant that does not
+/// fit its version's guaranteed limits (naming the resource and both numbers).
+BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& options);
+
+/// The uniforms of one frame: u_weight (9 x slabs_used vec4, index (slot x 3 + ch) x S + s),
+/// u_scale and u_offset (3 x slabs_used vec4, index slot x S + s) and which group each of the 3
+/// slots shows (unused slots: weight 0, bound to slot 0's group's atlas).
+struct BtfFrame {
+    std::vector<int> slot_group;  ///< 3 entries
+    std::vector<float> weight, scale, offset;
+};
+/// The app's per-frame computation: `view` (sample frame), `sh` (bands^2 x 3, fabric frame),
+/// `sent` stream entries arrived (the means always). Throws Error when the arrived components
+/// need more slabs than `variant` reads (ES 1.00: 3 components per group).
+BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant,
+                           const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent);
+
+/// The harness bindings of a frame (textures u_group0..2, the uniform arrays).
+Bindings btf_bindings(const BtfGlesExport& e, const BtfFrame& frame);
+
+}  // namespace inlight::gles

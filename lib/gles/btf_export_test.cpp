@@ -1,0 +1,338 @@
+// The BTF export (gles/btf_export.h) drawn through EGL against the CPU decoder
+// (CompressedBtf::combine_streamed of the light weights W = A c: no folding shared with the
+// shader), and its files' layout. Skips where EGL cannot give a context.
+#include "gles/btf_export.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "btf/compressed.h"
+#include "btf/pca_run.h"
+#include "btf/sh_lighting.h"
+#include "btf/synthetic.h"
+#include "core/error.h"
+#include "core/fs.h"
+#include "gles/gles_testing.h"
+#include "gles/harness_testing.h"
+#include "render/btf_shade.h"
+#include "sh/sh.h"
+#include "testing/testing.h"
+
+namespace inlight::gles {
+namespace {
+
+using harness_testing::context2;
+using harness_testing::context3;
+
+constexpr int kWidth = 16, kHeight = 12;
+
+/// A btf-pca folder of a synthetic BTF on the Bonn dome (81 lights, 81 views), groups of 3
+/// views, `components` per group, 8-bit PNG.
+std::string make_folder(const std::string& name, int components, btf::FitSpace space = btf::FitSpace::kLinear,
+                        btf::ComponentEncoding enc = btf::ComponentEncoding::kPng8) {
+    btf::AnalyticBtfOptions ao;
+    ao.width = kWidth;
+    ao.height = kHeight;
+    ao.rank = 4;
+    const btf::AnalyticBtf raw(ao);
+    btf::PcaRunOptions po;
+    po.output = inlight::testing::temp_dir(name);
+    po.pca.view_group_size = 3;
+    po.pca.components = components;
+    po.encoding = enc;
+    po.fit_space = space;
+    btf::compress_to_folder(raw, po, 0);
+    return po.output;
+}
+
+const std::string& folder6() {
+    static const std::string d = make_folder("btf_gles_c6", 6);
+    return d;
+}
+const std::string& folder3() {
+    static const std::string d = make_folder("btf_gles_c3", 3);
+    return d;
+}
+/// folder3 with every component's scale and offset 0: components all zero.
+const std::string& folder_zero() {
+    static const std::string d = [] {
+        const std::string out = inlight::testing::temp_dir("btf_gles_zero");
+        std::filesystem::copy(folder3(), out, std::filesystem::copy_options::overwrite_existing | std::filesystem::copy_options::recursive);
+        nlohmann::json m = nlohmann::json::parse(fs::read_file(out + "/btf-pca.json"));
+        for (auto& g : m["groups"]) {
+            for (auto& c : g["components"]) {
+                c["scale"] = 0.0;
+                c["offset"] = 0.0;
+            }
+        }
+        fs::write_text_atomic(out + "/btf-pca.json", m.dump(2));
+        return out;
+    }();
+    return d;
+}
+
+/// A lighting of `bands`: a warm sky plus seeded higher bands of a tenth its size.
+Eigen::MatrixXd lighting(int bands, unsigned seed) {
+    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(sh::count(bands), 3);
+    c.row(0) << 2.0, 1.8, 1.5;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-0.25, 0.25);
+    for (Eigen::Index j = 1; j < c.rows(); ++j) {
+        for (int ch = 0; ch < 3; ++ch) c(j, ch) = u(rng) * (j < 4 ? 3.0 : 1.0);
+    }
+    return c;
+}
+
+/// A screen-filling quad, uv (0, 0) at the top-left: pixel (x, y) shows texel (x, y).
+Mesh quad() {
+    Mesh m;
+    const Eigen::Vector3f p[4] = {{-1, 1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, -1, 0}};
+    const Eigen::Vector2f t[4] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    for (int i : {0, 2, 1, 1, 2, 3}) {
+        m.position.push_back(p[i]);
+        m.uv.push_back(t[i]);
+        m.normal.emplace_back(0, 0, 1);
+        m.tangent.emplace_back(1, 0, 0);
+    }
+    return m;
+}
+
+/// 255 x the sRGB encoding of v clamped to [0, 1] (the manifest's output steps before rounding).
+double srgb_255(double v) {
+    v = std::clamp(v, 0.0, 1.0);
+    return 255 * (v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
+}
+int srgb_code(double v) { return static_cast<int>(std::lround(srgb_255(v))); }
+
+struct Result {
+    int max_code_diff = 0;
+    double max_diff_in_codes = 0;  ///< before rounding to codes
+    double largest = 0;
+};
+
+/// Draws `variant` of `e` (exported from `dir`) and compares with the CPU decoder.
+Result compare(Context& ctx, const btf::CompressedBtf* btf, const Eigen::MatrixXd& a, const BtfGlesExport& e,
+               const BtfGlesVariant& variant, const btf::Direction& view, int bands, int64_t sent) {
+    const Eigen::MatrixXd c = lighting(bands, 7);
+    // Reference: light weights W = A c, the blend's views as terms (sh_lighting_test's path).
+    btf::DomeLighting w;
+    for (Eigen::Index k = 0; k < a.rows(); ++k)
+        w.weight.emplace_back(a.row(k).dot(c.col(0)), a.row(k).dot(c.col(1)), a.row(k).dot(c.col(2)));
+    const render::ViewBlend blend = render::select_views(btf->shape().views, view, 3);
+    const image::Image ref = btf->combine_streamed(btf::shading_terms(w, blend.views, blend.weights, 1.0), sent);
+
+    const BtfFrame frame = btf_frame_weights(e, variant, view, c, sent);
+    const Bindings b = btf_bindings(e, frame);
+    const Readback out = draw(ctx, variant.as_export, b, quad(), kWidth, kHeight, TargetFormat::kRgba32f);
+
+    double y_sum = 0;
+    Result r;
+    for (int y = 0; y < kHeight; ++y) {
+        for (int x = 0; x < kWidth; ++x) {
+            y_sum += 0.2126 * ref.at(x, y, 0) + 0.7152 * ref.at(x, y, 1) + 0.0722 * ref.at(x, y, 2);
+            for (int ch = 0; ch < 3; ++ch) r.largest = std::max(r.largest, double(std::abs(ref.at(x, y, ch))));
+        }
+    }
+    const double y_mean = y_sum / (kWidth * kHeight);
+    const double exposure = y_mean > 0 ? 0.18 / y_mean : 1.0;  // the manifest's auto exposure
+    for (int y = 0; y < kHeight; ++y) {
+        for (int x = 0; x < kWidth; ++x) {
+            for (int ch = 0; ch < 3; ++ch) {
+                const int d = std::abs(srgb_code(exposure * out.at(x, y, ch)) - srgb_code(exposure * ref.at(x, y, ch)));
+                r.max_code_diff = std::max(r.max_code_diff, d);
+                r.max_diff_in_codes = std::max(r.max_diff_in_codes, std::abs(srgb_255(exposure * out.at(x, y, ch)) -
+                                                                            srgb_255(exposure * ref.at(x, y, ch))));
+            }
+        }
+    }
+    return r;
+}
+
+bool have_context(int major) {
+    try {
+        (major == 3 ? context3() : context2());
+        return true;
+    } catch (const Error&) {
+        return false;
+    }
+}
+
+// The views: the pole (a measured view alone), 45 degrees between measured azimuths, 75 degrees
+// (the last ring) between azimuths.
+const btf::Direction kViews[] = {{0, 0}, {45, 10}, {75, 7}};
+
+void check_version(GlslVersion ver, const std::string& dir, const char* what) {
+    BtfGlesOptions o;
+    o.versions = {ver};
+    const auto btf = btf::CompressedBtf::open(dir);
+    for (int bands : {2, 9}) {
+        o.sh_bands = bands;
+        const BtfGlesExport e = export_btf_gles(dir, o);
+        const Eigen::MatrixXd a = btf::sh_light_weight_matrix(btf->shape().lights, bands, {}, o.map_height);
+        const int64_t all = static_cast<int64_t>(e.stream.size());
+        for (const btf::Direction& view : kViews) {
+            for (int64_t sent : {int64_t(0), all / 2, all}) {
+                const Result r = compare(ver == GlslVersion::kEs300 ? context3() : context2(), btf.get(), a, e,
+                                         e.variants[0], view, bands, sent);
+                // One 8-bit code (after the manifest's exposure and sRGB encode): float32 sums in
+                // another order differ by ~1e-6 relative, far below a code except at a rounding
+                // boundary, where they can land one code apart.
+                EXPECT_LE(r.max_code_diff, 1) << what << " bands " << bands << " view " << view.theta_deg << " "
+                                              << view.phi_deg << " sent " << sent;
+                EXPECT_GT(r.largest, 0.05) << "a lit image, not zeros on both sides";
+                std::printf("[btf-gles] %s bands %d view (%g, %g) sent %lld/%lld: max code diff %d (%.4f codes before rounding)\n", what, bands,
+                            view.theta_deg, view.phi_deg, static_cast<long long>(sent), static_cast<long long>(all),
+                            r.max_code_diff, r.max_diff_in_codes);
+            }
+        }
+    }
+}
+
+TEST(BtfGles, Es300DrawEqualsTheCpuDecoder) {
+    if (!have_context(3)) GTEST_SKIP() << "no EGL OpenGL ES 3 context";
+    if (!context3().info().float_color_buffer) GTEST_SKIP() << "no RGBA32F target";
+    std::printf("[btf-gles] %s\n", context3().info().summary().c_str());
+    check_version(GlslVersion::kEs300, folder6(), "es300 C=6");
+    check_version(GlslVersion::kEs300, folder_zero(), "es300 zero components");
+}
+
+TEST(BtfGles, Es100DrawEqualsTheCpuDecoder) {
+    if (!have_context(2)) GTEST_SKIP() << "no EGL OpenGL ES 2 context";
+    if (!context2().info().float_color_buffer) GTEST_SKIP() << "no RGBA32F target";
+    check_version(GlslVersion::kEs100, folder3(), "es100 C=3");
+    check_version(GlslVersion::kEs100, folder_zero(), "es100 zero components");
+}
+
+TEST(BtfGles, ShaderDecodeEqualsTheCpuDecoder) {
+    // Weight 1 on one column of one slot, 0 elsewhere: the output is that column's decoded value,
+    // which must equal CompressedBtf's (offset + scale x code / 255 in float) to float rounding.
+    if (!have_context(3)) GTEST_SKIP() << "no EGL OpenGL ES 3 context";
+    if (!context3().info().float_color_buffer) GTEST_SKIP() << "no RGBA32F target";
+    BtfGlesOptions o;
+    o.versions = {GlslVersion::kEs300};
+    const BtfGlesExport e = export_btf_gles(folder6(), o);
+    const auto btf = btf::CompressedBtf::open(folder6());
+    const BtfGlesVariant& var = e.variants[0];
+    const int s_used = var.slabs_used;
+    double worst = 0;
+    for (int g : {0, 13}) {
+        for (int k = 0; k <= e.components[size_t(g)]; ++k) {
+            BtfFrame f = btf_frame_weights(e, var, btf::Direction{0, 0}, Eigen::MatrixXd::Zero(sh::count(3), 3), 0);
+            f.slot_group = {g, g, g};
+            std::fill(f.weight.begin(), f.weight.end(), 0.f);
+            for (int slot = 0; slot < 3; ++slot) {
+                for (int i = 0; i < s_used * 4; ++i) {
+                    f.scale[size_t(slot * s_used * 4 + i)] = e.scale[size_t(g)][size_t(i)];
+                    f.offset[size_t(slot * s_used * 4 + i)] = e.offset[size_t(g)][size_t(i)];
+                }
+            }
+            f.weight[size_t((0 * s_used) * 4 + k)] = 1.f;  // slot 0, red: column k
+            const Readback out = draw(context3(), var.as_export, btf_bindings(e, f), quad(), kWidth, kHeight,
+                                      TargetFormat::kRgba32f);
+            const Eigen::VectorXf col = k == 0 ? btf->group_mean(g) : Eigen::VectorXf(btf->group_basis(g).col(k - 1));
+            for (int y = 0; y < kHeight; ++y) {
+                for (int x = 0; x < kWidth; ++x) {
+                    const double want = col[y * kWidth + x];
+                    worst = std::max(worst, std::abs(out.at(x, y, 0) - want) / (std::abs(e.offset[size_t(g)][size_t(k)]) +
+                                                                                 std::abs(e.scale[size_t(g)][size_t(k)])));
+                    EXPECT_EQ(out.at(x, y, 1), 0.f);
+                }
+            }
+        }
+    }
+    // Relative to |offset| + |scale|: the GPU's code / 255 and a possibly fused multiply-add
+    // differ from the CPU's float ops by a few ulps (2^-23 = 1.2e-7 each): 1e-6.
+    EXPECT_LE(worst, 1e-6);
+    std::printf("[btf-gles] decode: worst difference %.3g of |offset| + |scale|\n", worst);
+}
+
+TEST(BtfGlesFiles, MatricesFileHoldsEveryViewsLightingMatrix) {
+    BtfGlesOptions o;
+    o.sh_bands = 3;
+    const BtfGlesExport e = export_btf_gles(folder3(), o);
+    const auto btf = btf::CompressedBtf::open(folder3());
+    std::string bin;
+    for (const auto& [name, bytes] : e.files()) {
+        if (name == e.manifest["matrices"]["file"]) bin = bytes;
+    }
+    ASSERT_EQ(static_cast<int64_t>(bin.size()), e.manifest["matrices"]["bytes"].get<int64_t>());
+    const Eigen::MatrixXd a = btf::sh_light_weight_matrix(btf->shape().lights, 3, {}, o.map_height);
+    const int cols = e.manifest["matrices"]["columns"];
+    for (int v : {0, 40, 80}) {
+        const auto& vj = e.manifest["views"][size_t(v)];
+        const int rows = vj["rows"];
+        const int64_t off = vj["offset_bytes"];
+        for (int ch = 0; ch < 3; ++ch) {
+            const Eigen::MatrixXd m = btf->lighting_matrix(v, ch, a, 1.0);
+            for (int r = 0; r < rows; ++r) {
+                for (int j = 0; j < cols; ++j) {
+                    float f;
+                    std::memcpy(&f, bin.data() + off + 4 * ((ch * rows + r) * cols + j), 4);  // little-endian host
+                    EXPECT_EQ(f, static_cast<float>(m(r, j))) << v << " " << ch << " " << r << " " << j;
+                }
+            }
+        }
+    }
+    // Same inputs, same bytes.
+    const auto again = export_btf_gles(folder3(), o).files();
+    const auto first = e.files();
+    ASSERT_EQ(again.size(), first.size());
+    for (size_t i = 0; i < first.size(); ++i) EXPECT_EQ(again[i], first[i]) << first[i].first;
+    // Atlas layout: slab 0 channel k of group 2 is column k's code.
+    const auto& t = e.atlases[2];
+    EXPECT_EQ(t.width, kWidth);
+    EXPECT_EQ(t.height, kHeight * e.slabs);
+    for (int k = 0; k <= e.components[2]; ++k) {
+        const Eigen::VectorXf col = k == 0 ? btf->group_mean(2) : Eigen::VectorXf(btf->group_basis(2).col(k - 1));
+        for (int p = 0; p < kWidth * kHeight; p += 7) {
+            const float dec = e.offset[2][size_t(k)] + e.scale[2][size_t(k)] * (t.rgba[size_t(p * 4 + k)] / 255.0f);
+            // The folder's reader gets code / 255 from OpenImageIO (code x (1 / 255) in float): an ulp
+            // from code / 255.0f, so the decoded values agree to 2 ulps of |offset| + |scale|.
+            const double ulp = (std::abs(e.offset[2][size_t(k)]) + std::abs(e.scale[2][size_t(k)])) * 1.2e-7;
+            EXPECT_NEAR(dec, col[p], 2 * ulp) << "column " << k << " pixel " << p;
+        }
+    }
+}
+
+TEST(BtfGlesFiles, ShadersPassGlslangValidator) {
+    // The reference compiler for each GLSL ES version, independent of the driver the draws ran on.
+    ASSERT_EQ(std::system("glslangValidator --version > /dev/null 2>&1"), 0)
+        << "glslangValidator (Debian glslang-tools, in make deps) is required";
+    const std::string dir = inlight::testing::temp_dir("btf_gles_glslang");
+    const BtfGlesExport e = export_btf_gles(folder6(), {});
+    ASSERT_EQ(e.variants.size(), 2u);
+    for (const auto& [name, bytes] : e.files()) {
+        if (name.size() < 5 || (name.substr(name.size() - 5) != ".vert" && name.substr(name.size() - 5) != ".frag"))
+            continue;
+        const std::string path = dir + "/" + name;
+        fs::write_text_atomic(path, bytes);
+        std::string log;
+        EXPECT_EQ(testing::run_glslang(path, &log), 0) << path << "\n" << log << "\n" << bytes;
+    }
+}
+
+TEST(BtfGlesFiles, RefusesWhatItCannotDraw) {
+    BtfGlesOptions o;
+    const std::string srgb = make_folder("btf_gles_srgb", 2, btf::FitSpace::kSrgb);
+    EXPECT_THROW(export_btf_gles(srgb, o), Error);
+    const std::string exr = make_folder("btf_gles_exr", 2, btf::FitSpace::kLinear, btf::ComponentEncoding::kExrHalf);
+    EXPECT_THROW(export_btf_gles(exr, o), Error);
+    EXPECT_THROW(export_btf_gles(inlight::testing::temp_dir("btf_gles_empty"), o), Error);
+    o.sh_bands = 10;
+    EXPECT_THROW(export_btf_gles(folder3(), o), UsageError);
+    // ES 1.00 reads one slab: with C = 6 the full stream needs two and is refused per frame.
+    BtfGlesOptions o2;
+    o2.versions = {GlslVersion::kEs100};
+    const BtfGlesExport e = export_btf_gles(folder6(), o2);
+    EXPECT_EQ(e.variants[0].slabs_used, 1);
+    EXPECT_EQ(e.variants[0].fragment_uniform_vectors, 15);
+    EXPECT_THROW(btf_frame_weights(e, e.variants[0], {0, 0}, lighting(3, 1), static_cast<int64_t>(e.stream.size())),
+                 Error);
+}
+
+}  // namespace
+}  // namespace inlight::gles
