@@ -1,8 +1,14 @@
 // render capture-btf and render shade-btf: the synthetic BTF capture of a fabric and the raw
 // BTF shaded under environments against the path-traced truth (lib/render/capture_cli.h,
 // docs/btf.md).
+#include <filesystem>
+#include <map>
 #include <memory>
 
+#include "core/error.h"
+#include "core/fs.h"
+#include "envmap/project.h"
+#include "gles/btf_draw.h"
 #include "render/capture_cli.h"
 #include "modes.h"
 
@@ -45,6 +51,58 @@ render::CaptureOptions capture_options(const CaptureTraceArgs& a, int default_sp
     return co;
 }
 
+/// shade-btf's GLES pictures: each --btf-compressed folder exported in memory as `btf-pca
+/// export-gles` would (the shade's cell rule, the capture's irradiance) and drawn by every
+/// variant that can show the prefix, each in a context of its own version. A folder that ships
+/// its export (btf-gles.json beside btf-pca.json, as a bundle's btf/ does) must hold the same
+/// bytes as this export, file for file, so what is graded is what ships.
+class BtfGlesPictures {
+public:
+    explicit BtfGlesPictures(const render::ShadeArgs& a) : m_args(a) {}
+
+    std::vector<render::GlesPicture> operator()(size_t folder, const std::string& env_path, const image::Image& env,
+                                                const btf::Direction& view, int64_t sent, double irradiance_w_m2) {
+        const gles::BtfGlesExport& e = exported(folder, irradiance_w_m2);
+        auto it = m_sh.find(env_path);
+        if (it == m_sh.end()) it = m_sh.emplace(env_path, envmap::project_latlong(env, m_args.gles_bands)).first;
+        std::vector<render::GlesPicture> out;
+        for (const gles::BtfGlesVariant& v : e.variants) {
+            if (sent > gles::btf_drawable_prefix(e, v)) continue;
+            const gles::Context context(v.version == gles::GlslVersion::kEs300 ? 3 : 2);
+            out.push_back({v.name, gles::draw_btf(context, e, v, view, it->second, sent)});
+        }
+        return out;
+    }
+
+private:
+    const gles::BtfGlesExport& exported(size_t folder, double irradiance_w_m2) {
+        auto it = m_exports.find(folder);
+        if (it != m_exports.end()) return it->second;
+        const std::string& dir = m_args.compressed[folder];
+        gles::BtfGlesOptions o;
+        o.sh_bands = m_args.gles_bands;
+        o.irradiance_w_m2 = irradiance_w_m2;
+        o.lighting.rule = btf::cell_rule_from_string(m_args.cell_rule);
+        o.lighting.subsamples = m_args.subsamples;
+        gles::BtfGlesExport e = gles::export_btf_gles(dir, o);
+        if (std::filesystem::exists(dir + "/btf-gles.json")) {
+            for (const auto& [name, bytes] : e.files()) {
+                const std::string path = dir + "/" + name;
+                if (!std::filesystem::exists(path)) continue;  // atlases the bundle assembles from the stream
+                if (fs::read_file(path) != bytes)
+                    throw Error(str(path, ": differs from btf-pca export-gles of ", dir, " with --bands ",
+                                    m_args.gles_bands, ", --irradiance-w-m2 ", irradiance_w_m2, " and the cell rule ",
+                                    m_args.cell_rule, ": the shipped export is not the one drawn here"));
+            }
+        }
+        return m_exports.emplace(folder, std::move(e)).first->second;
+    }
+
+    const render::ShadeArgs& m_args;
+    std::map<size_t, gles::BtfGlesExport> m_exports;
+    std::map<std::string, Eigen::MatrixXd> m_sh;
+};
+
 }  // namespace
 
 ModeBody add_capture_btf(CLI::App& app, const app::CommonArgs& common) {
@@ -73,8 +131,14 @@ ModeBody add_shade_btf(CLI::App& app, const app::CommonArgs& common) {
     render::add_shade_options(app, *shade);
     add_image_compare_options(app, *cmp);
     return [t, shade, cmp, default_spp, &common](Report& report) {
-        render::run_shade(*shade, t->fabric, t->output,
-                          capture_options(*t, default_spp, common.seed), *cmp, report);
+        BtfGlesPictures pictures(*shade);
+        const render::GlesDrawer drawer = [&pictures](size_t folder, const std::string& env_path,
+                                                      const image::Image& env, const btf::Direction& view,
+                                                      int64_t sent, double irradiance_w_m2) {
+            return pictures(folder, env_path, env, view, sent, irradiance_w_m2);
+        };
+        render::run_shade(*shade, t->fabric, t->output, capture_options(*t, default_spp, common.seed), *cmp,
+                          report, shade->gles_bands > 0 ? &drawer : nullptr);
     };
 }
 

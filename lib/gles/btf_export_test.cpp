@@ -16,6 +16,7 @@
 #include "btf/synthetic.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "gles/btf_draw.h"
 #include "gles/gles_testing.h"
 #include "gles/harness_testing.h"
 #include "render/btf_shade.h"
@@ -87,20 +88,6 @@ Eigen::MatrixXd lighting(int bands, unsigned seed) {
     return c;
 }
 
-/// A screen-filling quad, uv (0, 0) at the top-left: pixel (x, y) shows texel (x, y).
-Mesh quad() {
-    Mesh m;
-    const Eigen::Vector3f p[4] = {{-1, 1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, -1, 0}};
-    const Eigen::Vector2f t[4] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-    for (int i : {0, 2, 1, 1, 2, 3}) {
-        m.position.push_back(p[i]);
-        m.uv.push_back(t[i]);
-        m.normal.emplace_back(0, 0, 1);
-        m.tangent.emplace_back(1, 0, 0);
-    }
-    return m;
-}
-
 /// 255 x the sRGB encoding of v clamped to [0, 1] (the manifest's output steps before rounding).
 double srgb_255(double v) {
     v = std::clamp(v, 0.0, 1.0);
@@ -127,7 +114,7 @@ Result compare(Context& ctx, const btf::CompressedBtf* btf, const Eigen::MatrixX
 
     const BtfFrame frame = btf_frame_weights(e, variant, view, c, sent);
     const Bindings b = btf_bindings(e, frame);
-    const Readback out = draw(ctx, variant.as_export, b, quad(), kWidth, kHeight, TargetFormat::kRgba32f);
+    const Readback out = draw(ctx, variant.as_export, b, btf_sample_quad(), kWidth, kHeight, TargetFormat::kRgba32f);
 
     double y_sum = 0;
     Result r;
@@ -231,7 +218,7 @@ TEST(BtfGles, ShaderDecodeEqualsTheCpuDecoder) {
                 }
             }
             f.weight[size_t((0 * s_used) * 4 + k)] = 1.f;  // slot 0, red: column k
-            const Readback out = draw(context3(), var.as_export, btf_bindings(e, f), quad(), kWidth, kHeight,
+            const Readback out = draw(context3(), var.as_export, btf_bindings(e, f), btf_sample_quad(), kWidth, kHeight,
                                       TargetFormat::kRgba32f);
             const Eigen::VectorXf col = k == 0 ? btf->group_mean(g) : Eigen::VectorXf(btf->group_basis(g).col(k - 1));
             for (int y = 0; y < kHeight; ++y) {

@@ -263,11 +263,19 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
         ->delimiter(',')
         ->check(CLI::Range(int64_t(0), int64_t(1) << 40))
         ->needs("--btf-compressed");
+    app.add_option("--gles-bands", a.gles_bands,
+                   "BTF shading: also draw each --btf-compressed folder through its exported GLES "
+                   "shaders (btf-pca export-gles, docs/btf-gles.md) on this machine's OpenGL ES, "
+                   "lit by this many SH bands of the environment, at every --shade-stream point "
+                   "and for the whole stream, and compare with the truth (1..9; 0 = not)")
+        ->check(CLI::Range(0, 9))
+        ->needs("--btf-compressed");
 }
 
 void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string& prefix,
                const CaptureOptions& truth_options, const CompareOptions& compare,
-               Report& report) {
+               Report& report, const GlesDrawer* gles) {
+    if (a.gles_bands > 0 && !gles) throw Error("render shade-btf: --gles-bands needs a GLES drawer");
     std::vector<btf::Direction> views = {{0, 0}, {45, 40}, {75, 0}};
     if (!a.views.empty()) {
         report.add_input(a.views);
@@ -388,6 +396,33 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
                                             {"mean_de2000", pc.metrics.mean_de2000},
                                             {"mean_luminance_rel_diff", ty > 0 ? (mean_y(ps) - ty) / ty : 0.0},
                                             {"vs_raw", compressed_vs_raw(ps, shaded)}});
+                }
+                if (a.gles_bands > 0) {
+                    // The exported shaders' pictures: at every stream point, then the whole stream
+                    // (n < 0), each beside the compressed CPU shading at the same prefix.
+                    cj["gles"] = nlohmann::json::array();
+                    std::vector<int64_t> points = a.stream_points;
+                    points.push_back(-1);
+                    for (int64_t n : points) {
+                        const int64_t sent = n < 0 ? compressed[i]->stream_length()
+                                                   : std::min(n, compressed[i]->stream_length());
+                        const image::Image cpu = compressed[i]->combine_streamed(terms, sent);
+                        for (const GlesPicture& pic : (*gles)(i, env_path, env.image, view, sent, irradiance)) {
+                            const Comparison gc = compare_images(truth, pic.radiance, exposure, compare);
+                            nlohmann::json gj = metrics_json(gc.metrics);
+                            gj["variant"] = pic.variant;
+                            gj["components_sent"] = sent;
+                            gj["bytes_sent"] = stream_bytes(a.compressed[i], sent);
+                            gj["mean_luminance_rel_diff"] = ty > 0 ? (mean_y(pic.radiance) - ty) / ty : 0.0;
+                            gj["vs_cpu_compressed"] = compressed_vs_raw(pic.radiance, cpu);
+                            if (n < 0) {
+                                const std::string pic_path = str(base, "_pca", i, "_", pic.variant, ".exr");
+                                image::write_image(pic_path, pic.radiance, exr);
+                                report.add_output(pic_path, "radiance", "linear_srgb");
+                            }
+                            cj["gles"].push_back(gj);
+                        }
+                    }
                 }
                 j["compressed"].push_back(cj);
             }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,13 +58,32 @@ struct ShadeArgs {
     /// --shade-stream: also shade each compressed BTF from only the first n components of its
     /// stream (the client's progressive state), for each n, against truth and raw BTF.
     std::vector<int64_t> stream_points;
+    /// --gles-bands: also draw each --btf-compressed folder through its exported GLES shaders
+    /// (btf-pca export-gles) under this many SH bands of the environment; 0 = not.
+    int gles_bands = 0;
 };
 void add_shade_options(CLI::App& app, ShadeArgs& args);
+
+/// One exported GLES variant's picture of a compressed BTF (render/btf_shade.h's image).
+struct GlesPicture {
+    std::string variant;  ///< e.g. "btf-es300-highp"
+    image::Image radiance;
+};
+/// What draws the compressed folders through their GLES shaders (supplied by the app, which
+/// links lib/gles): folder index into ShadeArgs::compressed, the environment (lat-long, sample
+/// frame), the view, the stream entries arrived (< 0: all) and the capture's irradiance. Returns
+/// one picture per variant that can show that prefix.
+using GlesDrawer = std::function<std::vector<GlesPicture>(size_t folder, const std::string& env_path,
+                                                          const image::Image& env, const btf::Direction& view,
+                                                          int64_t sent, double irradiance_w_m2)>;
 
 /// Writes, per environment and view, <prefix>_<env>_tv<theta>_pv<phi>_{btf,truth}.exr, _relerr.exr
 /// and _compare.png (truth | BTF | heat map of the relative error), and the metrics (as render
 /// compare reports them, plus the relative difference of the mean luminance) into the report.
+/// With `gles` (required when args.gles_bands > 0), each compressed folder's GLES pictures at
+/// every stream point and for the whole stream are compared with the truth too.
 void run_shade(const ShadeArgs& args, const std::string& fabric, const std::string& prefix,
-               const CaptureOptions& truth_options, const CompareOptions& compare, Report& report);
+               const CaptureOptions& truth_options, const CompareOptions& compare, Report& report,
+               const GlesDrawer* gles = nullptr);
 
 }  // namespace inlight::render

@@ -1,0 +1,46 @@
+#include "gles/btf_draw.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace inlight::gles {
+
+Mesh btf_sample_quad() {
+    Mesh m;
+    const Eigen::Vector3f p[4] = {{-1, 1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, -1, 0}};
+    const Eigen::Vector2f t[4] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    for (int i : {0, 2, 1, 1, 2, 3}) {
+        m.position.push_back(p[i]);
+        m.uv.push_back(t[i]);
+        m.normal.emplace_back(0, 0, 1);
+        m.tangent.emplace_back(1, 0, 0);
+    }
+    return m;
+}
+
+image::Image draw_btf(const Context& context, const BtfGlesExport& e, const BtfGlesVariant& variant,
+                      const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent, double* draw_ms) {
+    const BtfFrame frame = btf_frame_weights(e, variant, view, sh, sent);
+    const Readback out = draw(context, variant.as_export, btf_bindings(e, frame), btf_sample_quad(), e.width,
+                              e.height, TargetFormat::kRgba32f);
+    if (draw_ms) *draw_ms = out.draw_ms;
+    image::Image img(e.width, e.height, 3);
+    for (int y = 0; y < e.height; ++y) {
+        for (int x = 0; x < e.width; ++x) {
+            for (int c = 0; c < 3; ++c)
+                img.pixels[(static_cast<size_t>(y) * e.width + x) * 3 + c] = out.at(x, y, c);
+        }
+    }
+    return img;
+}
+
+int64_t btf_drawable_prefix(const BtfGlesExport& e, const BtfGlesVariant& variant) {
+    const int max_components = variant.slabs_used * 4 - 1;
+    std::vector<int> arrived(e.components.size(), 0);
+    for (size_t i = 0; i < e.stream.size(); ++i) {
+        if (++arrived[static_cast<size_t>(e.stream[i].first)] > max_components) return static_cast<int64_t>(i);
+    }
+    return static_cast<int64_t>(e.stream.size());
+}
+
+}  // namespace inlight::gles
