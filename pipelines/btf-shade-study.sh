@@ -4,6 +4,10 @@
 # path-traced truth of the same weave; prints one row per environment and view.
 #   pipelines/btf-shade-study.sh [BUILD] [OUT] [SIZE_PX] [CAPTURE_SPP] [TRUTH_SPP] [FABRIC] [ENV...]
 # BTF_SHADE_ARGS adds render options to the shading (e.g. "--light-cells constant").
+# BTF_GLES_BANDS=N also compresses the capture (configs/btf-pca.toml, 8-bit linear components)
+# and draws it through its exported GLES shaders at N SH bands of each environment (render
+# shade-btf --gles-bands, docs/btf-gles.md), at stream prefixes 0, 27 and 81 and the whole stream;
+# a second table gives those pictures against the truth.
 # Environments default to blender-data's studio lights and a synthetic sun (a 0.2 sky with one
 # 2e4 pixel of a 128 x 64 map at theta 41, phi 66 deg, 0.0016 sr: ~97% of the irradiance).
 set -euo pipefail
@@ -29,6 +33,12 @@ if [ ! -s "$OUT/btf/capture.json" ]; then
 fi
 args=()
 for e in "${ENVS[@]}"; do args+=(--environment "$e"); done
+if [ -n "${BTF_GLES_BANDS:-}" ]; then
+    if [ ! -s "$OUT/pca/btf-pca.json" ]; then
+        "$BUILD/bin/btf-pca" compress "$OUT/btf" --config "$ROOT/configs/btf-pca.toml" -o "$OUT/pca" -q
+    fi
+    args+=(--btf-compressed "$OUT/pca" --shade-stream "0,27,81" --gles-bands "$BTF_GLES_BANDS")
+fi
 # BTF_SHADE_ARGS: more render options for the shading, e.g. "--light-cells constant".
 read -r -a extra <<<"${BTF_SHADE_ARGS:-}"
 "$BUILD/bin/render" shade-btf "$FABRIC" --btf "$OUT/btf" "${args[@]}" -o "$OUT/shade" --spp "$TSPP" \
@@ -36,3 +46,18 @@ read -r -a extra <<<"${BTF_SHADE_ARGS:-}"
 echo "| environment | view (deg) | mean rel. error | mean dE2000 | mean luminance, BTF vs truth | truth noise |"
 echo "| --- | --- | --- | --- | --- | --- |"
 jq -r '.metrics.btf_shade.results[] | "| \(.environment | split("/") | last) | \(.view_deg[0]), \(.view_deg[1]) | \(.mean_rel * 1000 | round / 1000) | \(.mean_de2000 * 100 | round / 100) | \(.mean_luminance_rel_diff * 1000 | round / 10)% | \(.truth_rel_error * 1000 | round / 1000) |"' "$OUT/shade.json"
+if [ -n "${BTF_GLES_BANDS:-}" ]; then
+    echo
+    echo "The compressed BTF drawn by its GLES shaders ($BTF_GLES_BANDS SH bands) against the truth, per stream prefix"
+    echo "(components sent: mean rel. error / mean dE2000 / mean luminance vs truth; bytes: the btf-pca files received)"
+    echo
+    jq -r '.metrics.btf_shade.results[0].compressed[0].gles | map(select(.variant == "btf-es300-highp")) |
+        "| environment | view (deg) | " + (map("\(.components_sent) sent, \(.bytes_sent) B") | join(" | ")) + " | ES 1.00, 27 sent |",
+        "| --- | --- | " + (map("---") | join(" | ")) + " | --- |"' "$OUT/shade.json"
+    jq -r '.metrics.btf_shade.results[] | .compressed[0].gles as $g |
+        "| \(.environment | split("/") | last) | \(.view_deg[0]), \(.view_deg[1]) | " +
+        ($g | map(select(.variant == "btf-es300-highp")) |
+            map("\(.mean_rel * 1000 | round / 1000) / \(.mean_de2000 * 100 | round / 100) / \(.mean_luminance_rel_diff * 1000 | round / 10)%") | join(" | ")) +
+        " | " + ($g | map(select(.variant == "btf-es100-highp" and .components_sent == 27)) |
+            map("\(.mean_rel * 1000 | round / 1000) / \(.mean_de2000 * 100 | round / 100)") | join("")) + " |"' "$OUT/shade.json"
+fi

@@ -18,11 +18,13 @@
 # capture it was compressed from, is given: the woven geometry (WEAVE, default the fabric file
 # the capture names) path-traced under the environment through the BTF's rectified camera is the
 # truth; the raw BTF, the bundle's compressed BTF and each prefix of its stream are shaded and
-# measured against it and against the raw shading (docs/pipelines.md says what each measures).
+# measured against it and against the raw shading (docs/pipelines.md says what each measures);
+# when the bundle ships the BTF's GLES shaders (btf-gles.json), their pictures too, drawn through
+# EGL at one fragment per texel (docs/btf-gles.md, "Against the truth").
 # Bytes per stream prefix come from the bundle manifest; VALIDATE_BTF_SPP (default 256) and
 # VALIDATE_BTF_VIEWS (a view directions file, "theta phi" in degrees a line; default the pair's
-# own view, along the normal, then an oblique one, theta 45 phi 40, to show the BTF's view
-# dependence: about 0.5 s of CPU more per pair, docs/pipelines.md).
+# own view, along the normal, then theta 45 phi 40 and a grazing theta 75 phi 0, to show the
+# BTF's view dependence: about 0.5 s of CPU more per view and pair, docs/pipelines.md).
 # Quality gate (docs/pipelines.md "Quality gate"): VALIDATE_WARN_MEAN_REL, VALIDATE_FAIL_MEAN_REL,
 # VALIDATE_WARN_DE2000 and VALIDATE_FAIL_DE2000 (unset or empty = none) are render compare's
 # --warn-mean-rel ... --fail-de2000 on every image the app can show (VALIDATE_GATE_MODES: its
@@ -162,9 +164,16 @@ if [ -n "$(role btf_manifest)" ] && [ $# -ge 4 ]; then
     g=$(jq '[.files[] | select(.role == "btf_mean")] | length' "$M")
     points=$(jq -rn --argjson n "$n" --argjson g "$g" '[range(0; $n; $g), $n] | unique | join(",")')
     views=${VALIDATE_BTF_VIEWS:-$OUTDIR/btf-views.txt}
-    [ -n "${VALIDATE_BTF_VIEWS:-}" ] || printf '0 0\n45 40\n' > "$views"
+    [ -n "${VALIDATE_BTF_VIEWS:-}" ] || printf '0 0\n45 40\n75 0\n' > "$views"
+    # A bundle that ships the BTF's GLES shaders (btf-gles.json): its pictures drawn through EGL at
+    # its own SH bands, each prefix and the whole stream (render checks the shipped files are the
+    # export it draws).
+    gles=()
+    if [ -s "$S/btf-gles.json" ]; then
+        gles=(--gles-bands "$(jq '.matrices.bands' "$S/btf-gles.json")")
+    fi
     "$BIN/render" shade-btf "$WEAVE" --btf "$RAW_BTF" --btf-compressed "$S" --shade-stream "$points" \
-        --environment "$ENV_MAP" --shade-views "$views" --spp "${VALIDATE_BTF_SPP:-256}" \
+        --environment "$ENV_MAP" --shade-views "$views" --spp "${VALIDATE_BTF_SPP:-256}" "${gles[@]}" \
         -o "$OUTDIR/btf" -q --report "$OUTDIR/btf.json.tmp"
 fi
 mv "$OUTDIR/btf.json.tmp" "$OUTDIR/btf.json"
@@ -213,7 +222,11 @@ jq -n --slurpfile r "$OUTDIR/render.json" --slurpfile b "$M" --arg env "$env_nam
                                   mean_luminance_rel_diff: $c.mean_luminance_rel_diff,
                                   vs_raw_rel_rmse: $c.vs_raw.rel_rmse},
                         stream: [$c.stream[] | {components_sent, bytes_sent, mean_rel, mean_de2000,
-                                                mean_luminance_rel_diff, vs_raw_rel_rmse: .vs_raw.rel_rmse}]}]}
+                                                mean_luminance_rel_diff, vs_raw_rel_rmse: .vs_raw.rel_rmse}],
+                        gles: [$c.gles // [] | .[] | {variant, components_sent, bytes_sent, mean_rel, mean_de2000,
+                                                      mean_luminance_rel_diff,
+                                                      vs_cpu_rel_rmse: .vs_cpu_compressed.rel_rmse}]}],
+               gles_bands: ($btf[0].argv | index("--gles-bands") as $i | if $i then $btf[0].argv[$i + 1] | tonumber else null end)}
             else null end),
      images: {compare_consistent: "render_compare_consistent.png",
               compare_seed: "render_compare_seed.png",

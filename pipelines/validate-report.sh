@@ -276,17 +276,20 @@ btf_stream_table() {
     # shellcheck disable=SC2016  # jq program
     local prog="$JQ_DEFS"'
         [.[] | select(.btf_view)] | group_by(.fabric)[] | .[0].fabric as $f
+        | [.[].btf_view.gles // [] | .[] | select(.variant == "btf-es300-highp")] as $gl
         | [.[].btf_view.stream[]] | group_by(.components_sent)[]
-        | [$f, .[0].components_sent, (.[0].bytes_sent / 1000 | r(10)), (map(.mean_de2000) | median | r(100)),
+        | .[0].components_sent as $n | [$gl[] | select(.components_sent == $n) | .mean_de2000] as $gd
+        | [$f, $n, (.[0].bytes_sent / 1000 | r(10)), (map(.mean_de2000) | median | r(100)),
            (map(.mean_de2000) | max | r(100)), (map(.vs_raw_rel_rmse) | median | r(10000)),
-           (map(.vs_raw_rel_rmse) | max | r(10000))]'
+           (map(.vs_raw_rel_rmse) | max | r(10000)),
+           (if ($gd | length) > 0 then "\($gd | median | r(100)) (\($gd | max | r(100)))" else "-" end)]'
     if [ "$1" = md ]; then
-        echo "| fabric | components sent | kB sent | dE2000 vs truth, median (worst) | rel. RMSE vs raw BTF, median (worst) |"
-        echo "| --- | --- | --- | --- | --- |"
-        jq -r "$prog"' | "| \(.[0]) | \(.[1]) | \(.[2]) | \(.[3]) (\(.[4])) | \(.[5]) (\(.[6])) |"' "$V/summary.json"
+        echo "| fabric | components sent | kB sent | dE2000 vs truth, median (worst) | rel. RMSE vs raw BTF, median (worst) | GLES ES 3.00 dE2000 vs truth, median (worst) |"
+        echo "| --- | --- | --- | --- | --- | --- |"
+        jq -r "$prog"' | "| \(.[0]) | \(.[1]) | \(.[2]) | \(.[3]) (\(.[4])) | \(.[5]) (\(.[6])) | \(.[7]) |"' "$V/summary.json"
     else
-        echo "<table><tr><th>fabric</th><th>components sent</th><th>kB sent</th><th>dE2000 vs truth, median (worst)</th><th>rel. RMSE vs raw BTF, median (worst)</th></tr>"
-        jq -r "$prog"' | "<tr><td>\(.[0])</td><td>\(.[1])</td><td>\(.[2])</td><td>\(.[3]) (\(.[4]))</td><td>\(.[5]) (\(.[6]))</td></tr>"' "$V/summary.json"
+        echo "<table><tr><th>fabric</th><th>components sent</th><th>kB sent</th><th>dE2000 vs truth, median (worst)</th><th>rel. RMSE vs raw BTF, median (worst)</th><th>GLES ES 3.00 dE2000 vs truth, median (worst)</th></tr>"
+        jq -r "$prog"' | "<tr><td>\(.[0])</td><td>\(.[1])</td><td>\(.[2])</td><td>\(.[3]) (\(.[4]))</td><td>\(.[5]) (\(.[6]))</td><td>\(.[7])</td></tr>"' "$V/summary.json"
         echo "</table>"
     fi
 }
@@ -313,6 +316,34 @@ btf_view_table() {
         echo "</table>"
     fi
 }
+
+# btf_gles_table md|html: the BTF as the phone draws it: per BTF fabric, view and exported
+# variant (its longest prefix: the whole stream for ES 3.00, at most 3 components per group for
+# ES 1.00), the median and worst error over the environments of its GLES picture against the
+# truth, its mean-luminance bias, and its distance from the CPU shading of the same components
+# (the SH lighting's truncation at the shipped bands: the CPU shading integrates the whole map).
+btf_gles_table() {
+    # shellcheck disable=SC2016  # jq program
+    local prog="$JQ_DEFS"'
+        [.[] | select(.btf_view) | .fabric as $f | .btf.gles_bands as $b | .btf.views[] | .view_deg as $v
+         | (.gles // [] | group_by(.variant)[] | max_by(.components_sent)) | . + {fabric: $f, bands: $b, view_deg: $v}]
+        | group_by(.fabric)[] | group_by(.view_deg)[] | group_by(.variant)[]
+        | [.[0].fabric, (.[0].view_deg | view_text), .[0].variant, .[0].bands, length, .[0].components_sent,
+           (map(.mean_de2000) | median | r(100)), (map(.mean_de2000) | max | r(100)),
+           (map(.mean_rel) | median | r(1000)), (map(.mean_luminance_rel_diff * 100) | median | r(10)),
+           (map(.mean_luminance_rel_diff * 100) | max_by(fabs) | r(10)), (map(.vs_cpu_rel_rmse) | median | r(1000))]'
+    if [ "$1" = md ]; then
+        echo "| fabric | view | variant | SH bands | environments | components sent | dE2000 vs truth, median (worst) | rel. error, median | luminance bias %, median (largest) | vs CPU shading: rel. RMSE, median |"
+        echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        jq -r "$prog"' | "| \(.[0]) | \(.[1]) | \(.[2]) | \(.[3]) | \(.[4]) | \(.[5]) | \(.[6]) (\(.[7])) | \(.[8]) | \(.[9]) (\(.[10])) | \(.[11]) |"' "$V/summary.json"
+    else
+        echo "<table><tr><th>fabric</th><th>view</th><th>variant</th><th>SH bands</th><th>environments</th><th>components sent</th><th>dE2000 vs truth, median (worst)</th><th>rel. error, median</th><th>luminance bias %, median (largest)</th><th>vs CPU shading: rel. RMSE, median</th></tr>"
+        jq -r "$prog"' | "<tr><td>\(.[0])</td><td>\(.[1])</td><td>\(.[2])</td><td>\(.[3])</td><td>\(.[4])</td><td>\(.[5])</td><td>\(.[6]) (\(.[7]))</td><td>\(.[8])</td><td>\(.[9]) (\(.[10]))</td><td>\(.[11])</td></tr>"' "$V/summary.json"
+        echo "</table>"
+    fi
+}
+# Whether any pair drew the BTF's GLES shaders.
+BTF_GLES=$(jq '[.[] | .btf_view.gles // [] | length] | add // 0' "$V/summary.json")
 
 # 3. Markdown summary.
 {
@@ -347,6 +378,13 @@ btf_view_table() {
         echo "The BTF's view dependence, median (and worst) over the environments:"
         echo
         btf_view_table md
+        if [ "$BTF_GLES" -gt 0 ]; then
+            echo
+            echo "The BTF as the phone draws it: the bundle's BTF GLES shaders through EGL, one fragment per texel, lit by"
+            echo "the environment's SH at the shipped bands (docs/btf-gles.md), median (and worst) over the environments:"
+            echo
+            btf_gles_table md
+        fi
     fi
     jq -r '.[] | select(.has_btf and .btf_view == null) | "\nBTF of \(.fabric) under \(.environment) not shaded: no raw capture was given (a BTF without woven geometry has no truth to path-trace)."' "$V/summary.json"
     echo
@@ -391,6 +429,10 @@ HTML
         btf_stream_table html
         echo "<p>The BTF's view dependence, median (and worst) over the environments (images: truth | raw BTF | error at each view):</p>"
         btf_view_table html
+        if [ "$BTF_GLES" -gt 0 ]; then
+            echo "<p>The BTF as the phone draws it: the bundle's BTF GLES shaders through EGL, one fragment per texel, lit by the environment's SH at the shipped bands (docs/btf-gles.md), median (and worst) over the environments:</p>"
+            btf_gles_table html
+        fi
         jq -r '.[] | select(.btf_view) | "<p>\(.fabric) under \(.environment): " + ([.fabric as $f | .environment as $e | .btf.views[] | "<img class=\"pair\" src=\"pairs/\($f)/\($e)/\(.compare_image)\" alt=\"BTF \($f) \($e) theta \(.view_deg[0]) phi \(.view_deg[1])\" title=\"theta \(.view_deg[0]), phi \(.view_deg[1]) deg\">"] | join(" ")) + "</p>"' "$V/summary.json"
     fi
     echo "<h2>Error against cost</h2>"

@@ -50,9 +50,9 @@ expect_true "bytes per stream prefix equal btf-pca's streaming.tsv" -- test \
 # shellcheck disable=SC2016  # jq program
 expect_true "shipped bytes are the bundle's btf files" -- jq -e --slurpfile m "$C/manifest.json" \
     '.btf.bytes_shipped == ([$m[0].files[] | select(.role | startswith("btf_")) | .bytes] | add)' "$SC"
-expect_true "shaded at the default views: the pair's (0, 0) and the oblique (45, 40)" -- jq -e \
-    '[.btf.views[].view_deg] == [[0, 0], [45, 40]] and ([.btf.views[].compare_image] | unique | length) == 2' "$SC"
-# At each view (both are capture views, taken whole: --view-neighbours 1):
+expect_true "shaded at the default views: the pair's (0, 0), the oblique (45, 40) and the grazing (75, 0)" -- jq -e \
+    '[.btf.views[].view_deg] == [[0, 0], [45, 40], [75, 0]] and ([.btf.views[].compare_image] | unique | length) == 3' "$SC"
+# At each view (all are capture views, taken whole: --view-neighbours 1):
 # Error against the raw shading: the view lies in one group and each prefix projects its images
 # onto nested subspaces, so it cannot rise (tolerance 1e-6: float32 fold of ~16 terms, 2^-24 each).
 # Full rank: every reconstructed value is within btf-pca's max_abs_linear of the raw one; the
@@ -60,7 +60,7 @@ expect_true "shaded at the default views: the pair's (0, 0) and the oblique (45,
 # at most max_abs_linear / (the darkest image's mean), bounded below by sRGB-decoding each
 # image's channel means (the decode is convex: Jensen), plus the fold's float32 rounding (1e-6).
 max_abs=$(jq .metrics.error.max_abs_linear "$WORK/out/work/fabrics/cap/btf-pca.json")
-for v in 0 1; do
+for v in 0 1 2; do
     view=$(jq -r ".btf.views[$v].view_deg | \"tv\(.[0] + 1000 | tostring | .[1:])_pv\(.[1] + 1000 | tostring | .[1:])\"" "$SC")
     # shellcheck disable=SC2016  # jq program
     expect_true "$view: error against the raw BTF shading non-increasing over the 17 prefixes" -- jq -e --argjson v "$v" \
@@ -79,6 +79,6 @@ for p in btf_error_vs_components btf_error_vs_bytes; do
 done
 expect_true "page shows the BTF shading of the captured fabric" -- grep -q 'pairs/cap/sunset/btf_sunset_tv000_pv000_compare.png' "$WORK/val/index.html"
 expect_true "page shows the oblique view too" -- grep -q 'pairs/cap/sunset/btf_sunset_tv045_pv040_compare.png' "$WORK/val/index.html"
-expect_true "Markdown: a BTF row, the stream table (17 prefixes) and the view table (2 views)" -- test "$(grep -c '^| cap |' "$WORK/val/summary.md")" -eq 21
-expect_true "Markdown says which views were shaded" -- grep -q 'at each of these views: theta 0, phi 0 deg; theta 45, phi 40 deg' "$WORK/val/summary.md"
+expect_true "Markdown: a BTF row, the stream table (17 prefixes) and the view table (3 views)" -- test "$(grep -c '^| cap |' "$WORK/val/summary.md")" -eq 22
+expect_true "Markdown says which views were shaded" -- grep -q 'at each of these views: theta 0, phi 0 deg; theta 45, phi 40 deg; theta 75, phi 0 deg' "$WORK/val/summary.md"
 finish
