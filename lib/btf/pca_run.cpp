@@ -14,6 +14,7 @@
 #include "core/check.h"
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_in.h"
 #include "core/json_out.h"
 #include "core/log.h"
 #include "core/memory.h"
@@ -472,6 +473,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                                {"weights", {{"file", "weights.bin"}, {"dtype", weights_dtype(o.weights_format)}, {"layout", "per group N x C column-major"}}},
                                {"lights", nlohmann::json::array()}, {"views", nlohmann::json::array()},
                                {"groups", nlohmann::json::array()}, {"stream", nlohmann::json::array()}};
+    if (o.irradiance_w_m2 > 0) manifest["irradiance_w_m2"] = o.irradiance_w_m2;
     for (const auto& d : shape.lights) manifest["lights"].push_back({d.theta_deg, d.phi_deg});
     for (const auto& d : shape.views) manifest["views"].push_back({d.theta_deg, d.phi_deg});
     for (const auto& g : groups) manifest["groups"].push_back(g.manifest);
@@ -696,8 +698,19 @@ void run_pca(const PcaRunOptions& o, Report& report) {
         ScopedStage stage(report, "index " + o.reference);
         ref = FolderBtf::open(o.reference, o.open);
     }
+    PcaRunOptions run = o;
+    const std::string capture = o.input + "/capture.json";
+    if (stdfs::is_directory(o.input) && stdfs::is_regular_file(capture)) {
+        // The capture's irradiance travels with the compressed BTF (btf-pca.json).
+        report.add_input(capture);
+        const nlohmann::json meta = json_in::read_file(capture);
+        const auto it = meta.is_object() ? meta.find("irradiance_w_m2") : meta.end();
+        if (it == meta.end() || !it->is_number() || !std::isfinite(it->get<double>()) || !(it->get<double>() > 0))
+            throw Error(str(capture, ": irradiance_w_m2 must be a finite number > 0"));
+        run.irradiance_w_m2 = it->get<double>();
+    }
     ScopedStage stage(report, "compress");
-    nlohmann::json m = compress_to_folder(*btf, o, idx.stored_bytes, &report, ref.get());
+    nlohmann::json m = compress_to_folder(*btf, run, idx.stored_bytes, &report, ref.get());
     m["input"] = {{"path", o.input}, {"format", idx.format}, {"bits_per_channel", idx.bits_per_channel},
                   {"zip", idx.is_zip}, {"stored_bytes", idx.stored_bytes}, {"ignored_files", idx.ignored.size()}};
     print_summary(m);

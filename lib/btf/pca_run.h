@@ -68,6 +68,11 @@ struct PcaRunOptions {
     /// budget that even one view per block exceeds is a UsageError naming --max-memory-mib.
     /// pca.stream_views > 0 forces that block size (the budget is still checked).
     uint64_t max_memory_bytes = 0;
+    /// The irradiance the source's images were captured under (image = btf x E, W m^-2;
+    /// `render capture-btf`'s capture.json), written to btf-pca.json as "irradiance_w_m2" so
+    /// that what lights the compressed BTF later (btf-pca export-gles) divides by the same E;
+    /// 0 = unknown (not written). run_pca reads it from the input folder's capture.json.
+    double irradiance_w_m2 = 0;
 };
 
 /// Compresses `source` into options.output and returns the metrics (also the report's). Every

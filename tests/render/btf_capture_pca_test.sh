@@ -43,4 +43,12 @@ for k in 1 81; do
     expect_true "k=$k: SSE at C=64 is its expectation within 5 standard deviations" -- \
         jq -e '(.sse - .mean | fabs) <= 5 * (.var | sqrt)' "$WORK/q$k.json"
 done
+# The capture's irradiance travels with the compressed BTF (what lights it later divides by it).
+expect_true "btf-pca.json records capture.json's irradiance" -- test \
+    "$(jq '.irradiance_w_m2' "$WORK/k1/btf-pca.json")" = "$(jq '.irradiance_w_m2' "$WORK/cap/capture.json")"
+cp -r "$WORK/cap" "$WORK/badcap"
+jq '.irradiance_w_m2 = -1' "$WORK/cap/capture.json" >"$WORK/badcap/capture.json"
+expect_exit 1 "a capture.json with a negative irradiance" -- "$BIN/btf-pca" compress "$WORK/badcap" -o "$WORK/bad" -c 4
+expect_stderr "badcap/capture.json: irradiance_w_m2" "the error names the file and the key"
+expect_true "nothing written" -- test ! -e "$WORK/bad"
 finish
