@@ -7,7 +7,8 @@
 # BTF_GLES_BANDS=N also compresses the capture (configs/btf-pca.toml, 8-bit linear components)
 # and draws it through its exported GLES shaders at N SH bands of each environment (render
 # shade-btf --gles-bands, docs/btf-gles.md), at stream prefixes 0, 27 and 81 and the whole stream;
-# a second table gives those pictures against the truth.
+# a second table gives those pictures against the truth. BTF_GLES_LIGHTS=L lights them with up
+# to L dominant lights taken out of each environment plus the residual's SH (--gles-lights).
 # Environments default to blender-data's studio lights and a synthetic sun (a 0.2 sky with one
 # 2e4 pixel of a 128 x 64 map at theta 41, phi 66 deg, 0.0016 sr: ~97% of the irradiance).
 set -euo pipefail
@@ -37,7 +38,8 @@ if [ -n "${BTF_GLES_BANDS:-}" ]; then
     if [ ! -s "$OUT/pca/btf-pca.json" ]; then
         "$BUILD/bin/btf-pca" compress "$OUT/btf" --config "$ROOT/configs/btf-pca.toml" -o "$OUT/pca" -q
     fi
-    args+=(--btf-compressed "$OUT/pca" --shade-stream "0,27,81" --gles-bands "$BTF_GLES_BANDS")
+    args+=(--btf-compressed "$OUT/pca" --shade-stream "0,27,81" --gles-bands "$BTF_GLES_BANDS"
+        --gles-lights "${BTF_GLES_LIGHTS:-0}")
 fi
 # BTF_SHADE_ARGS: more render options for the shading, e.g. "--light-cells constant".
 read -r -a extra <<<"${BTF_SHADE_ARGS:-}"
@@ -48,7 +50,7 @@ echo "| --- | --- | --- | --- | --- | --- |"
 jq -r '.metrics.btf_shade.results[] | "| \(.environment | split("/") | last) | \(.view_deg[0]), \(.view_deg[1]) | \(.mean_rel * 1000 | round / 1000) | \(.mean_de2000 * 100 | round / 100) | \(.mean_luminance_rel_diff * 1000 | round / 10)% | \(.truth_rel_error * 1000 | round / 1000) |"' "$OUT/shade.json"
 if [ -n "${BTF_GLES_BANDS:-}" ]; then
     echo
-    echo "The compressed BTF drawn by its GLES shaders ($BTF_GLES_BANDS SH bands) against the truth, per stream prefix"
+    echo "The compressed BTF drawn by its GLES shaders ($BTF_GLES_BANDS SH bands, up to ${BTF_GLES_LIGHTS:-0} dominant lights) against the truth, per stream prefix"
     echo "(components sent: mean rel. error / mean dE2000 / mean luminance vs truth; bytes: the btf-pca files received)"
     echo
     jq -r '.metrics.btf_shade.results[0].compressed[0].gles | map(select(.variant == "btf-es300-highp")) |

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/fs.h"
+#include "envmap/lights.h"
 #include "envmap/project.h"
 #include "gles/btf_draw.h"
 #include "render/capture_cli.h"
@@ -63,18 +64,41 @@ public:
     std::vector<render::GlesPicture> operator()(size_t folder, const std::string& env_path, const image::Image& env,
                                                 const btf::Direction& view, int64_t sent, double irradiance_w_m2) {
         const gles::BtfGlesExport& e = exported(folder, irradiance_w_m2);
-        auto it = m_sh.find(env_path);
-        if (it == m_sh.end()) it = m_sh.emplace(env_path, envmap::project_latlong(env, m_args.gles_bands)).first;
+        auto it = m_lighting.find(env_path);
+        if (it == m_lighting.end()) it = m_lighting.emplace(env_path, frame_lighting(env)).first;
         std::vector<render::GlesPicture> out;
         for (const gles::BtfGlesVariant& v : e.variants) {
             if (sent > gles::btf_drawable_prefix(e, v)) continue;
             const gles::Context context(v.version == gles::GlslVersion::kEs300 ? 3 : 2);
-            out.push_back({v.name, gles::draw_btf(context, e, v, view, it->second, sent)});
+            out.push_back({v.name, gles::draw_btf(context, e, v, view, it->second.sh, sent, nullptr, it->second.lights),
+                           static_cast<int>(it->second.lights.size())});
         }
         return out;
     }
 
 private:
+    struct FrameLighting {
+        Eigen::MatrixXd sh;
+        std::vector<gles::BtfLight> lights;
+    };
+    /// The app's lighting of `env` (sample frame): its dominant lights (at most --gles-lights,
+    /// envmap's extraction with its defaults) and the residual map's SH.
+    FrameLighting frame_lighting(const image::Image& env) const {
+        envmap::Environment map;
+        map.radiance = env;
+        FrameLighting f;
+        if (m_args.gles_lights > 0) {
+            envmap::ExtractOptions eo;
+            eo.max_lights = m_args.gles_lights;
+            const envmap::Extraction x = envmap::extract_lights(map, eo);
+            for (const envmap::DirectionalLight& l : x.lights)
+                f.lights.push_back({l.direction, l.flux, l.angular_radius});
+            map = envmap::residual_environment(map, x, static_cast<int>(x.lights.size()));
+        }
+        f.sh = envmap::project_latlong(map.radiance, m_args.gles_bands);
+        return f;
+    }
+
     const gles::BtfGlesExport& exported(size_t folder, double irradiance_w_m2) {
         auto it = m_exports.find(folder);
         if (it != m_exports.end()) return it->second;
@@ -100,7 +124,7 @@ private:
 
     const render::ShadeArgs& m_args;
     std::map<size_t, gles::BtfGlesExport> m_exports;
-    std::map<std::string, Eigen::MatrixXd> m_sh;
+    std::map<std::string, FrameLighting> m_lighting;
 };
 
 }  // namespace

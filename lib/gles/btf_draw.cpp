@@ -19,8 +19,9 @@ Mesh btf_sample_quad() {
 }
 
 image::Image draw_btf(const Context& context, const BtfGlesExport& e, const BtfGlesVariant& variant,
-                      const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent, double* draw_ms) {
-    const BtfFrame frame = btf_frame_weights(e, variant, view, sh, sent);
+                      const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent, double* draw_ms,
+                      const std::vector<BtfLight>& lights) {
+    const BtfFrame frame = btf_frame_weights(e, variant, view, sh, sent, lights);
     const Readback out = draw(context, variant.as_export, btf_bindings(e, frame), btf_sample_quad(), e.width,
                               e.height, TargetFormat::kRgba32f);
     if (draw_ms) *draw_ms = out.draw_ms;

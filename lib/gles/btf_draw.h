@@ -19,13 +19,14 @@ namespace inlight::gles {
 Mesh btf_sample_quad();
 
 /// One frame of `variant`: the view `view` (sample frame) under SH lighting `sh` (bands^2 x 3,
-/// fabric frame, as btf_frame_weights) with the first `sent` stream entries arrived. Returns the
+/// fabric frame) and dominant `lights`, as btf_frame_weights, with the first `sent` stream
+/// entries arrived. Returns the
 /// linear_srgb radiance (3 channels, e.width x e.height); `draw_ms` (optional) the draw's wall
 /// time. Throws Error as btf_frame_weights and draw do (a prefix the variant cannot show, no
 /// RGBA32F target).
 image::Image draw_btf(const Context& context, const BtfGlesExport& e, const BtfGlesVariant& variant,
                       const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent,
-                      double* draw_ms = nullptr);
+                      double* draw_ms = nullptr, const std::vector<BtfLight>& lights = {});
 
 /// The number of stream entries `variant` can show: the longest prefix of e.stream in which no
 /// group has more components than the variant reads (ES 1.00: 3); the whole stream for ES 3.00.

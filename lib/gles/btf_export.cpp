@@ -2,12 +2,14 @@
 // (gles/btf_export.h, docs/btf-gles.md).
 #include "gles/btf_export.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <sstream>
 
 #include "btf/sh_lighting.h"
+#include "core/conventions.h"
 #include "core/error.h"
 #include "core/json_out.h"
 #include "gles/export_glsl.h"
@@ -170,6 +172,21 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
         }
     }
 
+    // [1^T; V_v,ch^T] / E per view: what a dominant light's weights at the light directions
+    // fold through (lighting_matrix with A = identity).
+    const int k_count = btf->shape().n_lights();
+    const Eigen::MatrixXd identity = Eigen::MatrixXd::Identity(k_count, k_count);
+    for (int v = 0; v < btf->shape().n_views(); ++v) {
+        e.light_rows_offset.push_back(static_cast<int64_t>(e.light_rows.size()));
+        for (int ch = 0; ch < 3; ++ch) {
+            const Eigen::MatrixXd rows = btf->lighting_matrix(v, ch, identity, o.irradiance_w_m2);
+            for (Eigen::Index r = 0; r < rows.rows(); ++r)
+                for (int k = 0; k < k_count; ++k) e.light_rows.push_back(static_cast<float>(rows(r, k)));
+        }
+    }
+    e.lights = btf->shape().lights;
+    e.lighting = o.lighting;
+
     // Variants against their versions' guaranteed limits.
     nlohmann::json variants = nlohmann::json::array();
     for (GlslVersion ver : o.versions) {
@@ -321,7 +338,25 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
           {"mediump", "refused: a 10-bit mantissa on 3 x (1 + C) decoded terms of either sign, often 10 times the "
                       "pixel's value, bounds the error by 3 (1 + C) x 2^-11 x the terms' size, above one 8-bit code "
                       "(docs/btf-gles.md, \"Precision\")"}}},
-        {"not_done", {"no filtering (nearest texel, no mipmaps)", "no dominant lights (SH lighting only)"}}};
+        {"not_done", {"no filtering (nearest texel, no mipmaps)"}}};
+    // Dominant lights: folded on the CPU through V (weights.bin), the shader unchanged.
+    e.manifest["lights"] = {
+        {"input", "optional per frame: envmap-project's dominant lights (docs/formats.md: direction, flux Phi = "
+                  "radiance x solid angle per colour, angular radius alpha), rotated into the fabric frame as c is"},
+        {"spread", str("a light is ", kBtfCapSamples, " point lights of Phi / ", kBtfCapSamples,
+                       " at Fibonacci points of equal solid angle on its cap: z_i = 1 - (1 - cos alpha) (i + 0.5) / ",
+                       kBtfCapSamples, ", phi_i = i pi (3 - sqrt 5), turned from +z onto the light's direction by the "
+                       "shortest rotation (a light of alpha 0 is one point light of Phi)")},
+        {"cell_rule", str(btf::to_string(o.lighting.rule),
+                          ": a point light d above the sample's plane adds Phi_i d_z / k_z to the weight W_k of the "
+                          "light direction k nearest d by angle among those more than 0.5 deg above the horizon "
+                          "(btf/sh_lighting.h directional_light_weights); one at or below the plane adds nothing")},
+        {"fold", "w_slot,ch += sum over the blend's views v in the slot's group of alpha_v [1^T; V_v,ch^T] W_ch / E "
+                 "(rows as the matrices'): row 0 sum_k W_k,ch / E, row 1 + i sum_k V_v,ch(k, i) W_k,ch / E, with "
+                 "V_v,ch(k, i) = row (index of v in its group x K + k) x 3 + ch, column i, of the group's V in "
+                 "btf-pca.json's weights file (docs/btf.md, \"Storage and streaming\"), E = matrices.irradiance_w_m2"},
+        {"cost_per_frame", str(kBtfCapSamples, " x K angle comparisons per light with a radius (1 x K for a point "
+                               "light), then 3 colours x (1 + C) multiply-adds per lit light direction per blend view")}};
     return e;
 }
 
@@ -346,11 +381,43 @@ std::vector<std::pair<std::string, std::string>> BtfGlesExport::files() const {
     return out;
 }
 
+std::vector<Eigen::Vector3d> btf_light_weights(const BtfGlesExport& e, const std::vector<BtfLight>& lights) {
+    std::vector<Eigen::Vector3d> out(e.lights.size(), Eigen::Vector3d::Zero());
+    for (const BtfLight& l : lights) {
+        if (!l.irradiance_w_m2.allFinite()) throw Error("BTF GLES frame: a light's irradiance holds NaN or Inf");
+        if (!(l.angular_radius >= 0 && l.angular_radius < kPi / 2))
+            throw Error("BTF GLES frame: a light's angular radius must be in [0, pi/2)");
+        if (!l.direction.allFinite() || std::abs(l.direction.norm() - 1) > 1e-6)
+            throw Error("BTF GLES frame: a light's direction is not a finite unit vector");
+        // The cap as equal point lights at Fibonacci points of equal solid angle around +z,
+        // turned onto the light's direction (one point for a point light).
+        const int n = l.angular_radius > 0 ? kBtfCapSamples : 1;
+        const Eigen::Matrix3d turn =
+            Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), l.direction).toRotationMatrix();
+        const double golden = kPi * (3 - std::sqrt(5.0));
+        for (int i = 0; i < n; ++i) {
+            const double z = 1 - (1 - std::cos(l.angular_radius)) * (i + 0.5) / n;
+            const double r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * i;
+            const Eigen::Vector3d d =
+                n == 1 ? l.direction : (turn * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z)).normalized();
+            const btf::DomeLighting w = btf::directional_light_weights(e.lights, d, l.irradiance_w_m2 / n, e.lighting);
+            for (size_t k = 0; k < out.size(); ++k) out[k] += w.weight[k];
+        }
+    }
+    return out;
+}
+
 BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant, const btf::Direction& view,
-                           const Eigen::MatrixXd& sh, int64_t sent) {
+                           const Eigen::MatrixXd& sh, int64_t sent, const std::vector<BtfLight>& lights) {
     const int j_count = sh::count(e.sh_bands);
     if (sh.rows() < j_count || sh.cols() != 3 || !sh.allFinite())
         throw Error(str("BTF GLES frame: needs ", j_count, " x 3 finite lighting coefficients"));
+    // The lights' weights at the BTF's light directions (a few non-zero: one or two per point).
+    const int k_count = static_cast<int>(e.lights.size());
+    std::vector<std::pair<int, Eigen::Vector3d>> light_w;
+    const std::vector<Eigen::Vector3d> dense = btf_light_weights(e, lights);
+    for (int k = 0; k < k_count; ++k)
+        if (!dense[static_cast<size_t>(k)].isZero(0)) light_w.emplace_back(k, dense[static_cast<size_t>(k)]);
     const int groups = static_cast<int>(e.components.size());
     std::vector<int> arrived(static_cast<size_t>(groups), 0);
     for (int64_t i = 0; i < std::min<int64_t>(sent, static_cast<int64_t>(e.stream.size())); ++i)
@@ -374,9 +441,11 @@ BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant
                             " components arrived, the variant shows at most ", s_used * 4 - 1));
         const float* m = e.matrices.data() + e.matrices_offset[static_cast<size_t>(v)];
         for (int ch = 0; ch < 3; ++ch) {
+            const float* lr = e.light_rows.data() + e.light_rows_offset[static_cast<size_t>(v)];
             for (int r = 0; r < live; ++r) {
                 double w = 0;
                 for (int j = 0; j < j_count; ++j) w += double(m[(ch * rows + r) * j_count + j]) * sh(j, ch);
+                for (const auto& [k, wk] : light_w) w += double(lr[(ch * rows + r) * k_count + k]) * wk[ch];
                 f.weight[static_cast<size_t>(((slot * 3 + ch) * s_used) * 4 + r)] +=
                     static_cast<float>(blend.weights[i] * w);
             }

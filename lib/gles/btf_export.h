@@ -50,6 +50,20 @@ struct BtfGlesVariant {
     Export as_export;
 };
 
+/// A dominant light (envmap-project's lighting files, lights.h), in the fabric frame:
+/// `direction` unit towards the light's centre, `irradiance_w_m2` per linear_srgb channel its
+/// radiance times its solid angle (lights.h's flux Phi: the irradiance a point light would give
+/// a surface facing it), `angular_radius` (radians, < pi/2) of the uniform cap it stands for.
+/// A cap is spread as kBtfCapSamples equal point lights at Fibonacci points of equal solid
+/// angle; each point light goes to the light directions by the export's cell rule
+/// (directional_light_weights). Folded into a frame's weights on the CPU; the shader is unchanged.
+struct BtfLight {
+    Eigen::Vector3d direction{0, 0, 1};
+    Eigen::Vector3d irradiance_w_m2{0, 0, 0};
+    double angular_radius = 0;
+};
+constexpr int kBtfCapSamples = 256;
+
 /// The whole export of one folder.
 struct BtfGlesExport {
     int width = 0, height = 0, slabs = 0;  ///< image size, slabs per atlas (all groups alike)
@@ -60,6 +74,13 @@ struct BtfGlesExport {
     std::vector<float> matrices;           ///< every view's M_v,ch (layout: matrices_offset)
     std::vector<int64_t> matrices_offset;  ///< per view, in floats: M_v,ch(r, j) at + (ch (1 + C) + r) J + j
     std::vector<btf::Direction> views;
+    /// For dominant lights (not a file: the app forms them from weights.bin): per view, the
+    /// rows [1^T; V_v,ch^T] / E, (1 + C) x K per channel (K light directions) at
+    /// light_rows_offset[v] + (ch (1 + C) + r) K + k, i.e. lighting_matrix with A = identity.
+    std::vector<float> light_rows;
+    std::vector<int64_t> light_rows_offset;
+    std::vector<btf::Direction> lights;  ///< the BTF's light directions (sample frame)
+    btf::DomeLightingOptions lighting;   ///< the cell rule lights are spread by
     std::vector<std::pair<int, int>> stream;  ///< [group, component], the folder's order
     std::vector<BtfGlesVariant> variants;
     nlohmann::json manifest;               ///< btf-gles.json (deterministic)
@@ -80,10 +101,19 @@ struct BtfFrame {
     std::vector<float> weight, scale, offset;
 };
 /// The app's per-frame computation: `view` (sample frame), `sh` (bands^2 x 3, fabric frame),
-/// `sent` stream entries arrived (the means always). Throws Error when the arrived components
-/// need more slabs than `variant` reads (ES 1.00: 3 components per group).
+/// `sent` stream entries arrived (the means always), `lights` dominant lights added to the SH
+/// (each spread over the light directions by the export's cell rule, btf/sh_lighting.h
+/// directional_light_weights; one at or below the sample's plane adds nothing). Throws Error
+/// when the arrived components need more slabs than `variant` reads (ES 1.00: 3 components per
+/// group) or a light is not finite or its direction not unit.
 BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant,
-                           const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent);
+                           const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent,
+                           const std::vector<BtfLight>& lights = {});
+
+/// The weights `lights` give the BTF's light directions (one per light direction, per colour):
+/// what btf_frame_weights folds through [1^T; V_v,ch^T] / E. Throws Error for a light that is not
+/// finite, a direction that is not unit or a radius outside [0, pi/2).
+std::vector<Eigen::Vector3d> btf_light_weights(const BtfGlesExport& e, const std::vector<BtfLight>& lights);
 
 /// The harness bindings of a frame (textures u_group0..2, the uniform arrays).
 Bindings btf_bindings(const BtfGlesExport& e, const BtfFrame& frame);

@@ -270,6 +270,13 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
                    "and for the whole stream, and compare with the truth (1..9; 0 = not)")
         ->check(CLI::Range(0, 9))
         ->needs("--btf-compressed");
+    app.add_option("--gles-lights", a.gles_lights,
+                   "BTF shading: with --gles-bands, take up to this many dominant lights out of each "
+                   "environment first (as envmap-project's light extraction) and light the GLES pictures "
+                   "with them plus the residual's SH (0..8)")
+        ->check(CLI::Range(0, 8))
+        ->needs("--gles-bands")
+        ->capture_default_str();
 }
 
 void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string& prefix,
@@ -411,6 +418,8 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
                             const Comparison gc = compare_images(truth, pic.radiance, exposure, compare);
                             nlohmann::json gj = metrics_json(gc.metrics);
                             gj["variant"] = pic.variant;
+                            gj["sh_bands"] = a.gles_bands;
+                            gj["lights"] = pic.lights;
                             gj["components_sent"] = sent;
                             gj["bytes_sent"] = stream_bytes(a.compressed[i], sent);
                             gj["mean_luminance_rel_diff"] = ty > 0 ? (mean_y(pic.radiance) - ty) / ty : 0.0;

@@ -61,6 +61,9 @@ struct ShadeArgs {
     /// --gles-bands: also draw each --btf-compressed folder through its exported GLES shaders
     /// (btf-pca export-gles) under this many SH bands of the environment; 0 = not.
     int gles_bands = 0;
+    /// --gles-lights: dominant lights taken out of each environment first (envmap's extraction,
+    /// as envmap-project --lights), folded into the GLES frame's weights, the rest in SH.
+    int gles_lights = 0;
 };
 void add_shade_options(CLI::App& app, ShadeArgs& args);
 
@@ -68,6 +71,7 @@ void add_shade_options(CLI::App& app, ShadeArgs& args);
 struct GlesPicture {
     std::string variant;  ///< e.g. "btf-es300-highp"
     image::Image radiance;
+    int lights = 0;       ///< dominant lights it was lit by (beside the SH)
 };
 /// What draws the compressed folders through their GLES shaders (supplied by the app, which
 /// links lib/gles): folder index into ShadeArgs::compressed, the environment (lat-long, sample
