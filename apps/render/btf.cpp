@@ -61,9 +61,12 @@ class BtfGlesPictures {
 public:
     explicit BtfGlesPictures(const render::ShadeArgs& a) : m_args(a) {}
 
-    std::vector<render::GlesPicture> operator()(size_t folder, const std::string& env_path, const image::Image& env,
-                                                const btf::Direction& view, int64_t sent, double irradiance_w_m2) {
-        const gles::BtfGlesExport& e = exported(folder, irradiance_w_m2);
+    /// Exports folder `folder` (once).
+    void prepare(size_t folder, double irradiance_w_m2) { exported(folder, irradiance_w_m2); }
+
+    std::vector<render::GlesPicture> draw(size_t folder, const std::string& env_path, const image::Image& env,
+                                          const btf::Direction& view, int64_t sent) {
+        const gles::BtfGlesExport& e = m_exports.at(folder);
         auto it = m_lighting.find(env_path);
         if (it == m_lighting.end()) it = m_lighting.emplace(env_path, frame_lighting(env)).first;
         std::vector<render::GlesPicture> out;
@@ -156,10 +159,11 @@ ModeBody add_shade_btf(CLI::App& app, const app::CommonArgs& common) {
     add_image_compare_options(app, *cmp);
     return [t, shade, cmp, default_spp, &common](Report& report) {
         BtfGlesPictures pictures(*shade);
-        const render::GlesDrawer drawer = [&pictures](size_t folder, const std::string& env_path,
-                                                      const image::Image& env, const btf::Direction& view,
-                                                      int64_t sent, double irradiance_w_m2) {
-            return pictures(folder, env_path, env, view, sent, irradiance_w_m2);
+        render::GlesDrawer drawer;
+        drawer.prepare = [&pictures](size_t folder, double irradiance_w_m2) { pictures.prepare(folder, irradiance_w_m2); };
+        drawer.draw = [&pictures](size_t folder, const std::string& env_path, const image::Image& env,
+                                  const btf::Direction& view, int64_t sent) {
+            return pictures.draw(folder, env_path, env, view, sent);
         };
         render::run_shade(*shade, t->fabric, t->output, capture_options(*t, default_spp, common.seed), *cmp,
                           report, shade->gles_bands > 0 ? &drawer : nullptr);

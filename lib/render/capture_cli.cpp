@@ -318,6 +318,14 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
             !same_directions(c.views, r.views))
             throw UsageError(str("--btf-compressed ", dir, ": its image size or directions differ from ", a.btf, "'s"));
     }
+    if (a.gles_bands > 0) {
+        ScopedStage stage(report, "export GLES shaders");
+        for (size_t i = 0; i < compressed.size(); ++i) gles->prepare(i, irradiance);
+    }
+    if (a.gles_bands > 0) {
+        ScopedStage stage(report, "export GLES shaders");
+        for (size_t i = 0; i < compressed.size(); ++i) gles->prepare(i, irradiance);
+    }
     auto weave = std::make_shared<weave::Weave>(weave::build(weave::load_weave(fabric)));
     if (std::abs(weave->period_x_mm - window[2]) > 1e-9 ||
         std::abs(weave->period_y_mm - window[3]) > 1e-9) {
@@ -414,7 +422,7 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
                         const int64_t sent = n < 0 ? compressed[i]->stream_length()
                                                    : std::min(n, compressed[i]->stream_length());
                         const image::Image cpu = compressed[i]->combine_streamed(terms, sent);
-                        for (const GlesPicture& pic : (*gles)(i, env_path, env.image, view, sent, irradiance)) {
+                        for (const GlesPicture& pic : gles->draw(i, env_path, env.image, view, sent)) {
                             const Comparison gc = compare_images(truth, pic.radiance, exposure, compare);
                             nlohmann::json gj = metrics_json(gc.metrics);
                             gj["variant"] = pic.variant;

@@ -74,12 +74,16 @@ struct GlesPicture {
     int lights = 0;       ///< dominant lights it was lit by (beside the SH)
 };
 /// What draws the compressed folders through their GLES shaders (supplied by the app, which
-/// links lib/gles): folder index into ShadeArgs::compressed, the environment (lat-long, sample
-/// frame), the view, the stream entries arrived (< 0: all) and the capture's irradiance. Returns
-/// one picture per variant that can show that prefix.
-using GlesDrawer = std::function<std::vector<GlesPicture>(size_t folder, const std::string& env_path,
-                                                          const image::Image& env, const btf::Direction& view,
-                                                          int64_t sent, double irradiance_w_m2)>;
+/// links lib/gles). `prepare` exports folder `folder` (index into ShadeArgs::compressed) for the
+/// capture's irradiance, before any shading (Error naming a folder it cannot export); `draw`
+/// draws it for the environment (lat-long, sample frame), the view and the stream entries
+/// arrived, one picture per variant that can show that prefix.
+struct GlesDrawer {
+    std::function<void(size_t folder, double irradiance_w_m2)> prepare;
+    std::function<std::vector<GlesPicture>(size_t folder, const std::string& env_path, const image::Image& env,
+                                           const btf::Direction& view, int64_t sent)>
+        draw;
+};
 
 /// Writes, per environment and view, <prefix>_<env>_tv<theta>_pv<phi>_{btf,truth}.exr, _relerr.exr
 /// and _compare.png (truth | BTF | heat map of the relative error), and the metrics (as render
