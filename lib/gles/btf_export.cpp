@@ -276,7 +276,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
           {"assembly",
            str(e.atlas_files ? "the atlases are written (groups[g].file); they equal this assembly: "
                              : "no atlas files (groups[g].file null): the app assembles each group's atlas from the "
-                               "btf-pca folder's PNGs, which sit beside this file: ",
+                               "btf-pca folder's PNGs (in a fabric bundle: beside this file): ",
                "channel k (r, g, b, a = 0..3) of slab s (rows s x ", e.height, " .. (s + 1) x ", e.height,
                " - 1) of group g's atlas = the 8-bit code of groups[g].channels[4 s + k].file at the same pixel "
                "(the PNG decoded without gamma or colour management, rows top first), code 0 where that file is "
