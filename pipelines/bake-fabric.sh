@@ -113,11 +113,35 @@ if [ -n "$BTF" ]; then
         files+=(--file "btf_component=$W/btf/$comp@btf/$comp#$k")
     done < <(jq -r '. as $m | .stream | to_entries[] | "\(.key) \($m.groups[.value[0]].components[.value[1]].file)"' \
         "$W/btf/btf-pca.json")
+    # The BTF's GLES shaders (docs/btf-gles.md, "In the bundle"): btf-gles.json, the shaders and
+    # the lighting matrices beside btf-pca.json, at the BRDF shaders' SH bands (at most 9) and the
+    # capture's irradiance; no atlases: the app assembles them from the mean and component PNGs
+    # the bundle streams anyway. Only a linear-fit, 8-bit PNG folder can be drawn so.
+    btf_gles_bands=""
+    if jq -e '(.color_space // "linear_srgb") == "linear_srgb" and .component_format == "png"' \
+        "$W/btf/btf-pca.json" >/dev/null; then
+        btf_gles_bands=$(jq '[.metrics.sh_bands, 9] | min' "$W/brdf/report.json")
+        rm -rf "$W/btf-gles"
+        "$BIN/btf-pca" export-gles "$W/btf" -o "$W/btf-gles" --atlases none --bands "$btf_gles_bands" \
+            --irradiance-w-m2 "$(jq '.irradiance_w_m2 // 1' "$W/btf/btf-pca.json")" -q \
+            --report "$W/btf-gles-export.json"
+        files+=(--file "btf_gles_manifest=$W/btf-gles/btf-gles.json@btf/btf-gles.json"
+            --file "btf_gles_matrices=$W/btf-gles/lighting-matrices.bin@btf/lighting-matrices.bin")
+        while read -r v; do
+            files+=(--file "btf_gles_vertex=$W/btf-gles/$v.vert@btf/$v.vert"
+                --file "btf_gles_fragment=$W/btf-gles/$v.frag@btf/$v.frag")
+        done < <(jq -r '.variants[].name' "$W/btf-gles/btf-gles.json")
+        say "BTF GLES shaders: $(jq -r '[.load[] | "\(.capability): \(.variant // "none")"] | join("; ")' \
+            "$W/btf-gles/btf-gles.json")"
+    else
+        say "no BTF GLES shaders: they draw only a linear fit with 8-bit PNG components (docs/btf-gles.md)"
+    fi
     btf_props=(--property "btf_rmse_linear=$(jq '.metrics.error.rmse_linear' "$W/btf-pca.json")"
         --property "btf_delta_e2000_mean=$(jq '.metrics.error.delta_e2000_mean' "$W/btf-pca.json")"
         --property "btf_size_px=$(jq -c '[.metrics.btf.width, .metrics.btf.height]' "$W/btf-pca.json")"
         --property "btf_directions=$(jq -c '[.metrics.btf.lights, .metrics.btf.views]' "$W/btf-pca.json")"
         --property "btf_raw_bytes=$(jq '.metrics.bytes.raw_8bit' "$W/btf-pca.json")")
+    [ -n "$btf_gles_bands" ] && btf_props+=(--property "btf_gles_bands=$btf_gles_bands")
     say "$(jq -r '.metrics | "btf-pca: \(.btf.views) views x \(.btf.lights) lights of \(.btf.width)x\(.btf.height) px -> \(.bytes.stored) bytes, RMSE \(.error.rmse_linear)"' "$W/btf-pca.json")"
 else
     say "no BTF (no btf/ folder, no weave.toml + capture.toml): a BRDF-only fabric"

@@ -14,7 +14,7 @@ namespace inlight::btf_pca_cli {
 int export_gles(int argc, char** argv) {
     CLI::App app{kExportGlesPurpose, "btf-pca export-gles"};
     app::CommonArgs common;
-    std::string input, output, versions = "100,300", precision = "highp";
+    std::string input, output, versions = "100,300", precision = "highp", atlases = "write";
     gles::BtfGlesOptions o;
     app.add_option("input", input, "btf-pca output folder (it holds btf-pca.json; linear fit space, 8-bit PNG "
                    "components)")->required()->check(CLI::ExistingDirectory);
@@ -30,6 +30,10 @@ int export_gles(int argc, char** argv) {
     app.add_option("--irradiance-w-m2", o.irradiance_w_m2, "The capture's irradiance E (image = btf x E; "
                    "capture.json's) the matrices divide by")
         ->check(app::finite_positive())->capture_default_str();
+    app.add_option("--atlases", atlases, "write: one atlas PNG per view group; none: no atlas files, the app "
+                   "assembles them from the folder's PNGs by btf-gles.json's channel files (a fabric bundle, which "
+                   "ships those PNGs already: docs/btf-gles.md \"In the bundle\")")
+        ->check(CLI::IsMember({"write", "none"}))->capture_default_str();
     app::setup(app, common, kExportGlesExample);
     if (auto code = app::parse(app, argc, argv, 1)) return *code;
     if (precision != "highp") {
@@ -40,6 +44,7 @@ int export_gles(int argc, char** argv) {
         return app::kExitUsage;
     }
     o.versions = gles::glsl_versions_from_string(versions);
+    o.write_atlases = atlases == "write";
     return app::run("btf-pca", app, common, argc, argv, [&](Report& report) {
         report.add_input(input + "/btf-pca.json");
         const gles::BtfGlesExport e = gles::export_btf_gles(input, o);

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/fs.h"
+#include "core/json_in.h"
 #include "envmap/lights.h"
 #include "envmap/project.h"
 #include "gles/btf_draw.h"
@@ -111,11 +112,17 @@ private:
         o.irradiance_w_m2 = irradiance_w_m2;
         o.lighting.rule = btf::cell_rule_from_string(m_args.cell_rule);
         o.lighting.subsamples = m_args.subsamples;
+        const std::string shipped = dir + "/btf-gles.json";
+        if (std::filesystem::exists(shipped)) {
+            // A bundle ships no atlases (btf-pca export-gles --atlases none): export as shipped.
+            const nlohmann::json m = json_in::read_file(shipped);
+            const nlohmann::json::json_pointer atlas_files("/textures/atlas_files");
+            o.write_atlases = !(m.contains(atlas_files) && m.at(atlas_files) == false);
+        }
         gles::BtfGlesExport e = gles::export_btf_gles(dir, o);
-        if (std::filesystem::exists(dir + "/btf-gles.json")) {
+        if (std::filesystem::exists(shipped)) {
             for (const auto& [name, bytes] : e.files()) {
                 const std::string path = dir + "/" + name;
-                if (!std::filesystem::exists(path)) continue;  // atlases the bundle assembles from the stream
                 if (fs::read_file(path) != bytes)
                     throw Error(str(path, ": differs from btf-pca export-gles of ", dir, " with --bands ",
                                     m_args.gles_bands, ", --irradiance-w-m2 ", irradiance_w_m2, " and the cell rule ",

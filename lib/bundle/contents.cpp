@@ -2,8 +2,10 @@
 
 #include "image/image.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
+#include <vector>
 
 #include "core/json_in.h"
 #include "core/error.h"
@@ -45,6 +47,11 @@ class Listing {
     // folder) refers to; it must exist with role `role`. `key` names the entry in errors.
     const FileEntry& resolve(const FileEntry& from, const nlohmann::json& name,
                              const std::string& key, const std::string& role) const {
+        return resolve(from, name, key, std::vector<std::string>{role});
+    }
+    // As above, with one of `roles`.
+    const FileEntry& resolve(const FileEntry& from, const nlohmann::json& name,
+                             const std::string& key, const std::vector<std::string>& roles) const {
         const std::string shown = str(where(from), ": ", key);
         if (!name.is_string()) throw Error(str(shown, ": expected a file name"));
         const std::string rel = name.get<std::string>();
@@ -55,9 +62,12 @@ class Listing {
         if (it == m_by_path.end()) {
             throw Error(str(shown, ": '", path, "' is not in the bundle"));
         }
-        if (it->second->role != role) {
+        if (std::find(roles.begin(), roles.end(), it->second->role) == roles.end()) {
+            std::string expected;
+            for (size_t i = 0; i < roles.size(); ++i)
+                expected += (i == 0 ? "'" : "' or '") + roles[i];
             throw Error(str(shown, ": '", path, "' has role '", it->second->role,
-                            "' in the bundle (expected '", role, "')"));
+                            "' in the bundle (expected ", expected, "')"));
         }
         return *it->second;
     }
@@ -206,6 +216,69 @@ void check_btf(const Manifest& m, const Listing& listing) {
     }
 }
 
+// The BTF's GLES export (btf-gles.json, gles/btf_export.h): its shaders and matrices are in the
+// bundle with their roles, it ships no atlases, every atlas channel's source is one of the
+// bundle's btf_mean / btf_component PNGs (beside it), and "load" names only its variants.
+void check_btf_gles(const Manifest& m, const Listing& listing) {
+    const FileEntry* f = m.find_role("btf_gles_manifest");
+    const char* parts[] = {"btf_gles_vertex", "btf_gles_fragment", "btf_gles_matrices"};
+    if (!f) {
+        for (const char* role : parts) {
+            if (m.find_role(role)) {
+                throw Error(str(listing.dir(), ": ", role, " files without a btf_gles_manifest"));
+            }
+        }
+        return;
+    }
+    const std::string shown = listing.where(*f);
+    if (!m.find_role("btf_manifest")) {
+        throw Error(str(shown, ": the BTF's GLES shaders without the BTF (no btf_manifest)"));
+    }
+    const nlohmann::json j = listing.read_json(*f, "inlight_btf_gles_export");
+    const nlohmann::json& variants = member(j, "variants");
+    if (!variants.is_array()) throw Error(str(shown, ": variants: expected an array"));
+    std::vector<std::string> names;
+    for (size_t i = 0; i < variants.size(); ++i) {
+        const std::string key = str("variants[", i, "].");
+        listing.resolve(*f, member(variants[i], "vertex_shader"), key + "vertex_shader", "btf_gles_vertex");
+        listing.resolve(*f, member(variants[i], "fragment_shader"), key + "fragment_shader",
+                        "btf_gles_fragment");
+        if (member(variants[i], "name").is_string()) names.push_back(variants[i]["name"]);
+    }
+    const nlohmann::json& matrices = member(j, "matrices");
+    const FileEntry& bin = listing.resolve(*f, member(matrices, "file"), "matrices.file", "btf_gles_matrices");
+    if (!member(matrices, "bytes").is_number_unsigned() || matrices["bytes"].get<uint64_t>() != bin.bytes) {
+        throw Error(str(shown, ": matrices.bytes: ", member(matrices, "bytes").dump(), ", but '", bin.path,
+                        "' holds ", bin.bytes));
+    }
+    const nlohmann::json& textures = member(j, "textures");
+    if (member(textures, "atlas_files") != false) {
+        throw Error(str(shown, ": textures.atlas_files: a bundle ships no atlases (the app assembles them "
+                               "from the BTF's PNGs: btf-pca export-gles --atlases none)"));
+    }
+    const nlohmann::json& groups = member(textures, "groups");
+    if (!groups.is_array()) throw Error(str(shown, ": textures.groups: expected an array"));
+    for (size_t g = 0; g < groups.size(); ++g) {
+        const nlohmann::json& channels = member(groups[g], "channels");
+        if (!channels.is_array()) throw Error(str(shown, ": textures.groups[", g, "].channels: expected an array"));
+        for (size_t k = 0; k < channels.size(); ++k) {
+            const nlohmann::json& file = member(channels[k], "file");
+            if (file.is_null()) continue;  // an unused channel
+            listing.resolve(*f, file, str("textures.groups[", g, "].channels[", k, "].file"),
+                            std::vector<std::string>{"btf_mean", "btf_component"});
+        }
+    }
+    const nlohmann::json& load = member(j, "load");
+    if (!load.is_array()) throw Error(str(shown, ": load: expected an array"));
+    for (size_t i = 0; i < load.size(); ++i) {
+        const nlohmann::json& v = member(load[i], "variant");
+        if (v.is_null()) continue;
+        if (!v.is_string() || std::find(names.begin(), names.end(), v.get<std::string>()) == names.end()) {
+            throw Error(str(shown, ": load[", i, "].variant: ", v.dump(), " is not one of its variants"));
+        }
+    }
+}
+
 }  // namespace
 
 void check_contents(const Manifest& manifest, const std::string& dir) {
@@ -213,6 +286,7 @@ void check_contents(const Manifest& manifest, const std::string& dir) {
     const Listing listing(manifest, dir);
     check_shaders(manifest, listing);
     check_btf(manifest, listing);
+    check_btf_gles(manifest, listing);
 }
 
 }  // namespace inlight::bundle

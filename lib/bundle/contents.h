@@ -24,7 +24,13 @@ namespace inlight::bundle {
 ///     "inlight-btf-pca") names a mean or component image the bundle does not hold with role
 ///     btf_mean / btf_component, or the bundle's btf_component files are not exactly the
 ///     manifest's stream, in its order (stream_index k = the k-th entry of "stream"), or a
-///     BTF with components lacks its btf_weights.
+///     BTF with components lacks its btf_weights;
+///   - btf_gles_* files are present without a btf_gles_manifest, or the btf_gles_manifest
+///     (format "inlight_btf_gles_export", docs/btf-gles.md "In the bundle") has no btf_manifest
+///     beside it, names a shader or matrices file the bundle does not hold with role
+///     btf_gles_vertex / btf_gles_fragment / btf_gles_matrices (or matrices of another size),
+///     does not say textures.atlas_files false, names as an atlas channel's source a file that is
+///     not a btf_mean / btf_component of the bundle, or loads a variant it does not have.
 void check_contents(const Manifest& manifest, const std::string& dir);
 
 }  // namespace inlight::bundle

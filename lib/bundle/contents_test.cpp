@@ -6,8 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -80,6 +82,33 @@ struct Fabric {
                 .dump(),
             "btf/btf-pca.json", "btf_manifest");
         add("weights.bin", std::string(64, '\1'), "btf/weights.bin", "btf_weights");
+    }
+
+    // The BTF's GLES export as btf-pca export-gles --atlases none writes it, beside add_btf's
+    // btf-pca.json: one variant, the matrices, and per group an atlas slab whose channels name
+    // the group's mean and two components (the fourth unused); `edit` changes the manifest.
+    void add_btf_gles(const std::function<void(nlohmann::json&)>& edit = {}) {
+        add("btf-es300-highp.vert", "#version 300 es\nvoid main() {}\n", "btf/btf-es300-highp.vert",
+            "btf_gles_vertex");
+        add("btf-es300-highp.frag", "#version 300 es\nvoid main() {}\n", "btf/btf-es300-highp.frag",
+            "btf_gles_fragment");
+        add("lighting-matrices.bin", std::string(96, '\3'), "btf/lighting-matrices.bin", "btf_gles_matrices");
+        nlohmann::json groups = nlohmann::json::array();
+        for (int g = 0; g < 2; ++g) {
+            groups.push_back({{"file", nullptr},
+                              {"channels", {{{"file", str("g00", g, "-mean.png")}}, {{"file", str("g00", g, "-c00.png")}},
+                                            {{"file", str("g00", g, "-c01.png")}}, {{"file", nullptr}}}}});
+        }
+        nlohmann::json j = {
+            {"format", "inlight_btf_gles_export"},
+            {"variants", {{{"name", "btf-es300-highp"}, {"vertex_shader", "btf-es300-highp.vert"},
+                           {"fragment_shader", "btf-es300-highp.frag"}}}},
+            {"matrices", {{"file", "lighting-matrices.bin"}, {"bytes", 96}}},
+            {"textures", {{"atlas_files", false}, {"groups", groups}}},
+            {"load", {{{"capability", "OpenGL ES 3.0 or later"}, {"variant", "btf-es300-highp"}},
+                      {{"capability", "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH"}, {"variant", nullptr}}}}};
+        if (edit) edit(j);
+        add("btf-gles.json", j.dump(), "btf/btf-gles.json", "btf_gles_manifest");
     }
 
     // One exported GLES variant as render/brdf-sh-bake --export-gles write it (manifest naming
@@ -274,6 +303,63 @@ TEST(BundleContents, ShaderTexturesAreResolvedAndSizeChecked) {
     good.edit_manifest([](nlohmann::json& j) { j["version"] = 2; });
     e = error_of([&] { read_bundle(good.bundle); });
     EXPECT_TRUE(contains(e, "role 'shader_texture' needs manifest version 3")) << e;
+}
+
+TEST(BundleContents, CarriesTheBtfGlesShadersBesideTheBtf) {
+    Fabric f("btf_gles");
+    f.add_btf(kStream);
+    f.add_btf_gles();
+    write_bundle(f.bundle, f.request);
+    const Manifest m = read_bundle(f.bundle);
+    EXPECT_EQ(m.version, kFormatVersion);
+    // The app finds the export by role; its channel files are the bundle's BTF PNGs.
+    const FileEntry* gles = m.find_role("btf_gles_manifest");
+    ASSERT_NE(gles, nullptr);
+    EXPECT_EQ(gles->path, "btf/btf-gles.json");
+    for (const char* role : {"btf_gles_vertex", "btf_gles_fragment", "btf_gles_matrices"})
+        EXPECT_NE(m.find_role(role), nullptr) << role;
+    // A version-3 manifest may not carry the roles version 4 added.
+    f.edit_manifest([](nlohmann::json& j) { j["version"] = 3; });
+    EXPECT_TRUE(contains(error_of([&] { read_bundle(f.bundle); }), "needs manifest version 4"));
+}
+
+TEST(BundleContents, RejectsBtfGlesShadersNamingWhatTheBundleLacks) {
+    // A missing shader: named with the file.
+    Fabric f("btf_gles_missing");
+    f.add_btf(kStream);
+    f.add_btf_gles();
+    auto& files = f.request.files;
+    files.erase(std::remove_if(files.begin(), files.end(),
+                               [](const PackFile& p) { return p.path == "btf/btf-es300-highp.frag"; }),
+                files.end());
+    std::string e = error_of([&] { write_bundle(f.bundle, f.request); });
+    EXPECT_TRUE(contains(e, "btf/btf-gles.json: variants[0].fragment_shader: 'btf/btf-es300-highp.frag' is not in the bundle")) << e;
+    EXPECT_FALSE(stdfs::exists(f.bundle));
+    const std::pair<std::function<void(nlohmann::json&)>, std::string> cases[] = {
+        // A channel naming a component the bundle does not hold.
+        {[](nlohmann::json& j) { j["textures"]["groups"][1]["channels"][3]["file"] = "g001-c07.png"; },
+         "textures.groups[1].channels[3].file: 'btf/g001-c07.png' is not in the bundle"},
+        // A channel naming a bundle file that is no mean or component.
+        {[](nlohmann::json& j) { j["textures"]["groups"][0]["channels"][2]["file"] = "weights.bin"; },
+         "channels[2].file: 'btf/weights.bin' has role 'btf_weights' in the bundle (expected 'btf_mean' or 'btf_component')"},
+        {[](nlohmann::json& j) { j["textures"]["atlas_files"] = true; }, "textures.atlas_files: a bundle ships no atlases"},
+        {[](nlohmann::json& j) { j["load"][1]["variant"] = "btf-es100-highp"; },
+         "load[1].variant: \"btf-es100-highp\" is not one of its variants"},
+        {[](nlohmann::json& j) { j["matrices"]["bytes"] = 95; }, "matrices.bytes: 95, but 'btf/lighting-matrices.bin' holds 96"},
+    };
+    int n = 0;
+    for (const auto& [edit, want] : cases) {
+        Fabric c(str("btf_gles_case", n++));
+        c.add_btf(kStream);
+        c.add_btf_gles(edit);
+        e = error_of([&] { write_bundle(c.bundle, c.request); });
+        EXPECT_TRUE(contains(e, want)) << e;
+    }
+    // The shaders without the BTF they draw.
+    Fabric alone("btf_gles_alone");
+    alone.add_btf_gles();
+    e = error_of([&] { write_bundle(alone.bundle, alone.request); });
+    EXPECT_TRUE(contains(e, "the BTF's GLES shaders without the BTF")) << e;
 }
 
 TEST(Manifest, StreamIndicesRunFromZeroWithoutGaps) {

@@ -35,6 +35,13 @@ const std::vector<RoleSpec> kFabricRoles = {
     {"btf_weights", false, false, false, "", "bin", 2},
     {"btf_mean", false, true, false, "data", "png|exr", 2},
     {"btf_component", false, true, true, "data", "png|exr"},
+    // The compressed BTF's GLES shaders (gles/btf_export.h, btf-pca export-gles --atlases none):
+    // btf-gles.json beside btf-pca.json, whose channel files name the btf_mean/btf_component
+    // PNGs the app assembles the atlases from.
+    {"btf_gles_manifest", false, false, false, "", "json", 4},
+    {"btf_gles_vertex", false, true, false, "", "vert", 4},
+    {"btf_gles_fragment", false, true, false, "", "frag", 4},
+    {"btf_gles_matrices", false, false, false, "", "bin", 4},
 };
 
 const std::vector<RoleSpec> kDeviceRoles = {

@@ -18,8 +18,9 @@ inline constexpr const char* kFormatName = "inlight_bundle";
 /// GLES variants whole (shader_index, shader_data) and a compressed BTF whole (btf_weights,
 /// btf_mean); a version-1 manifest naming one of them is rejected. Version 3 added
 /// shader_texture (the textures the exported shaders bind); a version-1 or 2 manifest naming it
-/// is rejected.
-inline constexpr int kFormatVersion = 3;
+/// is rejected. Version 4 added the compressed BTF's GLES shaders (btf_gles_manifest,
+/// btf_gles_vertex, btf_gles_fragment, btf_gles_matrices).
+inline constexpr int kFormatVersion = 4;
 /// The oldest manifest version this code reads (1 .. kFormatVersion are accepted).
 inline constexpr int kOldestReadVersion = 1;
 /// File name of the manifest at the root of a bundle folder.

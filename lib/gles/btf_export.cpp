@@ -123,6 +123,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
                         "fit space allows (compress with --fit-space linear)"));
     const nlohmann::json& m = btf->manifest();
     BtfGlesExport e;
+    e.atlas_files = o.write_atlases;
     e.width = btf->shape().width;
     e.height = btf->shape().height;
     e.sh_bands = o.sh_bands;
@@ -138,6 +139,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
 
     // Atlases: slab s = columns 4s .. 4s + 3 of [mean | components], stacked top to bottom.
     const size_t px = static_cast<size_t>(e.width) * e.height;
+    std::vector<std::vector<std::string>> sources;  // per group and channel: the column's PNG ("" unused)
     for (int g = 0; g < groups; ++g) {
         const nlohmann::json& gj = m.at("groups")[static_cast<size_t>(g)];
         Texture8 atlas;
@@ -145,9 +147,11 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
         atlas.height = e.height * e.slabs;
         atlas.rgba.assign(px * e.slabs * 4, 0);
         std::vector<float> scale(static_cast<size_t>(e.slabs) * 4, 0.f), offset(scale.size(), 0.f);
+        std::vector<std::string> source(scale.size());
         for (int k = 0; k <= e.components[static_cast<size_t>(g)]; ++k) {
             const nlohmann::json& meta = k == 0 ? gj.at("mean") : gj.at("components")[static_cast<size_t>(k - 1)];
             const std::vector<uint8_t> codes = read_codes(dir, meta, e.width, e.height);
+            source[static_cast<size_t>(k)] = meta.at("file").get<std::string>();
             // The decoder multiplies scale by stored = code / 255 (btf/compressed.cpp read_column).
             scale[static_cast<size_t>(k)] = meta.at("scale").get<float>();
             offset[static_cast<size_t>(k)] = meta.at("offset").get<float>();
@@ -157,6 +161,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
         e.atlases.push_back(std::move(atlas));
         e.scale.push_back(std::move(scale));
         e.offset.push_back(std::move(offset));
+        sources.push_back(std::move(source));
     }
 
     // M_v,ch for every view: the app's per-frame fold (CompressedBtf::lighting_matrix).
@@ -209,7 +214,8 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
         nlohmann::json tex = nlohmann::json::array();
         for (int g = 0; g < kSlots; ++g) {
             tex.push_back({{"uniform", str("u_group", g)}, {"unit", g},
-                           {"file", "the atlas of the group slot " + std::to_string(g) + " shows this frame (g###-atlas.png)"}});
+                           {"file", "the atlas of the group slot " + std::to_string(g) +
+                                        " shows this frame (textures.groups[g]: its file, or assembled)"}});
         }
         nlohmann::json vm = {
             {"name", var.name},
@@ -248,10 +254,13 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
     for (int g = 0; g < groups; ++g) {
         nlohmann::json channels = nlohmann::json::array();
         for (int k = 0; k < e.slabs * 4; ++k) {
+            const std::string& src = sources[size_t(g)][size_t(k)];
             channels.push_back({{"column", k == 0 ? "mean" : (k <= e.components[size_t(g)] ? str("component ", k - 1) : "unused")},
+                                {"file", src.empty() ? nlohmann::json() : nlohmann::json(src)},
                                 {"scale", e.scale[size_t(g)][size_t(k)]}, {"offset", e.offset[size_t(g)][size_t(k)]}});
         }
-        groups_j.push_back({{"file", atlas_file(g)}, {"components", e.components[size_t(g)]}, {"channels", channels}});
+        groups_j.push_back({{"file", e.atlas_files ? nlohmann::json(atlas_file(g)) : nlohmann::json()},
+                            {"components", e.components[size_t(g)]}, {"channels", channels}});
     }
     nlohmann::json views_j = nlohmann::json::array();
     for (int v = 0; v < btf->shape().n_views(); ++v) {
@@ -280,6 +289,15 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
           {"layout", str("per view group one RGBA8 atlas, ", e.width, " x ", e.height * e.slabs, " texels: ", e.slabs,
                          " slabs of ", e.width, " x ", e.height, " stacked top to bottom; slab s channel k (r, g, b, "
                          "a) = column 4 s + k of [mean | components] (8-bit code)")},
+          {"atlas_files", e.atlas_files},
+          {"assembly",
+           str(e.atlas_files ? "the atlases are written (groups[g].file); they equal this assembly: "
+                             : "no atlas files (groups[g].file null): the app assembles each group's atlas from the "
+                               "btf-pca folder's PNGs (in a fabric bundle: beside this file): ",
+               "channel k (r, g, b, a = 0..3) of slab s (rows s x ", e.height, " .. (s + 1) x ", e.height,
+               " - 1) of group g's atlas = the 8-bit code of groups[g].channels[4 s + k].file at the same pixel "
+               "(the PNG decoded without gamma or colour management, rows top first), code 0 where that file is "
+               "null (unused) or has not arrived")},
           {"encoding", "PNG, 8-bit RGBA, rows top first, decoded without gamma or colour management (the texel "
                        "bytes glTexImage2D takes, GL_RGBA / GL_UNSIGNED_BYTE)"},
           {"decode", "value = offset + scale x code / 255 per channel (the folder's own decode; unused channels "
@@ -357,6 +375,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
                  "btf-pca.json's weights file (docs/btf.md, \"Storage and streaming\"), E = matrices.irradiance_w_m2"},
         {"cost_per_frame", str(kBtfCapSamples, " x K angle comparisons per light with a radius (1 x K for a point "
                                "light), then 3 colours x (1 + C) multiply-adds per lit light direction per blend view")}};
+    e.manifest["load"] = btf_load_choices(e);
     return e;
 }
 
@@ -367,7 +386,7 @@ std::vector<std::pair<std::string, std::string>> BtfGlesExport::files() const {
         out.emplace_back(v.name + ".vert", v.vertex_source);
         out.emplace_back(v.name + ".frag", v.fragment_source);
     }
-    for (size_t g = 0; g < atlases.size(); ++g) {
+    for (size_t g = 0; atlas_files && g < atlases.size(); ++g) {
         const Texture8& t = atlases[g];
         image::Image img(t.width, t.height, 4);
         for (size_t i = 0; i < t.rgba.size(); ++i) img.pixels[i] = t.rgba[i] / 255.0f;

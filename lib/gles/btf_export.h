@@ -36,6 +36,10 @@ struct BtfGlesOptions {
     double irradiance_w_m2 = 1.0;  ///< the capture's irradiance (image = btf x E), > 0
     int map_height = 128;          ///< sh_light_weight_matrix's quadrature, 16..2048
     btf::DomeLightingOptions lighting;  ///< cell rule of the light weights (cosine by default)
+    /// Write the atlas PNGs (files()). false: the app assembles them from the btf-pca folder's
+    /// mean and component PNGs by the manifest's textures.groups[g].channels[k].file (a fabric
+    /// bundle, which streams those PNGs already: no bytes twice); the manifest says which.
+    bool write_atlases = true;
 };
 
 /// One shader variant.
@@ -83,8 +87,10 @@ struct BtfGlesExport {
     btf::DomeLightingOptions lighting;   ///< the cell rule lights are spread by
     std::vector<std::pair<int, int>> stream;  ///< [group, component], the folder's order
     std::vector<BtfGlesVariant> variants;
+    bool atlas_files = true;               ///< BtfGlesOptions::write_atlases
     nlohmann::json manifest;               ///< btf-gles.json (deterministic)
-    /// file name -> bytes: btf-gles.json, shaders, atlases (PNG), lighting-matrices.bin.
+    /// file name -> bytes: btf-gles.json, shaders, atlases (PNG, when atlas_files),
+    /// lighting-matrices.bin.
     std::vector<std::pair<std::string, std::string>> files() const;
 };
 
@@ -92,6 +98,15 @@ struct BtfGlesExport {
 /// a fit space other than linear, components that are not 8-bit PNG, or a variant that does not
 /// fit its version's guaranteed limits (naming the resource and both numbers).
 BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& options);
+
+/// btf-gles.json's "load": which exported variant an app loads for each GL capability, in the
+/// shape of the BRDF shaders' index.json "load" (export.h load_choices): one entry per
+/// capability ("OpenGL ES 3.0 or later", "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH",
+/// "OpenGL ES 2.0 without GL_FRAGMENT_PRECISION_HIGH") with capability, variant (an exported
+/// variant's name or null), manifest, validated and why. ES 2.0 names btf-es100-highp only when
+/// every group's components fit its one slab (3); without highp fragments nothing (mediump is
+/// refused, docs/btf-gles.md "Precision").
+nlohmann::json btf_load_choices(const BtfGlesExport& e);
 
 /// The uniforms of one frame: u_weight (9 x slabs_used vec4, index (slot x 3 + ch) x S + s),
 /// u_scale and u_offset (3 x slabs_used vec4, index slot x S + s) and which group each of the 3

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <random>
 
 #include "btf/compressed.h"
@@ -407,6 +408,121 @@ TEST(BtfGlesFiles, MatricesFileHoldsEveryViewsLightingMatrix) {
             EXPECT_NEAR(dec, col[p], 2 * ulp) << "column " << k << " pixel " << p;
         }
     }
+}
+
+/// The files of an export by name.
+std::map<std::string, std::string> files_of(const BtfGlesExport& e) {
+    std::map<std::string, std::string> out;
+    for (auto& [name, bytes] : e.files()) out[name] = bytes;
+    return out;
+}
+
+TEST(BtfGlesFiles, AtlasesAssembleFromTheFoldersPngsByTheManifestAlone) {
+    // The app's assembly (textures.assembly) from btf-gles.json and the folder's PNGs, decoded
+    // here without the export's reader: every atlas byte equals the export's, for both slabs.
+    const std::string dir = folder6();
+    BtfGlesOptions o;
+    const BtfGlesExport written = export_btf_gles(dir, o);
+    o.write_atlases = false;
+    const BtfGlesExport none = export_btf_gles(dir, o);
+    const auto wf = files_of(written), nf = files_of(none);
+    const nlohmann::json m = nlohmann::json::parse(nf.at("btf-gles.json"));
+    EXPECT_EQ(m["textures"]["atlas_files"], false);
+    EXPECT_EQ(nlohmann::json::parse(wf.at("btf-gles.json"))["textures"]["atlas_files"], true);
+    // No atlas PNG without them; every other file the same bytes.
+    EXPECT_EQ(wf.size(), nf.size() + written.atlases.size());
+    for (const auto& [name, bytes] : nf) {
+        if (name != "btf-gles.json") EXPECT_EQ(bytes, wf.at(name)) << name;
+    }
+    const int w = m["image"]["width"], h = m["image"]["height"];
+    const auto& groups = m["textures"]["groups"];
+    ASSERT_EQ(groups.size(), written.atlases.size());
+    image::ReadOptions raw;
+    raw.decode_srgb = false;
+    int files_used = 0, unused = 0;
+    for (size_t g = 0; g < groups.size(); ++g) {
+        EXPECT_TRUE(groups[g]["file"].is_null());
+        const auto& channels = groups[g]["channels"];
+        const size_t slabs = channels.size() / 4;
+        ASSERT_EQ(channels.size() % 4, 0u);
+        std::vector<uint8_t> atlas(size_t(w) * h * slabs * 4, 0);
+        for (size_t k = 0; k < channels.size(); ++k) {
+            if (channels[k]["file"].is_null()) {
+                ++unused;
+                continue;
+            }
+            const image::Image png = image::read_image(dir + "/" + channels[k]["file"].get<std::string>(), raw);
+            ASSERT_EQ(png.width, w);
+            ASSERT_EQ(png.height, h);
+            ++files_used;
+            for (int y = 0; y < h; ++y) {
+                for (int x = 0; x < w; ++x) {
+                    const size_t texel = (k / 4) * size_t(w) * h + size_t(y) * w + size_t(x);
+                    atlas[texel * 4 + k % 4] = static_cast<uint8_t>(std::lround(png.at(x, y, 0) * 255.0f));
+                }
+            }
+        }
+        EXPECT_EQ(atlas, written.atlases[g].rgba) << "group " << g;
+        // And the written atlas PNG decodes to those bytes.
+        const std::string path = inlight::testing::temp_dir("btf_gles_atlas") + "/a.png";
+        fs::write_text_atomic(path, wf.at(str("g", g < 10 ? "00" : "0", g, "-atlas.png")));
+        const image::Image png = image::read_image(path, raw);
+        ASSERT_EQ(png.pixels.size(), atlas.size());
+        for (size_t i = 0; i < atlas.size(); ++i) {
+            ASSERT_EQ(std::lround(png.pixels[i] * 255.0f), atlas[i]) << "group " << g << " byte " << i;
+        }
+    }
+    // 27 groups x (mean + 6 components), one unused channel each (2 slabs: 8 channels).
+    EXPECT_EQ(files_used, 27 * 7);
+    EXPECT_EQ(unused, 27);
+}
+
+TEST(BtfGlesFiles, LoadTableNamesOnlyExportedVariantsThatDrawTheWholeStream) {
+    const auto check_names = [](const BtfGlesExport& e) {
+        const auto f = files_of(e);
+        for (const auto& c : e.manifest["load"]) {
+            if (c["variant"].is_null()) continue;
+            const std::string n = c["variant"];
+            EXPECT_TRUE(f.count(n + ".frag") && f.count(n + ".vert")) << n << " named but not exported";
+            EXPECT_EQ(c["manifest"], "btf-gles.json");
+            EXPECT_EQ(c["validated"], true);
+        }
+    };
+    BtfGlesOptions o;
+    const BtfGlesExport c3 = export_btf_gles(folder3(), o);
+    const nlohmann::json& l3 = c3.manifest["load"];
+    ASSERT_EQ(l3.size(), 3u);
+    EXPECT_EQ(l3[0]["capability"], "OpenGL ES 3.0 or later");
+    EXPECT_EQ(l3[0]["variant"], "btf-es300-highp");
+    EXPECT_EQ(l3[1]["capability"], "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH");
+    EXPECT_EQ(l3[1]["variant"], "btf-es100-highp");  // 3 components: one slab holds them
+    EXPECT_EQ(l3[2]["capability"], "OpenGL ES 2.0 without GL_FRAGMENT_PRECISION_HIGH");
+    EXPECT_TRUE(l3[2]["variant"].is_null());
+    EXPECT_NE(l3[2]["why"].get<std::string>().find("mediump is refused"), std::string::npos);
+    check_names(c3);
+    // 6 components: ES 1.00 would stop at the drawable prefix, so ES 2.0 gets no variant.
+    const BtfGlesExport c6 = export_btf_gles(folder6(), o);
+    const nlohmann::json& l6 = c6.manifest["load"];
+    EXPECT_EQ(l6[0]["variant"], "btf-es300-highp");
+    EXPECT_TRUE(l6[1]["variant"].is_null());
+    const std::string why = l6[1]["why"];
+    const int64_t prefix = btf_drawable_prefix(c6, c6.variants[0].version == GlslVersion::kEs100 ? c6.variants[0] : c6.variants[1]);
+    EXPECT_LT(prefix, static_cast<int64_t>(c6.stream.size()));
+    EXPECT_NE(why.find(str("a group here has 6; it could draw only the first ", prefix, " of the ", c6.stream.size())),
+              std::string::npos) << why;
+    check_names(c6);
+    // Only what is exported: ES 3.00 alone leaves ES 2.0 without; ES 1.00 alone serves ES 3.0 too.
+    o.versions = {GlslVersion::kEs300};
+    const nlohmann::json l300 = export_btf_gles(folder3(), o).manifest["load"];
+    EXPECT_EQ(l300[0]["variant"], "btf-es300-highp");
+    EXPECT_TRUE(l300[1]["variant"].is_null());
+    EXPECT_NE(l300[1]["why"].get<std::string>().find("not exported"), std::string::npos);
+    o.versions = {GlslVersion::kEs100};
+    const BtfGlesExport e100 = export_btf_gles(folder3(), o);
+    EXPECT_EQ(e100.manifest["load"][0]["variant"], "btf-es100-highp");
+    EXPECT_EQ(e100.manifest["load"][1]["variant"], "btf-es100-highp");
+    check_names(e100);
+    EXPECT_TRUE(export_btf_gles(folder6(), o).manifest["load"][0]["variant"].is_null());
 }
 
 TEST(BtfGlesFiles, ShadersPassGlslangValidator) {

@@ -1,8 +1,11 @@
 // gles/load_choice.cpp: which exported variant an app loads for each GL capability (index.json's
-// "load", export.h load_choices()).
+// "load", export.h load_choices(); btf-gles.json's "load", btf_export.h btf_load_choices()).
+#include <algorithm>
 #include <map>
 
 #include "core/error.h"
+#include "gles/btf_draw.h"
+#include "gles/btf_export.h"
 #include "gles/export.h"
 
 namespace inlight::gles {
@@ -77,6 +80,57 @@ nlohmann::json load_choices(const std::vector<Export>& exports) {
             choose(list, "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH", false, true),
             choose(list, "OpenGL ES 2.0 without GL_FRAGMENT_PRECISION_HIGH", false, false)};
     }
+    return out;
+}
+
+nlohmann::json btf_load_choices(const BtfGlesExport& e) {
+    const BtfGlesVariant *es3 = nullptr, *es1 = nullptr;
+    for (const BtfGlesVariant& v : e.variants) (v.version == GlslVersion::kEs300 ? es3 : es1) = &v;
+    const int max_c = e.components.empty() ? 0 : *std::max_element(e.components.begin(), e.components.end());
+    const char* validated = "; highp: drawn through EGL equal to the CPU decoder within one 8-bit code "
+                            "(docs/btf-gles.md, \"Tests\")";
+    // ES 1.00 reads one slab: the whole stream only when every group's components fit in it.
+    std::string es1_refused;
+    if (!es1) {
+        es1_refused = "btf-es100-highp was not exported (--gles-versions)";
+    } else if (max_c > es1->slabs_used * 4 - 1) {
+        es1_refused = str("btf-es100-highp reads one atlas slab: the mean and ", es1->slabs_used * 4 - 1,
+                          " components per group, and a group here has ", max_c,
+                          "; it could draw only the first ", btf_drawable_prefix(e, *es1), " of the ", e.stream.size(),
+                          " stream entries, so it is not named (compress with at most ", es1->slabs_used * 4 - 1,
+                          " components for ES 2.0 devices)");
+    }
+    auto entry = [&](const std::string& capability, const BtfGlesVariant* v, const std::string& why) {
+        nlohmann::json c = {{"capability", capability}};
+        if (!v) {
+            c["variant"] = nullptr;
+            c["why"] = why;
+            return c;
+        }
+        c["variant"] = v->name;
+        c["manifest"] = "btf-gles.json";
+        c["validated"] = true;
+        c["why"] = why + validated;
+        return c;
+    };
+    nlohmann::json out = nlohmann::json::array();
+    if (es3) {
+        out.push_back(entry("OpenGL ES 3.0 or later", es3,
+                            str("GLSL ES 3.00: exact texel fetches, all ", e.slabs, " slab(s), every component")));
+    } else {
+        out.push_back(entry("OpenGL ES 3.0 or later", es1_refused.empty() ? es1 : nullptr,
+                            es1_refused.empty() ? "btf-es300-highp was not exported: the ES 1.00 variant runs on "
+                                                  "ES 3.0 and draws every component here"
+                                                : "btf-es300-highp was not exported and " + es1_refused));
+    }
+    out.push_back(entry("OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH", es1_refused.empty() ? es1 : nullptr,
+                        es1_refused.empty() ? str("GLSL ES 1.00: one slab holds every group's mean and ", max_c,
+                                                  " component(s)")
+                                            : es1_refused));
+    out.push_back(entry("OpenGL ES 2.0 without GL_FRAGMENT_PRECISION_HIGH", nullptr,
+                        "mediump is refused: its 10-bit mantissa on 3 x (1 + C) decoded terms errs by more than "
+                        "an 8-bit code (docs/btf-gles.md, \"Precision\"); every exported variant needs highp "
+                        "fragment floats"));
     return out;
 }
 

@@ -9,7 +9,7 @@ make_small_btf
 "$PCA" compress "$WORK/btf" -o "$WORK/pca" -k 2 -c 3 "${DIRS[@]}" >/dev/null 2>&1 || fail "compress"
 
 expect_exit 0 "export-gles --help" -- "$PCA" export-gles --help
-for opt in --bands --gles-versions --precision --irradiance-w-m2; do
+for opt in --bands --gles-versions --precision --irradiance-w-m2 --atlases; do
     grep -q -- "$opt" "$WORK/stdout" || fail "export-gles --help lacks $opt"
 done
 expect_exit 0 "btf-pca --help lists export-gles" -- "$PCA" --help
@@ -30,6 +30,16 @@ expect_true "ES 1.00 fits ES 2.0's 16 vectors" -- bash -c \
     "[[ \$(jq '.variants[] | select(.glsl_version == \"100\") | .gl_limits_needed.max_fragment_uniform_vectors' '$WORK/out/btf-gles.json') -le 16 ]]"
 expect_exit 0 "export again" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/out2" --bands 3
 expect_true "same inputs, same bytes" -- diff -r "$WORK/out" "$WORK/out2"
+expect_true "atlases written and said so" -- jq -e '.textures.atlas_files == true and .textures.groups[0].file == "g000-atlas.png"' "$WORK/out/btf-gles.json"
+# --atlases none: no atlas PNG, the manifest says the app assembles them, every other file the same.
+expect_exit 0 "export without atlases" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/none" --bands 3 --atlases none
+expect_true "no atlas files" -- bash -c "! ls '$WORK/none' | grep -q atlas"
+expect_true "the manifest says so" -- jq -e '.textures.atlas_files == false and ([.textures.groups[].file] | unique) == [null] and (.textures.assembly | test("assembles"))' "$WORK/none/btf-gles.json"
+for f in btf-es300-highp.frag btf-es300-highp.vert btf-es100-highp.frag btf-es100-highp.vert lighting-matrices.bin; do
+    expect_true "$f as with atlases" -- cmp "$WORK/out/$f" "$WORK/none/$f"
+done
+# 3 components per group: both highp variants named for their capabilities, none without highp.
+expect_true "load table" -- jq -e '[.load[].variant] == ["btf-es300-highp", "btf-es100-highp", null]' "$WORK/out/btf-gles.json"
 expect_exit 0 "ES 3.00 only" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/out3" --gles-versions 300
 expect_true "no ES 1.00 shader" -- test ! -e "$WORK/out3/btf-es100-highp.frag"
 
@@ -39,8 +49,10 @@ expect_stderr "mediump guarantees a 10-bit mantissa" "says why mediump is refuse
 expect_exit 2 "bands 10" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad2" --bands 10
 expect_exit 2 "unknown version" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad3" --gles-versions 200
 expect_exit 2 "NaN irradiance" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad4" --irradiance-w-m2 nan
+expect_exit 2 "unknown --atlases" -- "$PCA" export-gles "$WORK/pca" -o "$WORK/bad9" --atlases some
+expect_stderr "--atlases" "names the option"
 expect_exit 2 "missing input" -- "$PCA" export-gles "$WORK/nope" -o "$WORK/bad5"
-for d in bad1 bad2 bad3 bad4 bad5; do
+for d in bad1 bad2 bad3 bad4 bad5 bad9; do
     expect_true "$d: nothing written" -- test ! -e "$WORK/$d"
 done
 

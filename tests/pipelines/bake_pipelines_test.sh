@@ -15,7 +15,7 @@ expect_stderr "no BTF" "says the fabric has no BTF"
 expect_stderr "4 GLES variants" "says how many shader variants it bundled (ES 1.00, 3.00 x 2 modes, highp only by default: docs/gles.md)"
 B="$WORK/out/bundles/fabrics/tiny"
 M="$B/manifest.json"
-expect_true "fabric bundle roles" -- jq -e '([.files[].role] | unique) == ["albedo","brdf_sh_table","brdf_sh_table_json","brdf_sh_texture","material","normal","shader_data","shader_fragment","shader_index","shader_lookup","shader_manifest","shader_texture","shader_vertex","thumbnail"] and .version == 3' "$M"
+expect_true "fabric bundle roles" -- jq -e '([.files[].role] | unique) == ["albedo","brdf_sh_table","brdf_sh_table_json","brdf_sh_texture","material","normal","shader_data","shader_fragment","shader_index","shader_lookup","shader_manifest","shader_texture","shader_vertex","thumbnail"] and .version == 4' "$M"
 # Every exported variant is bundled with what its manifest names, and the bundle's hash of each
 # is the exporter's file's, recomputed with sha256sum.
 G="$WORK/out/work/fabrics/tiny/gles"

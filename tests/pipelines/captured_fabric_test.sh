@@ -31,6 +31,51 @@ cp -r "$C" "$WORK/reordered"
 jq '(.files[] | select(.role == "btf_component" and .stream_index < 2) | .stream_index) |= 1 - .' "$C/manifest.json" > "$WORK/reordered/manifest.json"
 expect_exit 1 "verify rejects components out of the BTF's stream order" -- "$BIN/bundle" verify "$WORK/reordered"
 expect_stderr "stream order" "says the stream order differs"
+expect_true "float components: no BTF GLES shaders in the bundle" -- jq -e '[.files[] | select(.role | startswith("btf_gles"))] == []' "$C/manifest.json"
+# The same capture as 8-bit PNG components (the shipped format; 4 components, more than ES 1.00's
+# slab holds): the bundle carries the BTF's GLES shaders beside btf-pca.json, without atlases.
+make_fabric "$WORK/png" "PNG twill" 0.3
+printf 'view-group-size = 27\ncomponents = 4\nformat = "png"\n' > "$WORK/png/btf-pca.toml"
+expect_exit 0 "bake-fabric with the capture as PNG components" -- \
+    "$PIPE/bake-fabric.sh" "$WORK/png" "$WORK/out" png "$WORK/out/work/fabrics/cap/capture/btf"
+expect_stderr "BTF GLES shaders: OpenGL ES 3.0 or later: btf-es300-highp; OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH: none" \
+    "says which variant each GL capability loads"
+PM="$WORK/out/bundles/fabrics/png/manifest.json"
+PG="$WORK/out/work/fabrics/png/btf-gles"
+# shellcheck disable=SC2016  # $g is a jq variable
+expect_true "btf-gles.json, 2 variants' shaders and the matrices under btf/, found by role; no atlas" -- jq -e \
+    '.version == 4 and .properties.btf_gles_bands == 3
+     and ([.files[] | select(.role == "btf_gles_manifest") | .path] == ["btf/btf-gles.json"])
+     and ([.files[] | select(.role == "btf_gles_vertex" or .role == "btf_gles_fragment") | .path] | sort)
+         == ["btf/btf-es100-highp.frag", "btf/btf-es100-highp.vert", "btf/btf-es300-highp.frag", "btf/btf-es300-highp.vert"]
+     and ([.files[] | select(.role == "btf_gles_matrices") | .path] == ["btf/lighting-matrices.bin"])
+     and ([.files[] | select(.path | test("atlas"))] == [])' "$PM"
+mismatch=0
+for f in btf-gles.json btf-es300-highp.vert btf-es300-highp.frag btf-es100-highp.vert btf-es100-highp.frag lighting-matrices.bin; do
+    want=$(sha256sum "$PG/$f" | cut -d' ' -f1)
+    got=$(jq -r --arg p "btf/$f" '.files[] | select(.path == $p) | .sha256' "$PM")
+    [ "$want" = "$got" ] || { echo "hash of btf/$f: bundle '$got', file $want"; mismatch=1; }
+done
+expect_true "BTF GLES files hashed in the manifest as exported" -- test "$mismatch" -eq 0
+# shellcheck disable=SC2016  # $m is a jq variable
+expect_true "every atlas channel's source is a mean or component PNG of the bundle" -- jq -e --slurpfile m "$PM" \
+    '([.textures.groups[].channels[].file | select(. != null) | "btf/" + .] | unique)
+     == ([$m[0].files[] | select(.role == "btf_mean" or .role == "btf_component") | .path] | unique)
+     and .textures.atlas_files == false and ([.textures.groups[].file] | unique) == [null]' "$PG/btf-gles.json"
+expect_true "the matrices divide by the capture's irradiance" -- test \
+    "$(jq '.matrices.irradiance_w_m2' "$PG/btf-gles.json")" = "$(jq '.irradiance_w_m2' "$WORK/out/work/fabrics/cap/capture/btf/capture.json")"
+# The bundle's own btf/ exports to the same bytes (the export reads the bundled PNGs).
+expect_exit 0 "export-gles of the bundle's btf/" -- "$BIN/btf-pca" export-gles "$WORK/out/bundles/fabrics/png/btf" \
+    -o "$WORK/png-again" --atlases none --bands 3 \
+    --irradiance-w-m2 "$(jq '.irradiance_w_m2' "$WORK/out/work/fabrics/cap/capture/btf/capture.json")"
+expect_true "same files" -- diff -r "$PG" "$WORK/png-again"
+cp -r "$WORK/out/bundles/fabrics/png" "$WORK/png-cut"
+rm "$WORK/png-cut/btf/btf-es100-highp.frag"
+# shellcheck disable=SC2016  # $f and $b are jq variables
+jq --arg f btf/btf-es100-highp.frag '([.files[] | select(.path == $f) | .bytes] | add) as $b
+    | .files |= map(select(.path != $f)) | .total_bytes -= $b' "$PM" > "$WORK/png-cut/manifest.json"
+expect_exit 1 "verify rejects a bundle missing a BTF shader" -- "$BIN/bundle" verify "$WORK/png-cut"
+expect_stderr "btf/btf-gles.json: variants\\[0\\].fragment_shader: 'btf/btf-es100-highp.frag' is not in the bundle" "names the missing shader"
 
 printf 'spp = 8\nwidth-px = 16\nheight-px = 16\nrt-max-bands = 4\nrt-supersample = 1\n' > "$WORK/v.toml"
 
