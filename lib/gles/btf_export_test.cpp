@@ -432,7 +432,9 @@ TEST(BtfGlesFiles, AtlasesAssembleFromTheFoldersPngsByTheManifestAlone) {
     // No atlas PNG without them; every other file the same bytes.
     EXPECT_EQ(wf.size(), nf.size() + written.atlases.size());
     for (const auto& [name, bytes] : nf) {
-        if (name != "btf-gles.json") EXPECT_EQ(bytes, wf.at(name)) << name;
+        if (name != "btf-gles.json") {
+            EXPECT_EQ(bytes, wf.at(name)) << name;
+        }
     }
     const int w = m["image"]["width"], h = m["image"]["height"];
     const auto& groups = m["textures"]["groups"];
