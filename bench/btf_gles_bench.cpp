@@ -1,8 +1,8 @@
 // Speed and memory of the BTF GLES shaders (gles/btf_export.h, docs/btf-gles.md) on this
 // machine's driver (llvmpipe here). The fabric: the analytic BTF of btf/synthetic.h (rank 6) on
-// the Bonn dome (81 views x 81 lights) at kSidePx x kSidePx, compressed once by the btf-pca library
-// (groups of k = 3 consecutive views: 27 groups, C = 8, 8-bit PNG) into a temporary folder
-// removed at exit, and exported with gles::export_btf_gles at 3 SH bands.
+// the Bonn dome (81 views x 81 lights) at 256 x 256 px (or BTF_GLES_BENCH_SIDE_PX), compressed
+// once by the btf-pca library (groups of k = 3 consecutive views: 27 groups, C = 8, 8-bit PNG)
+// into a temporary folder removed at exit, and exported with gles::export_btf_gles at 3 SH bands.
 //
 // BM_BtfGlesFrame: a 1080 x 1920 RGBA32F target covered by the tiled fabric at one texel per pixel
 // (u_uv_scale = target / image size: the texture repeats 4.2 x 7.5 times at 256 px), viewed from
@@ -24,6 +24,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -36,6 +37,7 @@
 #include "btf/synthetic.h"
 #include "core/conventions.h"
 #include "core/log.h"
+#include "core/number.h"
 #include "envmap/project.h"
 #include "gles/btf_draw.h"
 #include "gles/btf_export.h"
@@ -53,6 +55,13 @@ constexpr int kViewGroup = 3, kComponents = 8;
 constexpr int kRepeat = 4;         // the first draw compiles; the least of all is kept
 const btf::Direction kView{30.0, 45.0};  // nearest views (30, 30), (30, 60), (45, 40): 3 groups
 
+/// The fabric's image side: BTF_GLES_BENCH_SIDE_PX (16..512) when set (128: a 4x quicker run),
+/// else kSidePx. Throws UsageError naming the variable for anything else.
+int side_px() {
+    const char* v = std::getenv("BTF_GLES_BENCH_SIDE_PX");
+    return v ? static_cast<int>(parse_integer(v, "BTF_GLES_BENCH_SIDE_PX", 16, 512)) : kSidePx;
+}
+
 /// The btf-pca folder of the fabric, compressed once, removed when the process exits.
 struct Folder {
     std::string root, dir;
@@ -62,7 +71,7 @@ struct Folder {
         if (!mkdtemp(root.data())) throw std::runtime_error("btf_gles_bench: mkdtemp failed");
         dir = root + "/pca";
         btf::AnalyticBtfOptions ao;
-        ao.width = ao.height = kSidePx;
+        ao.width = ao.height = side_px();
         ao.rank = 6;
         const btf::AnalyticBtf raw(ao);
         btf::PcaRunOptions po;
@@ -198,4 +207,16 @@ BENCHMARK(BM_BtfViewBlend)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+    try {
+        side_px();  // a bad BTF_GLES_BENCH_SIDE_PX is refused before any work
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "btf_gles_bench: %s\n", e.what());
+        return 2;
+    }
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
