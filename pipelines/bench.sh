@@ -7,6 +7,8 @@
 #   pipelines/bench.sh [BUILD]
 # BTF_PCA_BENCH_ARGS="SIDE_PX DIRECTIONS K C" sizes the btf-pca run (default "256 81 1 8", Bonn
 # size: 6561 PNGs written once into BUILD/btf-pca-bench; e.g. "64 27 1 8" for a quick one).
+# BTF_GLES_BENCH_SIDE_PX sizes btf_gles_bench's fabric (default 256, about a minute of btf-pca
+# before its table; 128 for a quicker run).
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
