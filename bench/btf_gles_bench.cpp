@@ -198,6 +198,27 @@ void BM_BtfFrameWeights(benchmark::State& state) {
 }
 BENCHMARK(BM_BtfFrameWeights)->ArgName("bands")->Arg(2)->Arg(3)->Arg(9)->Unit(benchmark::kMicrosecond);
 
+// args: dominant lights (beside 3-band SH), their angular radius in degrees (0: point lights, one
+// cell each; > 0: caps spread as kBtfCapSamples points).
+void BM_BtfFrameWeightsWithLights(benchmark::State& state) {
+    const gles::BtfGlesExport& e = exported(3);
+    const gles::BtfGlesVariant& v = variant(e, gles::GlslVersion::kEs300);
+    const Eigen::MatrixXd sh = smooth_sky_sh(3);
+    const auto sent = static_cast<int64_t>(e.stream.size());
+    std::vector<gles::BtfLight> lights;
+    const btf::Direction at[3] = {{35, 60}, {70, 200}, {10, 300}};
+    for (int i = 0; i < state.range(0); ++i)
+        lights.push_back({at[i % 3].vector(), {20, 18, 15}, static_cast<double>(state.range(1)) * kPi / 180});
+    for (auto _ : state) benchmark::DoNotOptimize(gles::btf_frame_weights(e, v, kView, sh, sent, lights));
+}
+BENCHMARK(BM_BtfFrameWeightsWithLights)
+    ->ArgNames({"lights", "radius_deg"})
+    ->Args({1, 0})
+    ->Args({3, 0})
+    ->Args({1, 5})
+    ->Args({3, 5})
+    ->Unit(benchmark::kMicrosecond);
+
 // The part of btf_frame_weights that does not depend on the bands: the 3 nearest of the 81 views.
 void BM_BtfViewBlend(benchmark::State& state) {
     const gles::BtfGlesExport& e = exported(3);

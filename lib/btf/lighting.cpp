@@ -274,50 +274,74 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
 
 namespace inlight::btf {
 
-DomeLighting directional_light_weights(const std::vector<Direction>& lights,
-                                       const Eigen::Vector3d& direction,
-                                       const Eigen::Vector3d& irradiance,
-                                       const DomeLightingOptions& options) {
+struct PointLightWeights::Impl {
+    DomeLightingOptions options;
+    std::vector<Eigen::Vector3d> lv;
+    std::vector<char> eligible;
+    std::vector<int> partner;  ///< kExtrapolated: each outer direction's inner partner
+    std::unique_ptr<HorizonTriangulation> tri;  ///< kBarycentric
+};
+
+PointLightWeights::PointLightWeights(const std::vector<Direction>& lights, const DomeLightingOptions& options)
+    : m_impl(std::make_unique<Impl>()) {
     if (lights.empty()) throw Error("directional light weights: no light directions");
+    Impl& m = *m_impl;
+    m.options = options;
+    for (const Direction& l : lights) m.lv.push_back(l.vector());
+    if (options.rule == CellRule::kCosine || options.rule == CellRule::kExtrapolated) {
+        m.eligible.assign(m.lv.size(), 1);
+        for (size_t k = 0; k < m.lv.size(); ++k) m.eligible[k] = m.lv[k].z() >= kMinCellCos;
+        if (std::none_of(m.eligible.begin(), m.eligible.end(), [](char e) { return e != 0; })) {
+            throw Error("directional light weights: every light direction lies within 0.5 deg of the horizon");
+        }
+        if (options.rule == CellRule::kExtrapolated) m.partner = outer_ring_partners(m.lv, m.eligible);
+    } else if (options.rule == CellRule::kBarycentric) {
+        m.tri = std::make_unique<HorizonTriangulation>(lights);
+    }
+}
+PointLightWeights::~PointLightWeights() = default;
+PointLightWeights::PointLightWeights(PointLightWeights&&) noexcept = default;
+PointLightWeights& PointLightWeights::operator=(PointLightWeights&&) noexcept = default;
+
+bool PointLightWeights::add(const Eigen::Vector3d& direction, const Eigen::Vector3d& irradiance,
+                            std::vector<Eigen::Vector3d>& weight) const {
     if (!direction.allFinite() || std::abs(direction.norm() - 1.0) > 1e-6) {
         throw Error("directional light weights: the light's direction is not a finite unit vector");
     }
     if (!irradiance.allFinite()) throw Error("directional light weights: the irradiance holds NaN or Inf");
-    DomeLighting out;
-    out.weight.assign(lights.size(), Eigen::Vector3d::Zero());
-    out.solid_angle_sr.assign(lights.size(), 0.0);
-    const Eigen::Vector3d d = options.sample_from_env * direction;
-    if (d.z() <= 0) {  // at or below the sample's plane: no light direction sees it
-        out.below_horizon = irradiance;
-        return out;
-    }
-    std::vector<Eigen::Vector3d> lv;
-    for (const Direction& l : lights) lv.push_back(l.vector());
-    switch (options.rule) {
+    const Impl& m = *m_impl;
+    if (weight.size() != m.lv.size()) throw Error("directional light weights: one weight per light direction expected");
+    const Eigen::Vector3d d = m.options.sample_from_env * direction;
+    if (d.z() <= 0) return false;  // at or below the sample's plane: no light direction sees it
+    switch (m.options.rule) {
         case CellRule::kConstant:
-            out.weight[static_cast<size_t>(nearest_light(lv, d))] = irradiance;
+            weight[static_cast<size_t>(nearest_light(m.lv, d))] += irradiance;
             break;
         case CellRule::kCosine:
         case CellRule::kExtrapolated: {
-            std::vector<char> eligible(lv.size(), 1);
-            for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
-            if (std::none_of(eligible.begin(), eligible.end(), [](char e) { return e != 0; })) {
-                throw Error("directional light weights: every light direction lies within 0.5 deg of the horizon");
-            }
-            const auto k = static_cast<size_t>(nearest_light(lv, d, &eligible));
-            const std::vector<int> partner = options.rule == CellRule::kExtrapolated
-                                                 ? outer_ring_partners(lv, eligible) : std::vector<int>();
-            add_cosine_weight(lv, partner.empty() ? nullptr : &partner, k, d,
-                              [&](size_t i, double f) { out.weight[i] += irradiance * f; });
+            const auto k = static_cast<size_t>(nearest_light(m.lv, d, &m.eligible));
+            add_cosine_weight(m.lv, m.partner.empty() ? nullptr : &m.partner, k, d,
+                              [&](size_t i, double f) { weight[i] += irradiance * f; });
             break;
         }
         case CellRule::kBarycentric: {
-            const HorizonTriangulation tri(lights);
             size_t hint = 0;
-            tri.spread(d, hint, [&](size_t k, double beta) { out.weight[k] += irradiance * beta; });
+            m.tri->spread(d, hint, [&](size_t k, double beta) { weight[k] += irradiance * beta; });
             break;
         }
     }
+    return true;
+}
+
+DomeLighting directional_light_weights(const std::vector<Direction>& lights,
+                                       const Eigen::Vector3d& direction,
+                                       const Eigen::Vector3d& irradiance,
+                                       const DomeLightingOptions& options) {
+    const PointLightWeights spread(lights, options);
+    DomeLighting out;
+    out.weight.assign(lights.size(), Eigen::Vector3d::Zero());
+    out.solid_angle_sr.assign(lights.size(), 0.0);
+    if (!spread.add(direction, irradiance, out.weight)) out.below_horizon = irradiance;
     return out;
 }
 

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "btf/dome.h"
@@ -43,5 +44,26 @@ DomeLighting directional_light_weights(const std::vector<Direction>& lights,
                                        const Eigen::Vector3d& direction,
                                        const Eigen::Vector3d& irradiance,
                                        const DomeLightingOptions& options = {});
+
+/// directional_light_weights for many point lights over one set of light directions (an
+/// extended light spread as points, every frame): the light vectors, the cells' eligibility and
+/// the rule's partners or triangulation are built once. Throws Error as directional_light_weights
+/// does (no light directions, all within 0.5 deg of the horizon under the cosine rules).
+class PointLightWeights {
+public:
+    PointLightWeights(const std::vector<Direction>& lights, const DomeLightingOptions& options = {});
+    ~PointLightWeights();
+    PointLightWeights(PointLightWeights&&) noexcept;
+    PointLightWeights& operator=(PointLightWeights&&) noexcept;
+    /// Adds the weights of a point light at `direction` (unit, environment frame; checked) of
+    /// irradiance E_perp (finite; checked) to `weight` (one per light direction). Returns false,
+    /// adding nothing, when the light is at or below the sample's plane.
+    bool add(const Eigen::Vector3d& direction, const Eigen::Vector3d& irradiance,
+             std::vector<Eigen::Vector3d>& weight) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
 
 }  // namespace inlight::btf

@@ -402,6 +402,8 @@ std::vector<std::pair<std::string, std::string>> BtfGlesExport::files() const {
 
 std::vector<Eigen::Vector3d> btf_light_weights(const BtfGlesExport& e, const std::vector<BtfLight>& lights) {
     std::vector<Eigen::Vector3d> out(e.lights.size(), Eigen::Vector3d::Zero());
+    if (lights.empty()) return out;
+    const btf::PointLightWeights spread(e.lights, e.lighting);
     for (const BtfLight& l : lights) {
         if (!l.irradiance_w_m2.allFinite()) throw Error("BTF GLES frame: a light's irradiance holds NaN or Inf");
         if (!(l.angular_radius >= 0 && l.angular_radius < kPi / 2))
@@ -419,8 +421,7 @@ std::vector<Eigen::Vector3d> btf_light_weights(const BtfGlesExport& e, const std
             const double r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * i;
             const Eigen::Vector3d d =
                 n == 1 ? l.direction : (turn * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z)).normalized();
-            const btf::DomeLighting w = btf::directional_light_weights(e.lights, d, l.irradiance_w_m2 / n, e.lighting);
-            for (size_t k = 0; k < out.size(); ++k) out[k] += w.weight[k];
+            spread.add(d, l.irradiance_w_m2 / n, out);
         }
     }
     return out;
