@@ -122,8 +122,7 @@ if [ -n "$BTF" ]; then
         "$W/btf/btf-pca.json" >/dev/null; then
         btf_gles_bands=$(jq '[.metrics.sh_bands, 9] | min' "$W/brdf/report.json")
         rm -rf "$W/btf-gles"
-        "$BIN/btf-pca" export-gles "$W/btf" -o "$W/btf-gles" --atlases none --bands "$btf_gles_bands" \
-            --irradiance-w-m2 "$(jq '.irradiance_w_m2 // 1' "$W/btf/btf-pca.json")" -q \
+        "$BIN/btf-pca" export-gles "$W/btf" -o "$W/btf-gles" --atlases none --bands "$btf_gles_bands" -q \
             --report "$W/btf-gles-export.json"
         files+=(--file "btf_gles_manifest=$W/btf-gles/btf-gles.json@btf/btf-gles.json"
             --file "btf_gles_matrices=$W/btf-gles/lighting-matrices.bin@btf/lighting-matrices.bin")

@@ -27,9 +27,10 @@ int export_gles(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--precision", precision, "Fragment float precision: highp only (mediump is refused: docs/btf-gles.md)")
         ->capture_default_str();
-    app.add_option("--irradiance-w-m2", o.irradiance_w_m2, "The capture's irradiance E (image = btf x E; "
-                   "capture.json's) the matrices divide by")
-        ->check(app::finite_positive())->capture_default_str();
+    app.add_option("--irradiance-w-m2", o.irradiance_w_m2, "The capture's irradiance E (image = btf x E) the "
+                   "matrices divide by (default: the folder's btf-pca.json irradiance_w_m2, which btf-pca records "
+                   "from a capture's capture.json, else 1)")
+        ->check(app::finite_positive());
     app.add_option("--atlases", atlases, "write: one atlas PNG per view group; none: no atlas files, the app "
                    "assembles them from the folder's PNGs by btf-gles.json's channel files (a fabric bundle, which "
                    "ships those PNGs already: docs/btf-gles.md \"In the bundle\")")

@@ -111,12 +111,24 @@ void append_floats_le(std::string& out, const std::vector<float>& v) {
 
 }  // namespace
 
-BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& o) {
-    if (o.sh_bands < 1 || o.sh_bands > 9) throw UsageError(str("--bands must be in 1..9, got ", o.sh_bands));
-    if (!(o.irradiance_w_m2 > 0) || !std::isfinite(o.irradiance_w_m2))
-        throw UsageError("--irradiance must be finite and > 0");
+BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& given) {
+    if (given.sh_bands < 1 || given.sh_bands > 9) throw UsageError(str("--bands must be in 1..9, got ", given.sh_bands));
+    if (!(given.irradiance_w_m2 >= 0) || !std::isfinite(given.irradiance_w_m2))
+        throw UsageError("--irradiance-w-m2 must be finite and > 0");
     const auto btf = btf::CompressedBtf::open(dir);
     const std::string manifest_path = dir + "/btf-pca.json";
+    // E: given, else the folder's (btf-pca records a capture's), else 1.
+    BtfGlesOptions o = given;
+    if (o.irradiance_w_m2 == 0) {
+        const nlohmann::json& pm = btf->manifest();
+        o.irradiance_w_m2 = 1;
+        if (pm.contains("irradiance_w_m2")) {
+            const nlohmann::json& v = pm.at("irradiance_w_m2");
+            if (!v.is_number() || !std::isfinite(v.get<double>()) || !(v.get<double>() > 0))
+                throw Error(str(manifest_path, ": irradiance_w_m2 must be a finite number > 0"));
+            o.irradiance_w_m2 = v.get<double>();
+        }
+    }
     if (btf->fit_space() != btf::FitSpace::kLinear)
         throw Error(str(manifest_path, ": fit space '", btf::to_string(btf->fit_space()),
                         "': the GLES export folds lighting into component weights, which only the linear "

@@ -33,7 +33,9 @@ namespace inlight::gles {
 struct BtfGlesOptions {
     std::vector<GlslVersion> versions{GlslVersion::kEs100, GlslVersion::kEs300};
     int sh_bands = 3;              ///< lighting bands the matrices take, 1..9
-    double irradiance_w_m2 = 1.0;  ///< the capture's irradiance (image = btf x E), > 0
+    /// The capture's irradiance E (image = btf x E), > 0; 0 = the folder's own (btf-pca.json's
+    /// irradiance_w_m2, which btf-pca records from a capture's capture.json), else 1.
+    double irradiance_w_m2 = 0;
     int map_height = 128;          ///< sh_light_weight_matrix's quadrature, 16..2048
     btf::DomeLightingOptions lighting;  ///< cell rule of the light weights (cosine by default)
     /// Write the atlas PNGs (files()). false: the app assembles them from the btf-pca folder's

@@ -67,7 +67,20 @@ expect_stderr "g001-c01.png" "names the missing image"
 "$PCA" compress "$WORK/btf" -o "$WORK/srgb" -k 2 -c 3 --fit-space srgb "${DIRS[@]}" >/dev/null 2>&1 || fail "compress srgb"
 expect_exit 1 "sRGB fit space refused" -- "$PCA" export-gles "$WORK/srgb" -o "$WORK/bad8"
 expect_stderr "only the linear fit space" "says why"
-for d in bad6 bad7 bad8; do
+# The irradiance: given, else btf-pca.json's (a capture's), else 1.
+expect_true "no recorded irradiance: E = 1" -- jq -e '.matrices.irradiance_w_m2 == 1' "$WORK/out/btf-gles.json"
+cp -r "$WORK/pca" "$WORK/lit"
+jq '.irradiance_w_m2 = 2.5' "$WORK/pca/btf-pca.json" >"$WORK/lit/btf-pca.json"
+expect_exit 0 "the folder's irradiance" -- "$PCA" export-gles "$WORK/lit" -o "$WORK/lit-out" --bands 3
+expect_true "E = btf-pca.json's 2.5" -- jq -e '.matrices.irradiance_w_m2 == 2.5' "$WORK/lit-out/btf-gles.json"
+# The matrices divide by E: the first float at E = 2.5 is 1 / 2.5 of the one at E = 1.
+expect_true "the matrices scale as 1 / E" -- bash -c "[[ \$(od -An -f -N4 '$WORK/lit-out/lighting-matrices.bin' | awk '{printf \"%.4g\", \$1 * 2.5}') == \$(od -An -f -N4 '$WORK/out/lighting-matrices.bin' | awk '{printf \"%.4g\", \$1}') ]]"
+expect_exit 0 "a given irradiance wins" -- "$PCA" export-gles "$WORK/lit" -o "$WORK/lit-given" --bands 3 --irradiance-w-m2 1
+expect_true "E = 1 as given" -- cmp "$WORK/out/lighting-matrices.bin" "$WORK/lit-given/lighting-matrices.bin"
+jq '.irradiance_w_m2 = -1' "$WORK/pca/btf-pca.json" >"$WORK/lit/btf-pca.json"
+expect_exit 1 "a negative recorded irradiance" -- "$PCA" export-gles "$WORK/lit" -o "$WORK/bad10"
+expect_stderr "lit/btf-pca.json: irradiance_w_m2" "names the file and the key"
+for d in bad6 bad7 bad8 bad10; do
     expect_true "$d: nothing written" -- test ! -e "$WORK/$d"
 done
 finish
