@@ -120,6 +120,14 @@ echo "validation: $(jq -r 'group_by(.verdict) | map("\(length) \(.[0].verdict)")
     "$OUT/catalog/validate/summary.json") of $(jq length "$OUT/catalog/validate/summary.json") fabric x environment pairs"
 grep -E '^\| (fabric|---|[a-z])' "$OUT/catalog/validate/summary.md" | cut -d'|' -f2-7 | sed 's/|$//' | head -12
 echo "  ... all pairs, images and plots: $OUT/catalog/validate/index.html"
+# The captured fabrics' BTFs as the phone draws them: the bundles' BTF GLES shaders through EGL
+# against the path-traced weave (docs/btf-gles.md, "Against the truth").
+if grep -q '^The BTF as the phone draws it' "$OUT/catalog/validate/summary.md"; then
+    echo
+    echo "BTF fabrics as the phone draws them (the bundle's BTF GLES shaders, EGL), over the environments:"
+    awk '/^The BTF as the phone draws it/ {on = 1} on && /^\|/ {print} on && /^$/ && seen {exit} on && /^\|/ {seen = 1}' \
+        "$OUT/catalog/validate/summary.md" | cut -d'|' -f2-4,6-10 | sed 's/|$//'
+fi
 
 echo
 echo "demo: outputs and reports in $OUT/; this summary in $OUT/demo.txt"
