@@ -9,6 +9,8 @@
 # shade-btf --gles-bands, docs/btf-gles.md), at stream prefixes 0, 27 and 81 and the whole stream;
 # a second table gives those pictures against the truth. BTF_GLES_LIGHTS=L lights them with up
 # to L dominant lights taken out of each environment plus the residual's SH (--gles-lights).
+# BTF_LIGHT_SET=ubo2003-horizon captures the dome plus its horizon rings (render capture-btf
+# --btf-light-set; docs/btf.md "Light beyond the last ring") instead of the 81-direction dome.
 # Environments default to blender-data's studio lights and a synthetic sun (a 0.2 sky with one
 # 2e4 pixel of a 128 x 64 map at theta 41, phi 66 deg, 0.0016 sr: ~97% of the irradiance).
 set -euo pipefail
@@ -30,7 +32,8 @@ if [ ${#ENVS[@]} -eq 0 ]; then
 fi
 if [ ! -s "$OUT/btf/capture.json" ]; then
     "$BUILD/bin/render" capture-btf "$FABRIC" -o "$OUT/btf" --btf-format exr \
-        --width-px "$SIZE" --height-px "$SIZE" --spp "$CSPP" --threads 2 --report "$OUT/capture.json" -q
+        --width-px "$SIZE" --height-px "$SIZE" --spp "$CSPP" --btf-light-set "${BTF_LIGHT_SET:-ubo2003}" \
+        --threads 2 --report "$OUT/capture.json" -q
 fi
 args=()
 for e in "${ENVS[@]}"; do args+=(--environment "$e"); done

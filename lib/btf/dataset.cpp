@@ -9,6 +9,7 @@
 #include "btf/archive.h"
 #include "core/check.h"
 #include "core/error.h"
+#include "core/json_in.h"
 #include "core/parallel.h"
 
 namespace inlight::btf {
@@ -171,17 +172,39 @@ std::string FolderBtf::read_bytes(int file, uint64_t max_bytes) const {
     return m_zip->archive->read(*e, max_bytes);
 }
 
+namespace {
+
+/// The direction file a capture folder names in its capture.json under `key` (render
+/// capture-btf writes one for a set other than the dome), resolved in the folder; "" when the
+/// folder has no capture.json or it names none. Error naming capture.json for a key that is not
+/// a plain file name of the folder.
+std::string capture_direction_file(const std::string& root, const char* key) {
+    const std::string meta_path = (stdfs::path(root) / "capture.json").string();
+    std::error_code ec;
+    if (!stdfs::is_regular_file(meta_path, ec)) return "";
+    const nlohmann::json meta = json_in::read_file(meta_path);
+    const auto it = meta.is_object() ? meta.find(key) : meta.end();
+    if (it == meta.end()) return "";
+    const std::string name = it->is_string() ? it->get<std::string>() : "";
+    if (name.empty() || name != stdfs::path(name).filename().string() || name == "." || name == "..")
+        throw Error(str(meta_path, ": ", key, " must name a file in the capture folder"));
+    return (stdfs::path(root) / name).string();
+}
+
+}  // namespace
+
 void FolderBtf::build(const OpenOptions& options) {
     BtfIndex& ix = m_index;
-    const std::vector<Direction> lights = options.light_directions.empty()
-                                              ? ubo2003_dome()
-                                              : read_directions(options.light_directions);
-    const std::vector<Direction> views =
-        options.view_directions.empty() ? ubo2003_dome() : read_directions(options.view_directions);
-    const std::string light_set =
-        options.light_directions.empty() ? "UBO2003 dome" : options.light_directions;
-    const std::string view_set =
-        options.view_directions.empty() ? "UBO2003 dome" : options.view_directions;
+    // A capture folder names its own direction sets when they are not the dome; a given file wins.
+    const auto set_file = [&](const std::string& given, const char* key) {
+        return !given.empty() || m_zip ? given : capture_direction_file(ix.root, key);
+    };
+    const std::string light_file = set_file(options.light_directions, "light_directions");
+    const std::string view_file = set_file(options.view_directions, "view_directions");
+    const std::vector<Direction> lights = light_file.empty() ? ubo2003_dome() : read_directions(light_file);
+    const std::vector<Direction> views = view_file.empty() ? ubo2003_dome() : read_directions(view_file);
+    const std::string light_set = light_file.empty() ? "UBO2003 dome" : light_file;
+    const std::string view_set = view_file.empty() ? "UBO2003 dome" : view_file;
     ix.shape.lights = lights;
     ix.shape.views = views;
 

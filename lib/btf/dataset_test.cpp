@@ -119,6 +119,33 @@ TEST(FolderBtf, SixteenBitPngFlatFolderAndHalfExr) {
     EXPECT_EQ(max_abs_diff(b->read_image(2, 1), truth.read_image(2, 1)), 0.0);
 }
 
+TEST(FolderBtf, ACaptureFolderNamesItsOwnDirectionSetsInCaptureJson) {
+    Small s("btf_read_capture_sets");
+    const AnalyticBtf truth(s.opt);
+    write_ubo2003(truth, s.dir + "/btf");
+    // Without the sets the folder's names are not the dome's: refused, naming the file.
+    EXPECT_THROW(FolderBtf::open(s.dir + "/btf"), Error);
+    stdfs::copy_file(s.open.light_directions, s.dir + "/btf/lights.txt");
+    stdfs::copy_file(s.open.view_directions, s.dir + "/btf/views.txt");
+    write_text(s.dir + "/btf/capture.json",
+               R"({"light_directions": "lights.txt", "view_directions": "views.txt"})");
+    const auto btf = FolderBtf::open(s.dir + "/btf");
+    ASSERT_EQ(btf->shape().n_lights(), 4);
+    ASSERT_EQ(btf->shape().n_views(), 3);
+    EXPECT_EQ(btf->shape().lights[3].phi_deg, 200.0);
+    EXPECT_EQ(max_abs_diff(btf->read_image(3, 2), FolderBtf::open(s.dir + "/btf", s.open)->read_image(3, 2)), 0.0);
+    // A name that leaves the folder, or is not a string, is refused naming capture.json.
+    for (const char* bad : {R"({"light_directions": "../lights.txt"})", R"({"light_directions": 3})"}) {
+        write_text(s.dir + "/btf/capture.json", bad);
+        try {
+            FolderBtf::open(s.dir + "/btf");
+            ADD_FAILURE() << bad;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("capture.json"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(FolderBtf, ZipFileReadsLikeTheFolderItHolds) {
     Small s("btf_read_zip");
     const AnalyticBtf truth(s.opt);

@@ -128,6 +128,30 @@ const std::vector<Direction>& ubo2003_dome() {
     return dome;
 }
 
+const std::vector<Direction>& ubo2003_horizon_dome() {
+    static const std::vector<Direction> set = [] {
+        std::vector<Direction> d = ubo2003_dome();
+        for (double theta : kHorizonRingThetasDeg)
+            for (int k = 0; k < 24; ++k) d.push_back({theta, 15.0 * k});
+        return d;
+    }();
+    return set;
+}
+
+const std::vector<Direction>& named_direction_set(const std::string& name) {
+    if (name == "ubo2003") return ubo2003_dome();
+    if (name == "ubo2003-horizon") return ubo2003_horizon_dome();
+    throw Error(str("direction set '", name, "': expected ubo2003 or ubo2003-horizon"));
+}
+
+std::string format_directions(const std::vector<Direction>& dirs, const std::string& comment) {
+    std::ostringstream o;
+    o.precision(17);
+    o << "# " << comment << "\n";
+    for (const Direction& d : dirs) o << d.theta_deg << " " << d.phi_deg << "\n";
+    return o.str();
+}
+
 std::vector<Direction> read_directions(const std::string& path) {
     std::vector<Direction> dirs;
     std::vector<std::string> wheres;

@@ -37,6 +37,21 @@ double angle_between_deg(const Direction& a, const Direction& b);
 /// and 24 azimuths spaced evenly from phi = 0. Ordered ring by ring, phi ascending.
 const std::vector<Direction>& ubo2003_dome();
 
+/// The UBO2003 dome plus kHorizonRingThetasDeg.size() rings of 24 light directions (phi every 15
+/// deg from 0) between its last ring (75 deg) and the horizon: 177 directions, the dome's 81
+/// first. A BTF measures nothing of light beyond its last ring, where rooms are lit (windows,
+/// lamps) and where a woven sample's btf / cos rises (the yarns' sides face the light): docs/btf.md
+/// "Light beyond the last ring". For synthetic captures (render capture-btf --btf-light-set).
+const std::vector<Direction>& ubo2003_horizon_dome();
+inline constexpr double kHorizonRingThetasDeg[] = {80.0, 84.0, 87.0, 89.0};
+
+/// A named light set: "ubo2003" or "ubo2003-horizon" (Error naming the value otherwise).
+const std::vector<Direction>& named_direction_set(const std::string& name);
+
+/// Writes a direction set as read_directions reads it (`theta_deg phi_deg` per line, exact to
+/// the last bit), with a comment line first.
+std::string format_directions(const std::vector<Direction>& dirs, const std::string& comment);
+
 /// Reads a direction set: a text file with one direction per line, either `theta_deg phi_deg`
 /// or a unit vector `x y z` in the sample frame; blank lines and `#` comments are ignored.
 /// Throws Error naming the file and line for: a malformed line, NaN or Inf, theta outside

@@ -2,10 +2,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
 #include "core/conventions.h"
+#include "core/error.h"
+#include "core/fs.h"
 #include "testing/testing.h"
 
 namespace inlight::btf {
@@ -39,6 +42,32 @@ TEST(Ubo2003Dome, RingsAndAzimuthsOfTheBonnGrid) {
             min_sep = std::min(min_sep, angle_between_deg(dome[a], dome[b]));
     const double expected = 2 * std::asin(std::sin(45 * kPi / 180) * std::sin(10 * kPi / 180));
     EXPECT_NEAR(min_sep, expected * 180 / kPi, 1e-9);
+}
+
+TEST(Ubo2003Dome, HorizonSetIsTheDomeThenRingsToTheHorizonAndRoundTripsThroughItsFile) {
+    const auto& set = ubo2003_horizon_dome();
+    const auto& dome = ubo2003_dome();
+    ASSERT_EQ(set.size(), dome.size() + 24 * std::size(kHorizonRingThetasDeg));
+    for (size_t i = 0; i < dome.size(); ++i) {  // the dome first, unchanged: its indices hold
+        EXPECT_EQ(set[i].theta_deg, dome[i].theta_deg);
+        EXPECT_EQ(set[i].phi_deg, dome[i].phi_deg);
+    }
+    for (size_t i = dome.size(); i < set.size(); ++i) {
+        EXPECT_GT(set[i].theta_deg, 75.0);
+        EXPECT_LT(set[i].theta_deg, 89.5);  // within 0.5 deg a direction owns no cell (lighting.h)
+    }
+    EXPECT_EQ(&named_direction_set("ubo2003"), &dome);
+    EXPECT_EQ(&named_direction_set("ubo2003-horizon"), &set);
+    EXPECT_THROW(named_direction_set("bonn"), Error);
+    // format_directions writes what read_directions reads back bit for bit (phi 15 k, k < 24).
+    const std::string path = testing::temp_dir("dome_horizon_set") + "/lights.txt";
+    fs::write_text_atomic(path, format_directions(set, "test"));
+    const std::vector<Direction> back = read_directions(path);
+    ASSERT_EQ(back.size(), set.size());
+    for (size_t i = 0; i < set.size(); ++i) {
+        EXPECT_EQ(back[i].theta_deg, set[i].theta_deg);
+        EXPECT_EQ(back[i].phi_deg, set[i].phi_deg);
+    }
 }
 
 TEST(Direction, VectorFollowsTheSampleFrame) {

@@ -25,23 +25,29 @@ std::string to_string(CellRule rule) {
         case CellRule::kCosine: return "cosine";
         case CellRule::kBarycentric: return "barycentric";
         case CellRule::kExtrapolated: return "extrapolated";
+        case CellRule::kCosineBarycentric: return "cosine-barycentric";
     }
     return "?";
 }
 
 CellRule cell_rule_from_string(const std::string& name) {
-    for (CellRule r : {CellRule::kConstant, CellRule::kCosine, CellRule::kBarycentric, CellRule::kExtrapolated})
+    for (CellRule r : {CellRule::kConstant, CellRule::kCosine, CellRule::kBarycentric, CellRule::kExtrapolated,
+                       CellRule::kCosineBarycentric})
         if (name == to_string(r)) return r;
-    throw Error(str("light cell rule '", name, "': expected constant, cosine, barycentric or extrapolated"));
+    throw Error(str("light cell rule '", name,
+                    "': expected constant, cosine, barycentric, extrapolated or cosine-barycentric"));
 }
 
 namespace {
 
 /// The light directions and a ring of horizon points (every 5 deg, those not within 1e-3 deg of
-/// a light) triangulated (spherical Delaunay), with a hint for coherent queries.
+/// a light) triangulated (spherical Delaunay), with a hint for coherent queries. Each vertex
+/// passes its barycentric weight to an owner: a light to itself; without `eligible` a horizon
+/// point to none (kBarycentric: black there); with it (kCosineBarycentric) every vertex that is
+/// not an eligible light to the nearest eligible light.
 class HorizonTriangulation {
   public:
-    explicit HorizonTriangulation(const std::vector<Direction>& lights) : m_lights(lights.size()) {
+    explicit HorizonTriangulation(const std::vector<Direction>& lights, const std::vector<char>* eligible = nullptr) {
         std::vector<Direction> set = lights;
         for (int j = 0; j < 72; ++j) {
             const Direction h{90.0, 5.0 * j};
@@ -49,10 +55,19 @@ class HorizonTriangulation {
         }
         const DelaunayInterpolator tri(set);
         m_tri = tri.triangles();
+        std::vector<Eigen::Vector3d> lv;
+        for (const Direction& d : lights) lv.push_back(d.vector());
         for (const Direction& d : set) m_vec.push_back(d.vector());
+        for (size_t i = 0; i < set.size(); ++i) {
+            const bool light = i < lights.size();
+            if (light && (!eligible || (*eligible)[i]))
+                m_owner.push_back(static_cast<int>(i));
+            else
+                m_owner.push_back(eligible ? nearest_light(lv, m_vec[i], eligible) : -1);
+        }
     }
-    /// Adds `amount` x the barycentric weight of each light vertex of the triangle holding d;
-    /// `hint` is the triangle the previous query found (updated).
+    /// Adds `amount` x the barycentric weight of each vertex of the triangle holding d to its
+    /// owner; `hint` is the triangle the previous query found (updated).
     template <typename Add>
     void spread(const Eigen::Vector3d& d, size_t& hint, const Add& add) const {
         for (size_t n = 0; n < m_tri.size(); ++n) {
@@ -65,16 +80,18 @@ class HorizonTriangulation {
             const double s = std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
             if (!(s > 0)) continue;
             hint = t;
-            for (int i = 0; i < 3; ++i)
-                if (size_t(v[size_t(i)]) < m_lights) add(size_t(v[size_t(i)]), std::max(0.0, w[i]) / s);
+            for (int i = 0; i < 3; ++i) {
+                const int owner = m_owner[size_t(v[size_t(i)])];
+                if (owner >= 0) add(size_t(owner), std::max(0.0, w[i]) / s);
+            }
             return;
         }
     }
 
   private:
-    size_t m_lights;
     std::vector<std::array<int, 3>> m_tri;
     std::vector<Eigen::Vector3d> m_vec;
+    std::vector<int> m_owner;
 };
 
 /// Per light: its inner partner for CellRule::kExtrapolated (the nearest light of the next ring
@@ -186,10 +203,9 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
     std::vector<Eigen::Vector3d> lv;
     for (const Direction& d : lights) lv.push_back(d.vector());
     const bool extrapolated = options.rule == CellRule::kExtrapolated;
-    const bool cosine = options.rule == CellRule::kCosine || extrapolated;
-    const bool barycentric = options.rule == CellRule::kBarycentric;
-    std::unique_ptr<HorizonTriangulation> tri;
-    if (barycentric) tri = std::make_unique<HorizonTriangulation>(lights);
+    const bool cos_bary = options.rule == CellRule::kCosineBarycentric;
+    const bool cosine = options.rule == CellRule::kCosine || extrapolated || cos_bary;
+    const bool barycentric = options.rule == CellRule::kBarycentric || cos_bary;
     std::vector<char> eligible(lv.size(), 1);
     if (cosine) {
         for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
@@ -197,6 +213,8 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
             throw Error("dome lighting: every light direction lies within 0.5 deg of the horizon");
         }
     }
+    std::unique_ptr<HorizonTriangulation> tri;
+    if (barycentric) tri = std::make_unique<HorizonTriangulation>(lights, cos_bary ? &eligible : nullptr);
     const std::vector<int> partner = extrapolated ? outer_ring_partners(lv, eligible) : std::vector<int>();
 
     const int w = latlong.width, h = latlong.height, s = options.subsamples;
@@ -235,7 +253,8 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
                             }
                             if (barycentric) {
                                 tri->spread(d, hint, [&](size_t k, double beta) {
-                                    p.weight[k] += l * (sub_omega * beta);
+                                    const double f = cos_bary ? beta * d.z() / lv[k].z() : beta;
+                                    p.weight[k] += l * (sub_omega * f);
                                     p.omega[k] += sub_omega * beta;
                                 });
                                 continue;
@@ -288,13 +307,16 @@ PointLightWeights::PointLightWeights(const std::vector<Direction>& lights, const
     Impl& m = *m_impl;
     m.options = options;
     for (const Direction& l : lights) m.lv.push_back(l.vector());
-    if (options.rule == CellRule::kCosine || options.rule == CellRule::kExtrapolated) {
+    if (options.rule == CellRule::kCosine || options.rule == CellRule::kExtrapolated ||
+        options.rule == CellRule::kCosineBarycentric) {
         m.eligible.assign(m.lv.size(), 1);
         for (size_t k = 0; k < m.lv.size(); ++k) m.eligible[k] = m.lv[k].z() >= kMinCellCos;
         if (std::none_of(m.eligible.begin(), m.eligible.end(), [](char e) { return e != 0; })) {
             throw Error("directional light weights: every light direction lies within 0.5 deg of the horizon");
         }
         if (options.rule == CellRule::kExtrapolated) m.partner = outer_ring_partners(m.lv, m.eligible);
+        if (options.rule == CellRule::kCosineBarycentric)
+            m.tri = std::make_unique<HorizonTriangulation>(lights, &m.eligible);
     } else if (options.rule == CellRule::kBarycentric) {
         m.tri = std::make_unique<HorizonTriangulation>(lights);
     }
@@ -327,6 +349,12 @@ bool PointLightWeights::add(const Eigen::Vector3d& direction, const Eigen::Vecto
         case CellRule::kBarycentric: {
             size_t hint = 0;
             m.tri->spread(d, hint, [&](size_t k, double beta) { weight[k] += irradiance * beta; });
+            break;
+        }
+        case CellRule::kCosineBarycentric: {
+            size_t hint = 0;
+            m.tri->spread(d, hint,
+                          [&](size_t k, double beta) { weight[k] += irradiance * (beta * d.z() / m.lv[k].z()); });
             break;
         }
     }

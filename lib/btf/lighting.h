@@ -49,6 +49,12 @@ enum class CellRule {
     /// j (the nearest light of the next ring in): btf / cos = rho_k (1 + t) - rho_j t,
     /// t = (theta - theta_k) / (theta_k - theta_j). Its weights may be negative for j.
     kExtrapolated,
+    /// btf / cos linear over the same triangles as kBarycentric: W_k = integral of L beta_k
+    /// cos(theta) / cos(theta_k). A horizon point (and a light within 0.5 deg of the horizon)
+    /// takes the btf / cos of its nearest light, so beyond the last ring it is kCosine
+    /// interpolated in azimuth. Exact for a Lambertian BTF, like kCosine; a light between
+    /// directions is spread over the three around it instead of moving to the nearest.
+    kCosineBarycentric,
 };
 
 struct DomeLightingOptions {
@@ -95,7 +101,8 @@ std::vector<ImageTerm> shading_terms(const DomeLighting& lighting, const std::ve
 int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d,
                   const std::vector<char>* eligible = nullptr);
 
-/// "constant" | "cosine" | "barycentric", and back (Error naming the value).
+/// "constant" | "cosine" | "barycentric" | "extrapolated" | "cosine-barycentric", and back
+/// (Error naming the value).
 std::string to_string(CellRule rule);
 CellRule cell_rule_from_string(const std::string& name);
 

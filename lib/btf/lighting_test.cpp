@@ -150,22 +150,32 @@ Eigen::Vector3d lambertian_shading(const DomeLighting& d, const std::vector<Dire
     return sum;
 }
 
-TEST(DomeLighting, CosineRuleShadesALambertianBtfExactlyUnderAnyEnvironment) {
-    // The truth, independently: the integral of L cos(theta) over the upper hemisphere, per map
-    // pixel in closed form (2 pi / w (z0^2 - z1^2) / 2 over the part with z > 0). The map: a
-    // uniform sky of 1, a window band near the horizon (theta 80-88 deg) of 50, and a sun pixel
-    // of 3e4 at theta 86 deg, the room light the constant rule gets most wrong.
-    const int h = 90, w = 180;
-    image::Image img = constant_map(h, {1, 1, 1});
-    for (int row = 40; row < 44; ++row)
-        for (int col = 20; col < 60; ++col)
-            for (int c = 0; c < 3; ++c) img.at(col, row, c) = 50;
-    for (int c = 0; c < 3; ++c) img.at(100, 43, c) = 3e4f;
-    double truth = 0;
-    for (int row = 0; row < h / 2; ++row) {
-        const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
-        for (int col = 0; col < w; ++col) truth += img.at(col, row, 0) * 2 * kPi / w * (z0 * z0 - z1 * z1) / 2;
+/// A room lit from near the horizon: a uniform sky of 1, a window band at theta 80-88 deg of 50
+/// and a sun pixel of 3e4 at theta 86 deg (90 rows), with what a Lambertian BTF (btf = cos)
+/// reflects under it computed independently: the integral of L cos(theta) over the upper
+/// hemisphere, per map pixel in closed form (2 pi / w (z0^2 - z1^2) / 2).
+struct RoomMap {
+    image::Image map = constant_map(90, {1, 1, 1});
+    double lambertian_truth = 0;
+    RoomMap() {
+        const int h = map.height, w = map.width;
+        for (int row = 40; row < 44; ++row)
+            for (int col = 20; col < 60; ++col)
+                for (int c = 0; c < 3; ++c) map.at(col, row, c) = 50;
+        for (int c = 0; c < 3; ++c) map.at(100, 43, c) = 3e4f;
+        for (int row = 0; row < h / 2; ++row) {
+            const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
+            for (int col = 0; col < w; ++col)
+                lambertian_truth += map.at(col, row, 0) * 2 * kPi / w * (z0 * z0 - z1 * z1) / 2;
+        }
     }
+};
+
+TEST(DomeLighting, CosineRuleShadesALambertianBtfExactlyUnderAnyEnvironment) {
+    // RoomMap: the room light the constant rule gets most wrong, and its closed-form truth.
+    const RoomMap room;
+    const image::Image& img = room.map;
+    const double truth = room.lambertian_truth;
     const Eigen::Vector3d cosine = lambertian_shading(integrate_dome_cells(img, ubo2003_dome()), ubo2003_dome());
     const Eigen::Vector3d constant =
         lambertian_shading(integrate_dome_cells(img, ubo2003_dome(), constant_rule()), ubo2003_dome());
@@ -273,11 +283,54 @@ TEST(DomeLighting, ExtrapolatedRuleFollowsARatioLinearInThetaBeyondTheLastRing) 
     EXPECT_NEAR(reflected, std::cos(84 * kDeg) * rho(84 * kDeg), 1e-12);
 }
 
+TEST(DomeLighting, CosineBarycentricRuleIsExactForLambertianAndSpreadsALightOverItsTriangle) {
+    // Under RoomMap, btf / cos interpolated with barycentric weights that sum to 1 leaves a
+    // Lambertian BTF (btf / cos constant) exact, on the dome and on the set with horizon rings
+    // (kSumRelTol: sums of positive doubles).
+    const RoomMap room;
+    const image::Image& img = room.map;
+    const double truth = room.lambertian_truth;
+    DomeLightingOptions opt;
+    opt.rule = CellRule::kCosineBarycentric;
+    for (const auto* set : {&ubo2003_dome(), &ubo2003_horizon_dome()}) {
+        const Eigen::Vector3d shaded = lambertian_shading(integrate_dome_cells(img, *set, opt), *set);
+        EXPECT_NEAR(shaded[0], truth, truth * kSumRelTol) << set->size();
+    }
+    // A light at the horizon (its image black) takes no weight; its neighbours stand in.
+    const std::vector<Direction> with_horizon = {{0, 0}, {60, 0}, {60, 120}, {60, 240}, {90, 0}};
+    const DomeLighting hz = integrate_dome_cells(constant_map(32, {1, 1, 1}), with_horizon, opt);
+    EXPECT_EQ(hz.weight[4], Eigen::Vector3d::Zero());
+    EXPECT_NEAR(lambertian_shading(hz, with_horizon)[0], kPi, kPi * kSumRelTol);
+    // A sun on a light direction goes to it alone; between three, to those three (positive
+    // shares whose cosine-weighted sum is its irradiance at the normal, exactly); below the
+    // plane, nowhere.
+    const auto& dome = ubo2003_dome();
+    const DomeLighting on = directional_light_weights(dome, dome[40].vector(), {2, 2, 2}, opt);
+    for (size_t k = 0; k < dome.size(); ++k) EXPECT_NEAR(on.weight[k][0], k == 40 ? 2.0 : 0.0, 1e-9) << k;
+    const Direction between{52, 33};
+    const DomeLighting bt = directional_light_weights(dome, between.vector(), {1, 1, 1}, opt);
+    int holders = 0;
+    double irradiance = 0;
+    for (size_t k = 0; k < dome.size(); ++k) {
+        EXPECT_GE(bt.weight[k][0], 0.0);
+        if (bt.weight[k][0] > 0) {
+            ++holders;
+            EXPECT_LT(angle_between_deg(dome[k], between), 20.0) << k;  // a vertex of its triangle
+        }
+        irradiance += bt.weight[k][0] * std::cos(dome[k].theta_deg * kDeg);
+    }
+    EXPECT_EQ(holders, 3);
+    EXPECT_NEAR(irradiance, std::cos(52 * kDeg), 1e-12);
+    const DomeLighting below = directional_light_weights(dome, Eigen::Vector3d(0, 0, -1), {1, 1, 1}, opt);
+    EXPECT_EQ(below.below_horizon, Eigen::Vector3d(1, 1, 1));
+}
+
 TEST(DomeLighting, CellRuleNamesRoundTrip) {
     EXPECT_EQ(cell_rule_from_string(to_string(CellRule::kConstant)), CellRule::kConstant);
     EXPECT_EQ(cell_rule_from_string(to_string(CellRule::kCosine)), CellRule::kCosine);
     EXPECT_EQ(cell_rule_from_string(to_string(CellRule::kBarycentric)), CellRule::kBarycentric);
     EXPECT_EQ(cell_rule_from_string(to_string(CellRule::kExtrapolated)), CellRule::kExtrapolated);
+    EXPECT_EQ(cell_rule_from_string(to_string(CellRule::kCosineBarycentric)), CellRule::kCosineBarycentric);
     EXPECT_NE(testing::error_of([] { cell_rule_from_string("voronoi"); }).find("voronoi"),
               std::string::npos);
 }

@@ -92,6 +92,13 @@ void add_capture_options(CLI::App& app, CaptureArgs& a) {
                    "Capture: light directions file (theta_deg phi_deg or x y z per line; default "
                    "the UBO2003 dome)")
         ->check(CLI::ExistingFile);
+    app.add_option("--btf-light-set", a.light_set,
+                   "Capture: the light directions when no --btf-lights: ubo2003 (the Bonn dome, 81) "
+                   "or ubo2003-horizon (the dome plus rings of 24 at 80, 84, 87 and 89 deg, 177: light from "
+                   "near the horizon measured, not extrapolated; docs/btf.md)")
+        ->check(CLI::IsMember({"ubo2003", "ubo2003-horizon"}))
+        ->excludes("--btf-lights")
+        ->capture_default_str();
     app.add_option("--btf-views", a.views, "Capture: view directions file (default the dome)")
         ->check(CLI::ExistingFile);
     app.add_option("--btf-pairs", a.pairs,
@@ -99,6 +106,7 @@ void add_capture_options(CLI::App& app, CaptureArgs& a) {
                    "instead of every light for every view")
         ->check(CLI::ExistingFile)
         ->excludes("--btf-lights")
+        ->excludes("--btf-light-set")
         ->excludes("--btf-views");
     app.add_option("--btf-format", a.format,
                    "Capture: png (8-bit sRGB, as Bonn ships) or exr (float, linear_srgb)")
@@ -130,17 +138,20 @@ void check_capture_folder(const std::string& out_dir) {
             }
         }
     }
-    fs::declare_output((stdfs::path(out_dir) / "capture.json").string(), "-o");
+    for (const char* f : {"capture.json", "lights.txt", "views.txt"})
+        fs::declare_output((stdfs::path(out_dir) / f).string(), "-o");
 }
 
 void run_capture(const CaptureArgs& a, const std::string& fabric, const std::string& out_dir,
                  const CaptureOptions& options, Report& report) {
     std::vector<CaptureJob> jobs;
+    std::vector<btf::Direction> lights, views;  // the full sets (not --btf-pairs)
     if (!a.pairs.empty()) {
         report.add_input(a.pairs);
         jobs = pair_jobs(read_option_file("--btf-pairs", a.pairs, btf::read_direction_pairs));
     } else {
-        std::vector<btf::Direction> lights = btf::ubo2003_dome(), views = btf::ubo2003_dome();
+        lights = btf::named_direction_set(a.light_set);
+        views = btf::ubo2003_dome();
         if (!a.lights.empty()) {
             report.add_input(a.lights);
             lights = read_option_file("--btf-lights", a.lights, btf::read_directions);
@@ -197,6 +208,18 @@ void run_capture(const CaptureArgs& a, const std::string& fabric, const std::str
         {"max_depth", opt.max_depth},
         {"views", jobs.size()},
         {"images", r.images}};
+    // A set other than the dome travels with the folder: btf::FolderBtf::open reads it from
+    // here, so every tool indexes the capture without being told its directions.
+    const auto& dome = btf::ubo2003_dome();
+    const std::pair<const char*, const std::vector<btf::Direction>*> sets[] = {{"lights", &lights},
+                                                                               {"views", &views}};
+    for (const auto& [what, set] : sets) {
+        if (set->empty() || same_directions(*set, dome)) continue;
+        const std::string file = str(what, ".txt");
+        fs::write_text_atomic(out_dir + "/" + file,
+                              btf::format_directions(*set, str("the capture's ", what, " (theta_deg phi_deg)")));
+        meta[str(what == std::string("lights") ? "light" : "view", "_directions")] = file;
+    }
     const std::string meta_path = out_dir + "/capture.json";
     fs::write_text_atomic(meta_path, dump_finite(meta, 2, meta_path));
     report.add_output(out_dir, "btf_folder", a.format == "png" ? "srgb" : "linear_srgb");
@@ -227,6 +250,14 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
                    "BTF shading: lat-long environment (EXR/HDR, +z the fabric normal); repeatable")
         ->required()
         ->check(CLI::ExistingFile);
+    app.add_option("--light-directions", a.light_directions,
+                   "BTF shading: the --btf folder's light directions file, when it was captured "
+                   "with --btf-lights (default the UBO2003 dome)")
+        ->check(CLI::ExistingFile);
+    app.add_option("--view-directions", a.view_directions,
+                   "BTF shading: the --btf folder's view directions file, when it was captured "
+                   "with --btf-views (default the UBO2003 dome)")
+        ->check(CLI::ExistingFile);
     app.add_option("--shade-views", a.views,
                    "BTF shading: view directions file (default (0,0), (45,40), (75,0) deg)")
         ->check(CLI::ExistingFile);
@@ -245,9 +276,10 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
                    "constant (the image constant over the cell, the thesis' rule: too bright "
                    "where light comes from near the horizon) or barycentric (images linear over "
                    "the light directions' triangles, black at the horizon) or extrapolated (cosine, with "
-                   "the image's ratio to the cosine continued linearly beyond the last ring); "
+                   "the image's ratio to the cosine continued linearly beyond the last ring) or "
+                   "cosine-barycentric (the image's ratio to the cosine linear over the triangles); "
                    "docs/btf.md")
-        ->check(CLI::IsMember({"constant", "cosine", "barycentric", "extrapolated"}))
+        ->check(CLI::IsMember({"constant", "cosine", "barycentric", "extrapolated", "cosine-barycentric"}))
         ->capture_default_str();
     app.add_option("--cell-subsamples", a.subsamples,
                    "BTF shading: directions per map pixel side when integrating light cells")
@@ -306,7 +338,12 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
     std::unique_ptr<btf::FolderBtf> btf;
     {
         ScopedStage stage(report, "open BTF");
-        btf = btf::FolderBtf::open(a.btf);
+        btf::OpenOptions open;
+        open.light_directions = a.light_directions;
+        open.view_directions = a.view_directions;
+        for (const std::string* f : {&a.light_directions, &a.view_directions})
+            if (!f->empty()) report.add_input(*f);
+        btf = btf::FolderBtf::open(a.btf, open);
     }
     std::vector<std::unique_ptr<btf::CompressedBtf>> compressed;
     for (const std::string& dir : a.compressed) {
@@ -317,10 +354,6 @@ void run_shade(const ShadeArgs& a, const std::string& fabric, const std::string&
         if (c.width != r.width || c.height != r.height || !same_directions(c.lights, r.lights) ||
             !same_directions(c.views, r.views))
             throw UsageError(str("--btf-compressed ", dir, ": its image size or directions differ from ", a.btf, "'s"));
-    }
-    if (a.gles_bands > 0) {
-        ScopedStage stage(report, "export GLES shaders");
-        for (size_t i = 0; i < compressed.size(); ++i) gles->prepare(i, irradiance);
     }
     if (a.gles_bands > 0) {
         ScopedStage stage(report, "export GLES shaders");

@@ -16,7 +16,8 @@ namespace inlight::render {
 
 /// The capture flags, as given.
 struct CaptureArgs {
-    std::string lights;       ///< --btf-lights: direction file; "" = the UBO2003 dome
+    std::string lights;       ///< --btf-lights: direction file; "" = --btf-light-set
+    std::string light_set = "ubo2003";  ///< --btf-light-set: btf::named_direction_set
     std::string views;        ///< --btf-views: direction file; "" = the UBO2003 dome
     std::string pairs;        ///< --btf-pairs: (light, view) pair file instead of lights x views
     std::string format = "png";  ///< --btf-format: png (8-bit sRGB) | exr (float, linear)
@@ -24,7 +25,7 @@ struct CaptureArgs {
     int default_spp = 16;  ///< used when --spp is not given
 };
 
-/// Registers --btf-lights, --btf-views, --btf-pairs, --btf-format and --irradiance-w-m2 on
+/// Registers --btf-lights, --btf-light-set, --btf-views, --btf-pairs, --btf-format and --irradiance-w-m2 on
 /// `app` (render capture-btf).
 void add_capture_options(CLI::App& app, CaptureArgs& args);
 
@@ -46,6 +47,9 @@ void run_capture(const CaptureArgs& args, const std::string& fabric, const std::
 /// path-traced truth of the same geometry (render/btf_shade.h).
 struct ShadeArgs {
     std::string btf;                        ///< --btf: a capture folder (capture.json)
+    /// --light-directions / --view-directions: the folder's direction sets when it was captured
+    /// with --btf-lights / --btf-views (btf::OpenOptions); "" = the UBO2003 dome.
+    std::string light_directions, view_directions;
     std::vector<std::string> environments;  ///< --environment (repeatable): lat-long EXR/HDR
     std::string views;  ///< --shade-views: direction file; "" = (0, 0), (45, 40), (75, 0)
     int view_neighbours = 1;  ///< --view-neighbours: BTF views blended per view (1 or 3)

@@ -65,6 +65,27 @@ expect_exit 2 "--btf-pairs excludes --btf-lights" -- "$R" capture-btf "$FABRICS/
     --btf-pairs "$WORK/pairs.txt" --btf-lights "$WORK/dup.txt"
 expect_exit 2 "--btf-lights is capture-btf's, not trace's" -- "$R" trace "$FABRICS/satin.toml" -o "$WORK/x.exr" --btf-lights "$WORK/dup.txt"
 
+# The dome with horizon rings (--btf-light-set ubo2003-horizon): 177 lights, the set written into
+# the folder and named by capture.json, so shade-btf and btf-pca index it without being told.
+HV="$WORK/hviews.txt"
+printf '0 0\n75 0\n' >"$HV"
+expect_exit 0 "horizon light set" -- "$R" capture-btf "$FABRICS/wool-twill.toml" -o "$WORK/hz" "${TINY[@]}" \
+    --btf-light-set ubo2003-horizon --btf-views "$HV"
+expect_true "177 lights for each of 2 views" -- test "$(find "$WORK/hz" -name '*.png' | wc -l)" -eq 354
+expect_true "a light at 89 deg" -- test -s "$WORK/hz/tv075_pv000/tl089 pl345 tv075 pv000.png"
+expect_true "capture.json names the folder's sets" -- \
+    jq -e '.light_directions == "lights.txt" and .view_directions == "views.txt"' "$WORK/hz/capture.json"
+expect_true "lights.txt holds the 177 directions" -- test "$(grep -vc '^#' "$WORK/hz/lights.txt")" -eq 177
+expect_true "the dome's capture names no set" -- jq -e 'has("light_directions") | not' "$WORK/dome/capture.json"
+expect_exit 0 "shade-btf reads the set from the folder" -- "$R" shade-btf "$FABRICS/wool-twill.toml" --btf "$WORK/hz" \
+    --environment "$WORK/sun.exr" --shade-views "$HV" -o "$WORK/hzs" --spp 2 --report "$WORK/hzs.json" -q
+expect_true "both views shaded" -- jq -e '.metrics.btf_shade.results | length == 2' "$WORK/hzs.json"
+expect_exit 2 "--btf-light-set excludes --btf-lights" -- "$R" capture-btf "$FABRICS/satin.toml" -o "$WORK/x" \
+    "${TINY[@]}" --btf-light-set ubo2003-horizon --btf-lights "$WORK/dup.txt"
+expect_stderr "excludes" "the conflict is named"
+expect_exit 2 "an unknown light set" -- "$R" capture-btf "$FABRICS/satin.toml" -o "$WORK/x" "${TINY[@]}" --btf-light-set bonn
+expect_stderr "btf-light-set" "the option is named"
+
 # Same files for any thread count.
 printf '0 0\n45 120\n' >"$WORK/two.txt"
 for t in 1 2; do
