@@ -40,48 +40,56 @@ CellRule cell_rule_from_string(const std::string& name) {
 
 namespace {
 
-/// The light directions and a ring of horizon points (every 5 deg, those not within 1e-3 deg of
-/// a light) triangulated (spherical Delaunay), with a hint for coherent queries. Each vertex
-/// passes its barycentric weight to an owner: a light to itself; without `eligible` a horizon
-/// point to none (kBarycentric: black there); with it (kCosineBarycentric) every vertex that is
-/// not an eligible light to the nearest eligible light.
+/// Eligibility under the cosine-type rules: more than 0.5 deg above the horizon.
+std::vector<char> cosine_eligible(const std::vector<Eigen::Vector3d>& lv, const char* who) {
+    std::vector<char> eligible(lv.size(), 1);
+    for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
+    if (std::none_of(eligible.begin(), eligible.end(), [](char e) { return e != 0; }))
+        throw Error(str(who, ": every light direction lies within 0.5 deg of the horizon"));
+    return eligible;
+}
+
+LightTriangulation build_triangulation(const std::vector<Direction>& lights, const std::vector<char>* eligible) {
+    std::vector<Direction> set = lights;
+    for (int j = 0; j < 72; ++j) {
+        const Direction h{90.0, 5.0 * j};
+        if (!find_direction(lights, h, 1e-3)) set.push_back(h);
+    }
+    LightTriangulation t;
+    t.triangles = DelaunayInterpolator(set).triangles();
+    std::vector<Eigen::Vector3d> lv;
+    for (const Direction& d : lights) lv.push_back(d.vector());
+    for (const Direction& d : set) t.vertices.push_back(d.vector());
+    for (size_t i = 0; i < set.size(); ++i) {
+        if (i < lights.size() && (!eligible || (*eligible)[i]))
+            t.owner.push_back(static_cast<int>(i));
+        else
+            t.owner.push_back(eligible ? nearest_light(lv, t.vertices[i], eligible) : -1);
+    }
+    return t;
+}
+
+/// A LightTriangulation with a hint for coherent queries.
 class HorizonTriangulation {
   public:
-    explicit HorizonTriangulation(const std::vector<Direction>& lights, const std::vector<char>* eligible = nullptr) {
-        std::vector<Direction> set = lights;
-        for (int j = 0; j < 72; ++j) {
-            const Direction h{90.0, 5.0 * j};
-            if (!find_direction(lights, h, 1e-3)) set.push_back(h);
-        }
-        const DelaunayInterpolator tri(set);
-        m_tri = tri.triangles();
-        std::vector<Eigen::Vector3d> lv;
-        for (const Direction& d : lights) lv.push_back(d.vector());
-        for (const Direction& d : set) m_vec.push_back(d.vector());
-        for (size_t i = 0; i < set.size(); ++i) {
-            const bool light = i < lights.size();
-            if (light && (!eligible || (*eligible)[i]))
-                m_owner.push_back(static_cast<int>(i));
-            else
-                m_owner.push_back(eligible ? nearest_light(lv, m_vec[i], eligible) : -1);
-        }
-    }
-    /// Adds `amount` x the barycentric weight of each vertex of the triangle holding d to its
-    /// owner; `hint` is the triangle the previous query found (updated).
+    explicit HorizonTriangulation(LightTriangulation t) : m_t(std::move(t)) {}
+    /// Adds the barycentric weight of each vertex of the triangle holding d to its owner;
+    /// `hint` is the triangle the previous query found (updated).
     template <typename Add>
     void spread(const Eigen::Vector3d& d, size_t& hint, const Add& add) const {
-        for (size_t n = 0; n < m_tri.size(); ++n) {
-            const size_t t = (hint + n) % m_tri.size();
-            const auto& v = m_tri[t];
-            const Eigen::Vector3d &a = m_vec[size_t(v[0])], &b = m_vec[size_t(v[1])],
-                                  &c = m_vec[size_t(v[2])];
+        const auto& tri = m_t.triangles;
+        for (size_t n = 0; n < tri.size(); ++n) {
+            const size_t t = (hint + n) % tri.size();
+            const auto& v = tri[t];
+            const Eigen::Vector3d &a = m_t.vertices[size_t(v[0])], &b = m_t.vertices[size_t(v[1])],
+                                  &c = m_t.vertices[size_t(v[2])];
             const double w[3] = {d.dot(b.cross(c)), a.dot(d.cross(c)), a.dot(b.cross(d))};
             if (w[0] < -1e-12 || w[1] < -1e-12 || w[2] < -1e-12) continue;
             const double s = std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
             if (!(s > 0)) continue;
             hint = t;
             for (int i = 0; i < 3; ++i) {
-                const int owner = m_owner[size_t(v[size_t(i)])];
+                const int owner = m_t.owner[size_t(v[size_t(i)])];
                 if (owner >= 0) add(size_t(owner), std::max(0.0, w[i]) / s);
             }
             return;
@@ -89,9 +97,7 @@ class HorizonTriangulation {
     }
 
   private:
-    std::vector<std::array<int, 3>> m_tri;
-    std::vector<Eigen::Vector3d> m_vec;
-    std::vector<int> m_owner;
+    LightTriangulation m_t;
 };
 
 /// Per light: its inner partner for CellRule::kExtrapolated (the nearest light of the next ring
@@ -148,6 +154,17 @@ void add_cosine_weight(const std::vector<Eigen::Vector3d>& lv, const std::vector
 }
 
 }  // namespace
+
+LightTriangulation light_triangulation(const std::vector<Direction>& lights, CellRule rule) {
+    if (rule != CellRule::kBarycentric && rule != CellRule::kCosineBarycentric)
+        throw Error(str("light triangulation: the ", to_string(rule), " rule has none"));
+    if (lights.empty()) throw Error("light triangulation: no light directions");
+    if (rule == CellRule::kBarycentric) return build_triangulation(lights, nullptr);
+    std::vector<Eigen::Vector3d> lv;
+    for (const Direction& d : lights) lv.push_back(d.vector());
+    const std::vector<char> eligible = cosine_eligible(lv, "light triangulation");
+    return build_triangulation(lights, &eligible);
+}
 
 int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d,
                   const std::vector<char>* eligible) {
@@ -206,15 +223,10 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
     const bool cos_bary = options.rule == CellRule::kCosineBarycentric;
     const bool cosine = options.rule == CellRule::kCosine || extrapolated || cos_bary;
     const bool barycentric = options.rule == CellRule::kBarycentric || cos_bary;
-    std::vector<char> eligible(lv.size(), 1);
-    if (cosine) {
-        for (size_t k = 0; k < lv.size(); ++k) eligible[k] = lv[k].z() >= kMinCellCos;
-        if (std::none_of(eligible.begin(), eligible.end(), [](char e) { return e != 0; })) {
-            throw Error("dome lighting: every light direction lies within 0.5 deg of the horizon");
-        }
-    }
+    const std::vector<char> eligible = cosine ? cosine_eligible(lv, "dome lighting") : std::vector<char>(lv.size(), 1);
     std::unique_ptr<HorizonTriangulation> tri;
-    if (barycentric) tri = std::make_unique<HorizonTriangulation>(lights, cos_bary ? &eligible : nullptr);
+    if (barycentric)
+        tri = std::make_unique<HorizonTriangulation>(build_triangulation(lights, cos_bary ? &eligible : nullptr));
     const std::vector<int> partner = extrapolated ? outer_ring_partners(lv, eligible) : std::vector<int>();
 
     const int w = latlong.width, h = latlong.height, s = options.subsamples;
@@ -309,16 +321,12 @@ PointLightWeights::PointLightWeights(const std::vector<Direction>& lights, const
     for (const Direction& l : lights) m.lv.push_back(l.vector());
     if (options.rule == CellRule::kCosine || options.rule == CellRule::kExtrapolated ||
         options.rule == CellRule::kCosineBarycentric) {
-        m.eligible.assign(m.lv.size(), 1);
-        for (size_t k = 0; k < m.lv.size(); ++k) m.eligible[k] = m.lv[k].z() >= kMinCellCos;
-        if (std::none_of(m.eligible.begin(), m.eligible.end(), [](char e) { return e != 0; })) {
-            throw Error("directional light weights: every light direction lies within 0.5 deg of the horizon");
-        }
+        m.eligible = cosine_eligible(m.lv, "directional light weights");
         if (options.rule == CellRule::kExtrapolated) m.partner = outer_ring_partners(m.lv, m.eligible);
         if (options.rule == CellRule::kCosineBarycentric)
-            m.tri = std::make_unique<HorizonTriangulation>(lights, &m.eligible);
+            m.tri = std::make_unique<HorizonTriangulation>(build_triangulation(lights, &m.eligible));
     } else if (options.rule == CellRule::kBarycentric) {
-        m.tri = std::make_unique<HorizonTriangulation>(lights);
+        m.tri = std::make_unique<HorizonTriangulation>(build_triangulation(lights, nullptr));
     }
 }
 PointLightWeights::~PointLightWeights() = default;
@@ -326,7 +334,9 @@ PointLightWeights::PointLightWeights(PointLightWeights&&) noexcept = default;
 PointLightWeights& PointLightWeights::operator=(PointLightWeights&&) noexcept = default;
 
 bool PointLightWeights::add(const Eigen::Vector3d& direction, const Eigen::Vector3d& irradiance,
-                            std::vector<Eigen::Vector3d>& weight) const {
+                            std::vector<Eigen::Vector3d>& weight, size_t* hint_io) const {
+    size_t local_hint = 0;
+    size_t& hint = hint_io ? *hint_io : local_hint;
     if (!direction.allFinite() || std::abs(direction.norm() - 1.0) > 1e-6) {
         throw Error("directional light weights: the light's direction is not a finite unit vector");
     }
@@ -346,17 +356,13 @@ bool PointLightWeights::add(const Eigen::Vector3d& direction, const Eigen::Vecto
                               [&](size_t i, double f) { weight[i] += irradiance * f; });
             break;
         }
-        case CellRule::kBarycentric: {
-            size_t hint = 0;
+        case CellRule::kBarycentric:
             m.tri->spread(d, hint, [&](size_t k, double beta) { weight[k] += irradiance * beta; });
             break;
-        }
-        case CellRule::kCosineBarycentric: {
-            size_t hint = 0;
+        case CellRule::kCosineBarycentric:
             m.tri->spread(d, hint,
                           [&](size_t k, double beta) { weight[k] += irradiance * (beta * d.z() / m.lv[k].z()); });
             break;
-        }
     }
     return true;
 }

@@ -27,6 +27,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -100,6 +101,26 @@ std::vector<ImageTerm> shading_terms(const DomeLighting& lighting, const std::ve
 /// entry is false (when given) own no cell.
 int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen::Vector3d& d,
                   const std::vector<char>* eligible = nullptr);
+
+/// The triangles CellRule::kBarycentric and kCosineBarycentric interpolate over, as another
+/// implementation (an app's, from a manifest) needs them: a direction d above the sample's plane
+/// lies in the triangle (a, b, c) whose w = (d.(b x c), a.(d x c), a.(b x d)) are all >= 0 (ties:
+/// the first such triangle in order); vertex i of it takes beta_i = w_i / sum(w) and passes it to
+/// owner[i] (none when -1); under kCosineBarycentric light k so receives beta d_z / k_z.
+struct LightTriangulation {
+    /// Unit vectors in the sample frame: the light directions in order, then the horizon points
+    /// (theta 90 deg, phi every 5 deg, those not within 1e-3 deg of a light).
+    std::vector<Eigen::Vector3d> vertices;
+    /// Per vertex, the light its weight goes to: itself for a light; for a horizon point, none
+    /// under kBarycentric (btf is 0 there) and the nearest light more than 0.5 deg above the
+    /// horizon under kCosineBarycentric, which is also where a light within 0.5 deg of the
+    /// horizon passes its weight.
+    std::vector<int> owner;
+    std::vector<std::array<int, 3>> triangles;  ///< spherical Delaunay, indices into vertices
+};
+/// Precondition: rule is kBarycentric or kCosineBarycentric and lights are not all within 0.5
+/// deg of the horizon (Error otherwise).
+LightTriangulation light_triangulation(const std::vector<Direction>& lights, CellRule rule);
 
 /// "constant" | "cosine" | "barycentric" | "extrapolated" | "cosine-barycentric", and back
 /// (Error naming the value).

@@ -57,9 +57,11 @@ public:
     PointLightWeights& operator=(PointLightWeights&&) noexcept;
     /// Adds the weights of a point light at `direction` (unit, environment frame; checked) of
     /// irradiance E_perp (finite; checked) to `weight` (one per light direction). Returns false,
-    /// adding nothing, when the light is at or below the sample's plane.
+    /// adding nothing, when the light is at or below the sample's plane. `hint` (the triangulated
+    /// rules): the triangle to try first, updated to the one found, so nearby points (a cap's)
+    /// search little; the result does not depend on it.
     bool add(const Eigen::Vector3d& direction, const Eigen::Vector3d& irradiance,
-             std::vector<Eigen::Vector3d>& weight) const;
+             std::vector<Eigen::Vector3d>& weight, size_t* hint = nullptr) const;
 
 private:
     struct Impl;

@@ -25,24 +25,32 @@ double weighted_column(const Eigen::MatrixXd& a, int j, const std::vector<double
 }
 
 TEST(ShLightWeights, CosineRuleGivesTheIrradianceAtTheNormal) {
-    // Under the cosine rule a Lambertian BTF (btf_k = albedo / pi cos(theta_k)) reflects
+    // Under the cosine rules a Lambertian BTF (btf_k = albedo / pi cos(theta_k)) reflects
     // sum_k W_k cos(theta_k) = integral over the hemisphere of L cos = E(+z): so
-    // sum_k A(k, j) cos(theta_k) = A_l Y_j(+z) (Ramamoorthi and Hanrahan's A_l), in closed form.
-    const std::vector<Direction>& dome = ubo2003_dome();
-    std::vector<double> cos_k;
-    for (const Direction& d : dome) cos_k.push_back(std::cos(d.theta_deg * kDeg));
-    for (const auto& [bands, height, tol] : {std::tuple{3, 256, 2e-4}, {9, 128, 2e-3}}) {
-        // Tolerances: the map path's midpoint rule per pixel, error ~ (pi / h)^2 / 24 |Y''| with
-        // |Y''| ~ l^2 (2e-4 at l = 2, h = 256; 2e-3 at l = 8, h = 128), of |A_0 Y_0| = 0.886.
-        const Eigen::MatrixXd a = sh_light_weight_matrix(dome, bands, {}, height);
-        ASSERT_EQ(a.rows(), 81);
-        ASSERT_EQ(a.cols(), sh::count(bands));
-        const std::vector<double> y = sh::eval(bands, Eigen::Vector3d(0, 0, 1));
-        for (int l = 0; l < bands; ++l) {
-            for (int m = -l; m <= l; ++m) {
-                const int j = sh::index(l, m);
-                EXPECT_NEAR(weighted_column(a, j, cos_k), sh::cosine_zonal(l) * y[static_cast<size_t>(j)], tol)
-                    << "bands " << bands << " l " << l << " m " << m;
+    // sum_k A(k, j) cos(theta_k) = A_l Y_j(+z) (Ramamoorthi and Hanrahan's A_l), in closed form;
+    // for the cells (cosine) and the triangles (cosine-barycentric), on the dome and with its
+    // horizon rings.
+    for (const CellRule rule : {CellRule::kCosine, CellRule::kCosineBarycentric}) {
+        for (const auto* set : {&ubo2003_dome(), &ubo2003_horizon_dome()}) {
+            const std::vector<Direction>& dome = *set;
+            DomeLightingOptions opt;
+            opt.rule = rule;
+            std::vector<double> cos_k;
+            for (const Direction& d : dome) cos_k.push_back(std::cos(d.theta_deg * kDeg));
+            for (const auto& [bands, height, tol] : {std::tuple{3, 256, 2e-4}, {9, 128, 2e-3}}) {
+                // Tolerances: the map path's midpoint rule per pixel, error ~ (pi / h)^2 / 24 |Y''| with
+                // |Y''| ~ l^2 (2e-4 at l = 2, h = 256; 2e-3 at l = 8, h = 128), of |A_0 Y_0| = 0.886.
+                const Eigen::MatrixXd a = sh_light_weight_matrix(dome, bands, opt, height);
+                ASSERT_EQ(a.rows(), static_cast<Eigen::Index>(dome.size()));
+                ASSERT_EQ(a.cols(), sh::count(bands));
+                const std::vector<double> y = sh::eval(bands, Eigen::Vector3d(0, 0, 1));
+                for (int l = 0; l < bands; ++l) {
+                    for (int m = -l; m <= l; ++m) {
+                        const int j = sh::index(l, m);
+                        EXPECT_NEAR(weighted_column(a, j, cos_k), sh::cosine_zonal(l) * y[static_cast<size_t>(j)], tol)
+                            << to_string(rule) << " " << dome.size() << " lights, bands " << bands << " l " << l << " m " << m;
+                    }
+                }
             }
         }
     }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <sstream>
 
 #include "btf/sh_lighting.h"
@@ -111,6 +112,34 @@ void append_floats_le(std::string& out, const std::vector<float>& v) {
 
 }  // namespace
 
+namespace {
+
+/// How the manifest tells an app to spread a point light over the light directions, per rule
+/// (btf::PointLightWeights is the implementation it describes).
+std::string light_rule_text(btf::CellRule rule) {
+    const std::string head = btf::to_string(rule) + ": a point light of flux Phi_i from unit d (fabric frame) ";
+    const std::string below = "; one at or below the sample's plane (d_z <= 0) adds nothing (btf/lighting.h)";
+    switch (rule) {
+        case btf::CellRule::kCosine:
+            return head + "above the sample's plane adds Phi_i d_z / k_z to the weight W_k of the light direction k "
+                          "nearest d by angle among those more than 0.5 deg above the horizon" + below;
+        case btf::CellRule::kConstant:
+            return head + "adds Phi_i to the weight of the light direction nearest d by angle" + below;
+        case btf::CellRule::kBarycentric:
+        case btf::CellRule::kCosineBarycentric:
+            return head + "lies in the first triangle (a, b, c) of triangulation.triangles whose w = (d.(b x c), "
+                          "a.(d x c), a.(b x d)) are all >= -1e-12; vertex i of it adds Phi_i beta_i" +
+                   (rule == btf::CellRule::kCosineBarycentric ? std::string(" d_z / k_z") : std::string()) +
+                   " to the weight of light direction k = triangulation.owner[i] (none when -1), beta_i = max(0, "
+                   "w_i) / sum of max(0, w)" + below;
+        case btf::CellRule::kExtrapolated:
+            return head + "as cosine, and beyond an outer light k also as btf/lighting.h's extrapolated rule" + below;
+    }
+    return head;
+}
+
+}  // namespace
+
 BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& given) {
     if (given.sh_bands < 1 || given.sh_bands > 9) throw UsageError(str("--bands must be in 1..9, got ", given.sh_bands));
     if (!(given.irradiance_w_m2 >= 0) || !std::isfinite(given.irradiance_w_m2))
@@ -203,6 +232,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
     }
     e.lights = btf->shape().lights;
     e.lighting = o.lighting;
+    e.light_spread = std::make_shared<const btf::PointLightWeights>(e.lights, e.lighting);
 
     // Variants against their versions' guaranteed limits.
     nlohmann::json variants = nlohmann::json::array();
@@ -370,6 +400,8 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
                       "(docs/btf-gles.md, \"Precision\")"}}},
         {"not_done", {"no filtering (nearest texel, no mipmaps)"}}};
     // Dominant lights: folded on the CPU through V (weights.bin), the shader unchanged.
+    const bool triangulated =
+        o.lighting.rule == btf::CellRule::kCosineBarycentric || o.lighting.rule == btf::CellRule::kBarycentric;
     e.manifest["lights"] = {
         {"input", "optional per frame: envmap-project's dominant lights (docs/formats.md: direction, flux Phi = "
                   "radiance x solid angle per colour, angular radius alpha), rotated into the fabric frame as c is"},
@@ -377,16 +409,29 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
                        " at Fibonacci points of equal solid angle on its cap: z_i = 1 - (1 - cos alpha) (i + 0.5) / ",
                        kBtfCapSamples, ", phi_i = i pi (3 - sqrt 5), turned from +z onto the light's direction by the "
                        "shortest rotation (a light of alpha 0 is one point light of Phi)")},
-        {"cell_rule", str(btf::to_string(o.lighting.rule),
-                          ": a point light d above the sample's plane adds Phi_i d_z / k_z to the weight W_k of the "
-                          "light direction k nearest d by angle among those more than 0.5 deg above the horizon "
-                          "(btf/sh_lighting.h directional_light_weights); one at or below the plane adds nothing")},
+        {"cell_rule", light_rule_text(o.lighting.rule)},
         {"fold", "w_slot,ch += sum over the blend's views v in the slot's group of alpha_v [1^T; V_v,ch^T] W_ch / E "
                  "(rows as the matrices'): row 0 sum_k W_k,ch / E, row 1 + i sum_k V_v,ch(k, i) W_k,ch / E, with "
                  "V_v,ch(k, i) = row (index of v in its group x K + k) x 3 + ch, column i, of the group's V in "
                  "btf-pca.json's weights file (docs/btf.md, \"Storage and streaming\"), E = matrices.irradiance_w_m2"},
-        {"cost_per_frame", str(kBtfCapSamples, " x K angle comparisons per light with a radius (1 x K for a point "
-                               "light), then 3 colours x (1 + C) multiply-adds per lit light direction per blend view")}};
+        {"cost_per_frame", str(kBtfCapSamples, " point lookups per light with a radius (1 for a point light): ",
+                               triangulated ? "a triangle search each (start at the previous point's triangle: the "
+                                              "cap's points mostly share it)"
+                                            : "K angle comparisons each",
+                               ", then 3 colours x (1 + C) multiply-adds per lit light direction per blend view")}};
+    if (triangulated) {
+        const btf::LightTriangulation t = btf::light_triangulation(e.lights, o.lighting.rule);
+        nlohmann::json vertices = nlohmann::json::array(), triangles = nlohmann::json::array();
+        for (const Eigen::Vector3d& v : t.vertices) vertices.push_back({v.x(), v.y(), v.z()});
+        for (const auto& tri : t.triangles) triangles.push_back({tri[0], tri[1], tri[2]});
+        e.manifest["lights"]["triangulation"] = {
+            {"vertices", vertices},
+            {"owner", t.owner},
+            {"triangles", triangles},
+            {"layout", "vertices: unit vectors in the fabric frame, the K light directions in the manifest's order "
+                       "and then horizon points; owner[i]: the light direction vertex i passes its weight to (-1: "
+                       "none); triangles: vertex indices"}};
+    }
     e.manifest["load"] = btf_load_choices(e);
     return e;
 }
@@ -415,7 +460,10 @@ std::vector<std::pair<std::string, std::string>> BtfGlesExport::files() const {
 std::vector<Eigen::Vector3d> btf_light_weights(const BtfGlesExport& e, const std::vector<BtfLight>& lights) {
     std::vector<Eigen::Vector3d> out(e.lights.size(), Eigen::Vector3d::Zero());
     if (lights.empty()) return out;
-    const btf::PointLightWeights spread(e.lights, e.lighting);
+    std::optional<btf::PointLightWeights> own;  // an export assembled by hand has no spread yet
+    if (!e.light_spread) own.emplace(e.lights, e.lighting);
+    const btf::PointLightWeights& spread = e.light_spread ? *e.light_spread : *own;
+    size_t hint = 0;  // a cap's points are neighbours: each search starts at the last triangle
     for (const BtfLight& l : lights) {
         if (!l.irradiance_w_m2.allFinite()) throw Error("BTF GLES frame: a light's irradiance holds NaN or Inf");
         if (!(l.angular_radius >= 0 && l.angular_radius < kPi / 2))
@@ -433,7 +481,7 @@ std::vector<Eigen::Vector3d> btf_light_weights(const BtfGlesExport& e, const std
             const double r = std::sqrt(std::max(0.0, 1 - z * z)), phi = golden * i;
             const Eigen::Vector3d d =
                 n == 1 ? l.direction : (turn * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z)).normalized();
-            spread.add(d, l.irradiance_w_m2 / n, out);
+            spread.add(d, l.irradiance_w_m2 / n, out, &hint);
         }
     }
     return out;

@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@
 
 #include "btf/compressed.h"
 #include "btf/lighting.h"
+#include "btf/sh_lighting.h"
 #include "gles/export.h"
 #include "gles/harness.h"
 
@@ -37,7 +39,9 @@ struct BtfGlesOptions {
     /// irradiance_w_m2, which btf-pca records from a capture's capture.json), else 1.
     double irradiance_w_m2 = 0;
     int map_height = 128;          ///< sh_light_weight_matrix's quadrature, 16..2048
-    btf::DomeLightingOptions lighting;  ///< cell rule of the light weights (cosine by default)
+    /// Rule of the light weights: cosine-barycentric by default (btf / cos interpolated over the
+    /// light triangles: a light between directions is spread, not moved; docs/btf.md).
+    btf::DomeLightingOptions lighting{btf::CellRule::kCosineBarycentric};
     /// Write the atlas PNGs (files()). false: the app assembles them from the btf-pca folder's
     /// mean and component PNGs by the manifest's textures.groups[g].channels[k].file (a fabric
     /// bundle, which streams those PNGs already: no bytes twice); the manifest says which.
@@ -87,6 +91,8 @@ struct BtfGlesExport {
     std::vector<int64_t> light_rows_offset;
     std::vector<btf::Direction> lights;  ///< the BTF's light directions (sample frame)
     btf::DomeLightingOptions lighting;   ///< the cell rule lights are spread by
+    /// That rule's spread, built once at export (a triangulation is a qhull run: not per frame).
+    std::shared_ptr<const btf::PointLightWeights> light_spread;
     std::vector<std::pair<int, int>> stream;  ///< [group, component], the folder's order
     std::vector<BtfGlesVariant> variants;
     bool atlas_files = true;               ///< BtfGlesOptions::write_atlases

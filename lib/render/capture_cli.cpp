@@ -271,14 +271,14 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
         ->check(CLI::IsMember({"thesis", "delaunay"}))
         ->excludes("--view-neighbours");
     app.add_option("--light-cells", a.cell_rule,
-                   "BTF shading: a light direction's weight: cosine (the cosine inside its image "
-                   "divided out and integrated exactly over its cell: right at the horizon) or "
-                   "constant (the image constant over the cell, the thesis' rule: too bright "
-                   "where light comes from near the horizon) or barycentric (images linear over "
-                   "the light directions' triangles, black at the horizon) or extrapolated (cosine, with "
-                   "the image's ratio to the cosine continued linearly beyond the last ring) or "
-                   "cosine-barycentric (the image's ratio to the cosine linear over the triangles); "
-                   "docs/btf.md")
+                   "BTF shading: a light direction's weight: cosine-barycentric (the image's ratio to "
+                   "the cosine linear over the light directions' triangles: exact for a Lambertian "
+                   "sample, a light between directions spread over three) or cosine (that ratio "
+                   "constant over each direction's cell) or constant (the image constant over the "
+                   "cell, the thesis' rule: too bright where light comes from near the horizon) or "
+                   "barycentric (images linear over the triangles, black at the horizon) or "
+                   "extrapolated (cosine, with the ratio continued linearly beyond the last ring); "
+                   "measured against each other in docs/btf.md")
         ->check(CLI::IsMember({"constant", "cosine", "barycentric", "extrapolated", "cosine-barycentric"}))
         ->capture_default_str();
     app.add_option("--cell-subsamples", a.subsamples,

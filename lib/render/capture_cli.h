@@ -55,7 +55,7 @@ struct ShadeArgs {
     int view_neighbours = 1;  ///< --view-neighbours: BTF views blended per view (1 or 3)
     std::string view_interp;  ///< --view-interp: thesis | delaunay (btf/interp.h), replaces it
     int subsamples = 4;       ///< --cell-subsamples: per map pixel side (btf/lighting.h)
-    std::string cell_rule = "cosine";  ///< --light-cells: constant | cosine (btf::CellRule)
+    std::string cell_rule = "cosine-barycentric";  ///< --light-cells: btf::CellRule by name
     /// --btf-compressed (repeatable): btf-pca folders of the same BTF, shaded beside it in the
     /// compressed domain (CompressedBtf::combine) and compared with the truth and the raw BTF.
     std::vector<std::string> compressed;
