@@ -97,13 +97,15 @@ const Folder& folder() {
     return f;
 }
 
-/// The export at `bands` (both variants), made once per band count.
-const gles::BtfGlesExport& exported(int bands) {
-    static std::map<int, std::unique_ptr<gles::BtfGlesExport>> cache;
-    auto& e = cache[bands];
+/// The export at `bands` (both variants) under the light rule `rule` (default: the export's),
+/// made once per band count and rule.
+const gles::BtfGlesExport& exported(int bands, btf::CellRule rule = gles::BtfGlesOptions().lighting.rule) {
+    static std::map<std::pair<int, int>, std::unique_ptr<gles::BtfGlesExport>> cache;
+    auto& e = cache[{bands, static_cast<int>(rule)}];
     if (!e) {
         gles::BtfGlesOptions o;
         o.sh_bands = bands;
+        o.lighting.rule = rule;
         e = std::make_unique<gles::BtfGlesExport>(gles::export_btf_gles(folder().dir, o));
     }
     return *e;
@@ -201,7 +203,10 @@ BENCHMARK(BM_BtfFrameWeights)->ArgName("bands")->Arg(2)->Arg(3)->Arg(9)->Unit(be
 // args: dominant lights (beside 3-band SH), their angular radius in degrees (0: point lights, one
 // cell each; > 0: caps spread as kBtfCapSamples points).
 void BM_BtfFrameWeightsWithLights(benchmark::State& state) {
-    const gles::BtfGlesExport& e = exported(3);
+    // cosine_cells 0: the default rule (cosine-barycentric: a triangle search per point); 1: the
+    // cosine rule (a nearest-direction search per point).
+    const gles::BtfGlesExport& e =
+        exported(3, state.range(2) ? btf::CellRule::kCosine : gles::BtfGlesOptions().lighting.rule);
     const gles::BtfGlesVariant& v = variant(e, gles::GlslVersion::kEs300);
     const Eigen::MatrixXd sh = smooth_sky_sh(3);
     const auto sent = static_cast<int64_t>(e.stream.size());
@@ -212,11 +217,8 @@ void BM_BtfFrameWeightsWithLights(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(gles::btf_frame_weights(e, v, kView, sh, sent, lights));
 }
 BENCHMARK(BM_BtfFrameWeightsWithLights)
-    ->ArgNames({"lights", "radius_deg"})
-    ->Args({1, 0})
-    ->Args({3, 0})
-    ->Args({1, 5})
-    ->Args({3, 5})
+    ->ArgNames({"lights", "radius_deg", "cosine_cells"})
+    ->ArgsProduct({{1, 3}, {0, 5}, {0, 1}})
     ->Unit(benchmark::kMicrosecond);
 
 // The part of btf_frame_weights that does not depend on the bands: the 3 nearest of the 81 views.
