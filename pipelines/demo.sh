@@ -118,7 +118,7 @@ sqlite3 -separator '  ' "$OUT/catalog/bundles/catalog.sqlite" \
 echo
 echo "validation: $(jq -r 'group_by(.verdict) | map("\(length) \(.[0].verdict)") | join(", ")' \
     "$OUT/catalog/validate/summary.json") of $(jq length "$OUT/catalog/validate/summary.json") fabric x environment pairs"
-grep -E '^\| (fabric|---|[a-z])' "$OUT/catalog/validate/summary.md" | cut -d'|' -f2-7 | sed 's/|$//' | head -12
+grep -E '^\| (fabric|---|[a-z])' "$OUT/catalog/validate/summary.md" | cut -d'|' -f2-7 | sed 's/|$//' | sed -n '1,12p'
 echo "  ... all pairs, images and plots: $OUT/catalog/validate/index.html"
 # The captured fabrics' BTFs as the phone draws them: the bundles' BTF GLES shaders through EGL
 # against the path-traced weave (docs/btf-gles.md, "Against the truth").

@@ -144,7 +144,7 @@ plot "$P/pairs.dat" using 5:6 with points pt 7 title "pairs", x with lines lc rg
 GNUPLOT
 
 # The path tracer against spp, beside the model errors it must resolve (first pair with a study).
-conv=$(find "$V/pairs" -name convergence.json | sort | head -n 1)
+conv=$(find "$V/pairs" -name convergence.json | sort | sed -n 1p)
 if [ -n "$conv" ]; then
     pair_dir=$(dirname "$conv")
     jq -r '.points[] | [.spp, .rel_rmse, .time_s] | @tsv' "$conv" > "$P/convergence.dat"

@@ -29,7 +29,7 @@ for fabric in "${fabrics[@]}"; do
         "$HERE/validate-pair.sh" "$fabric" "$env" "$OUT/pairs/$(basename "$fabric")/${name%.*}" "${raw[@]}"
     done
 done
-first=$(find "$OUT/pairs" -mindepth 2 -maxdepth 2 -type d | sort | head -n 1)
+first=$(find "$OUT/pairs" -mindepth 2 -maxdepth 2 -type d | sort | sed -n 1p)
 echo "[validate] the truth's error against spp on $first" >&2
 "$HERE/validate-convergence.sh" "$first"
 "$HERE/validate-report.sh" "$OUT"

@@ -65,8 +65,11 @@ class BtfSource {
 
 /// How a BTF folder or zip file is read.
 struct OpenOptions {
-    std::string light_directions;  ///< direction file of the light set; "" = the UBO2003 dome
-    std::string view_directions;   ///< direction file of the view set; "" = the UBO2003 dome
+    /// Direction files of the light and view sets; "" = the file a folder's capture.json names
+    /// under "light_directions" / "view_directions" (render capture-btf writes them for a set
+    /// other than the dome; not read from zip files), else the UBO2003 dome.
+    std::string light_directions;
+    std::string view_directions;
     bool decode_srgb = true;       ///< 8/16-bit files are sRGB-encoded (false: linear values)
     int max_side_px = 16384;       ///< larger images are rejected as corrupt or hostile
 };

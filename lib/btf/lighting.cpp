@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "btf/interp.h"
@@ -69,35 +70,80 @@ LightTriangulation build_triangulation(const std::vector<Direction>& lights, con
     return t;
 }
 
-/// A LightTriangulation with a hint for coherent queries.
+/// A LightTriangulation with a hint for coherent queries: a query walks from the hint's triangle
+/// across the edge facing the point (a few steps for a neighbouring point), and scans every
+/// triangle only if the walk leaves the triangulation or goes round in circles.
 class HorizonTriangulation {
   public:
-    explicit HorizonTriangulation(LightTriangulation t) : m_t(std::move(t)) {}
+    explicit HorizonTriangulation(LightTriangulation triangulation) : m_t(std::move(triangulation)) {
+        // m_across[t][i]: the triangle sharing the edge opposite vertex i of t, or -1.
+        std::map<std::pair<int, int>, std::pair<int, int>> edges;  // (lo, hi) -> (triangle, i)
+        m_across.assign(m_t.triangles.size(), {-1, -1, -1});
+        for (size_t t = 0; t < m_t.triangles.size(); ++t) {
+            for (int i = 0; i < 3; ++i) {
+                const int a = m_t.triangles[t][size_t((i + 1) % 3)], b = m_t.triangles[t][size_t((i + 2) % 3)];
+                const auto key = std::minmax(a, b);
+                const auto it = edges.find(key);
+                if (it == edges.end()) {
+                    edges.emplace(key, std::make_pair(static_cast<int>(t), i));
+                } else {
+                    m_across[t][size_t(i)] = it->second.first;
+                    m_across[size_t(it->second.first)][size_t(it->second.second)] = static_cast<int>(t);
+                }
+            }
+        }
+    }
     /// Adds the barycentric weight of each vertex of the triangle holding d to its owner;
     /// `hint` is the triangle the previous query found (updated).
     template <typename Add>
     void spread(const Eigen::Vector3d& d, size_t& hint, const Add& add) const {
-        const auto& tri = m_t.triangles;
-        for (size_t n = 0; n < tri.size(); ++n) {
-            const size_t t = (hint + n) % tri.size();
-            const auto& v = tri[t];
-            const Eigen::Vector3d &a = m_t.vertices[size_t(v[0])], &b = m_t.vertices[size_t(v[1])],
-                                  &c = m_t.vertices[size_t(v[2])];
-            const double w[3] = {d.dot(b.cross(c)), a.dot(d.cross(c)), a.dot(b.cross(d))};
-            if (w[0] < -1e-12 || w[1] < -1e-12 || w[2] < -1e-12) continue;
-            const double s = std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
-            if (!(s > 0)) continue;
-            hint = t;
-            for (int i = 0; i < 3; ++i) {
-                const int owner = m_t.owner[size_t(v[size_t(i)])];
-                if (owner >= 0) add(size_t(owner), std::max(0.0, w[i]) / s);
+        const size_t n_tri = m_t.triangles.size();
+        if (n_tri == 0) return;
+        double w[3];
+        size_t t = hint % n_tri;
+        bool found = false;
+        for (size_t step = 0; step < 64 && !found; ++step) {  // the walk
+            coordinates(t, d, w);
+            int worst = 0;
+            for (int i = 1; i < 3; ++i)
+                if (w[i] < w[worst]) worst = i;
+            if (w[worst] >= -1e-12) {
+                found = inside(w);
+                break;
             }
-            return;
+            const int next = m_across[t][size_t(worst)];
+            if (next < 0) break;
+            t = static_cast<size_t>(next);
+        }
+        for (size_t n = 0; n < n_tri && !found; ++n) {  // the scan
+            t = (hint + n) % n_tri;
+            coordinates(t, d, w);
+            found = w[0] >= -1e-12 && w[1] >= -1e-12 && w[2] >= -1e-12 && inside(w);
+        }
+        if (!found) return;
+        hint = t;
+        const double s = std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
+        for (int i = 0; i < 3; ++i) {
+            const int owner = m_t.owner[size_t(m_t.triangles[t][size_t(i)])];
+            if (owner >= 0) add(size_t(owner), std::max(0.0, w[i]) / s);
         }
     }
 
   private:
+    void coordinates(size_t t, const Eigen::Vector3d& d, double* w) const {
+        const auto& v = m_t.triangles[t];
+        const Eigen::Vector3d &a = m_t.vertices[size_t(v[0])], &b = m_t.vertices[size_t(v[1])],
+                              &c = m_t.vertices[size_t(v[2])];
+        w[0] = d.dot(b.cross(c));
+        w[1] = a.dot(d.cross(c));
+        w[2] = a.dot(b.cross(d));
+    }
+    static bool inside(const double* w) {
+        return std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]) > 0;
+    }
+
     LightTriangulation m_t;
+    std::vector<std::array<int, 3>> m_across;
 };
 
 /// Per light: its inner partner for CellRule::kExtrapolated (the nearest light of the next ring

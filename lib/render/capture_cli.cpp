@@ -251,12 +251,12 @@ void add_shade_options(CLI::App& app, ShadeArgs& a) {
         ->required()
         ->check(CLI::ExistingFile);
     app.add_option("--light-directions", a.light_directions,
-                   "BTF shading: the --btf folder's light directions file, when it was captured "
-                   "with --btf-lights (default the UBO2003 dome)")
+                   "BTF shading: the --btf folder's light directions file (default: the set its "
+                   "capture.json names, else the UBO2003 dome)")
         ->check(CLI::ExistingFile);
     app.add_option("--view-directions", a.view_directions,
-                   "BTF shading: the --btf folder's view directions file, when it was captured "
-                   "with --btf-views (default the UBO2003 dome)")
+                   "BTF shading: the --btf folder's view directions file (default: the set its "
+                   "capture.json names, else the UBO2003 dome)")
         ->check(CLI::ExistingFile);
     app.add_option("--shade-views", a.views,
                    "BTF shading: view directions file (default (0,0), (45,40), (75,0) deg)")
