@@ -40,8 +40,9 @@ const std::vector<Direction>& ubo2003_dome();
 /// The UBO2003 dome plus kHorizonRingThetasDeg.size() rings of 24 light directions (phi every 15
 /// deg from 0) between its last ring (75 deg) and the horizon: 177 directions, the dome's 81
 /// first. A BTF measures nothing of light beyond its last ring, where rooms are lit (windows,
-/// lamps) and where a woven sample's btf / cos rises (the yarns' sides face the light): docs/btf.md
-/// "Light beyond the last ring". For synthetic captures (render capture-btf --btf-light-set).
+/// lamps) and where a woven sample's btf / cos rises (the yarns' sides face the light):
+/// docs/btf.md "Light beyond the last ring". For synthetic captures (render capture-btf
+/// --btf-light-set).
 const std::vector<Direction>& ubo2003_horizon_dome();
 inline constexpr double kHorizonRingThetasDeg[] = {80.0, 84.0, 87.0, 89.0};
 

@@ -104,9 +104,10 @@ int nearest_light(const std::vector<Eigen::Vector3d>& light_vectors, const Eigen
 
 /// The triangles CellRule::kBarycentric and kCosineBarycentric interpolate over, as another
 /// implementation (an app's, from a manifest) needs them: a direction d above the sample's plane
-/// lies in the triangle (a, b, c) whose w = (d.(b x c), a.(d x c), a.(b x d)) are all >= 0 (ties:
-/// the first such triangle in order); vertex i of it takes beta_i = w_i / sum(w) and passes it to
-/// owner[i] (none when -1); under kCosineBarycentric light k so receives beta d_z / k_z.
+/// lies in a triangle (a, b, c) whose w = (d.(b x c), a.(d x c), a.(b x d)) are all >= 0 (on an
+/// edge either triangle gives the same weights); vertex i of it takes beta_i = w_i / sum(w) and
+/// passes it to owner[i] (none when -1); under kCosineBarycentric light k so receives
+/// beta d_z / k_z.
 struct LightTriangulation {
     /// Unit vectors in the sample frame: the light directions in order, then the horizon points
     /// (theta 90 deg, phi every 5 deg, those not within 1e-3 deg of a light).

@@ -306,6 +306,8 @@ TEST(DomeLighting, CosineBarycentricRuleIsExactForLambertianAndSpreadsALightOver
     // plane, nowhere.
     const auto& dome = ubo2003_dome();
     const DomeLighting on = directional_light_weights(dome, dome[40].vector(), {2, 2, 2}, opt);
+    // 1e-9: the other two vertices' coordinates are triple products of unit vectors rounded to
+    // ~1e-16 each, clamped at 0, and the direction's own vector is rebuilt from its angles.
     for (size_t k = 0; k < dome.size(); ++k) EXPECT_NEAR(on.weight[k][0], k == 40 ? 2.0 : 0.0, 1e-9) << k;
     const Direction between{52, 33};
     const DomeLighting bt = directional_light_weights(dome, between.vector(), {1, 1, 1}, opt);
@@ -320,7 +322,7 @@ TEST(DomeLighting, CosineBarycentricRuleIsExactForLambertianAndSpreadsALightOver
         irradiance += bt.weight[k][0] * std::cos(dome[k].theta_deg * kDeg);
     }
     EXPECT_EQ(holders, 3);
-    EXPECT_NEAR(irradiance, std::cos(52 * kDeg), 1e-12);
+    EXPECT_NEAR(irradiance, std::cos(52 * kDeg), 1e-12);  // three products of doubles of size ~1
     const DomeLighting below = directional_light_weights(dome, Eigen::Vector3d(0, 0, -1), {1, 1, 1}, opt);
     EXPECT_EQ(below.below_horizon, Eigen::Vector3d(1, 1, 1));
 }

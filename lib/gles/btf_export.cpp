@@ -110,10 +110,6 @@ void append_floats_le(std::string& out, const std::vector<float>& v) {
     }
 }
 
-}  // namespace
-
-namespace {
-
 /// How the manifest tells an app to spread a point light over the light directions, per rule
 /// (btf::PointLightWeights is the implementation it describes).
 std::string light_rule_text(btf::CellRule rule) {
@@ -127,8 +123,9 @@ std::string light_rule_text(btf::CellRule rule) {
             return head + "adds Phi_i to the weight of the light direction nearest d by angle" + below;
         case btf::CellRule::kBarycentric:
         case btf::CellRule::kCosineBarycentric:
-            return head + "lies in the first triangle (a, b, c) of triangulation.triangles whose w = (d.(b x c), "
-                          "a.(d x c), a.(b x d)) are all >= -1e-12; vertex i of it adds Phi_i beta_i" +
+            return head + "lies in a triangle (a, b, c) of triangulation.triangles whose w = (d.(b x c), "
+                          "a.(d x c), a.(b x d)) are all >= -1e-12 (on a shared edge either gives the same weights); "
+                          "vertex i of it adds Phi_i beta_i" +
                    (rule == btf::CellRule::kCosineBarycentric ? std::string(" d_z / k_z") : std::string()) +
                    " to the weight of light direction k = triangulation.owner[i] (none when -1), beta_i = max(0, "
                    "w_i) / sum of max(0, w)" + below;
@@ -415,8 +412,8 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
                  "V_v,ch(k, i) = row (index of v in its group x K + k) x 3 + ch, column i, of the group's V in "
                  "btf-pca.json's weights file (docs/btf.md, \"Storage and streaming\"), E = matrices.irradiance_w_m2"},
         {"cost_per_frame", str(kBtfCapSamples, " point lookups per light with a radius (1 for a point light): ",
-                               triangulated ? "a triangle search each (start at the previous point's triangle: the "
-                                              "cap's points mostly share it)"
+                               triangulated ? "a triangle look-up each (walk from the previous point's triangle "
+                                              "across the edge facing the point: a step or two for a cap)"
                                             : "K angle comparisons each",
                                ", then 3 colours x (1 + C) multiply-adds per lit light direction per blend view")}};
     if (triangulated) {

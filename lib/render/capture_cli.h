@@ -25,8 +25,8 @@ struct CaptureArgs {
     int default_spp = 16;  ///< used when --spp is not given
 };
 
-/// Registers --btf-lights, --btf-light-set, --btf-views, --btf-pairs, --btf-format and --irradiance-w-m2 on
-/// `app` (render capture-btf).
+/// Registers --btf-lights, --btf-light-set, --btf-views, --btf-pairs, --btf-format and
+/// --irradiance-w-m2 on `app` (render capture-btf).
 void add_capture_options(CLI::App& app, CaptureArgs& args);
 
 /// Checks a capture's -o folder before any work: a new folder, or an existing one without files
@@ -47,8 +47,8 @@ void run_capture(const CaptureArgs& args, const std::string& fabric, const std::
 /// path-traced truth of the same geometry (render/btf_shade.h).
 struct ShadeArgs {
     std::string btf;                        ///< --btf: a capture folder (capture.json)
-    /// --light-directions / --view-directions: the folder's direction sets when it was captured
-    /// with --btf-lights / --btf-views (btf::OpenOptions); "" = the UBO2003 dome.
+    /// --light-directions / --view-directions: the folder's direction files (btf::OpenOptions);
+    /// "" = the sets its capture.json names, else the UBO2003 dome.
     std::string light_directions, view_directions;
     std::vector<std::string> environments;  ///< --environment (repeatable): lat-long EXR/HDR
     std::string views;  ///< --shade-views: direction file; "" = (0, 0), (45, 40), (75, 0)
