@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <optional>
 #include <sstream>
 
 #include "btf/sh_lighting.h"
+#include "core/check.h"
 #include "core/conventions.h"
 #include "core/error.h"
 #include "core/json_out.h"
@@ -457,9 +457,8 @@ std::vector<std::pair<std::string, std::string>> BtfGlesExport::files() const {
 std::vector<Eigen::Vector3d> btf_light_weights(const BtfGlesExport& e, const std::vector<BtfLight>& lights) {
     std::vector<Eigen::Vector3d> out(e.lights.size(), Eigen::Vector3d::Zero());
     if (lights.empty()) return out;
-    std::optional<btf::PointLightWeights> own;  // an export assembled by hand has no spread yet
-    if (!e.light_spread) own.emplace(e.lights, e.lighting);
-    const btf::PointLightWeights& spread = e.light_spread ? *e.light_spread : *own;
+    INLIGHT_CHECK(e.light_spread) << "an export not made by export_btf_gles";
+    const btf::PointLightWeights& spread = *e.light_spread;
     size_t hint = 0;  // a cap's points are neighbours: each search starts at the last triangle
     for (const BtfLight& l : lights) {
         if (!l.irradiance_w_m2.allFinite()) throw Error("BTF GLES frame: a light's irradiance holds NaN or Inf");
