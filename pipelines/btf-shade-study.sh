@@ -11,6 +11,9 @@
 # to L dominant lights taken out of each environment plus the residual's SH (--gles-lights).
 # BTF_LIGHT_SET=ubo2003-horizon captures the dome plus its horizon rings (render capture-btf
 # --btf-light-set; docs/btf.md "Light beyond the last ring") instead of the 81-direction dome.
+# BTF_LIGHT_SET=fibonacci-N captures N directions of equal solid angle instead (600 holds every
+# fabric within 2%). BTF_CAPTURE_VIEWS=FILE captures only these views (render capture-btf
+# --btf-views), e.g. the three the shading is graded at: same figures, a fraction of the images.
 # Environments default to blender-data's studio lights and a synthetic sun (a 0.2 sky with one
 # 2e4 pixel of a 128 x 64 map at theta 41, phi 66 deg, 0.0016 sr: ~97% of the irradiance).
 set -euo pipefail
@@ -33,7 +36,7 @@ fi
 if [ ! -s "$OUT/btf/capture.json" ]; then
     "$BUILD/bin/render" capture-btf "$FABRIC" -o "$OUT/btf" --btf-format exr \
         --width-px "$SIZE" --height-px "$SIZE" --spp "$CSPP" --btf-light-set "${BTF_LIGHT_SET:-ubo2003}" \
-        --threads 2 --report "$OUT/capture.json" -q
+        --threads 2 --report "$OUT/capture.json" -q ${BTF_CAPTURE_VIEWS:+--btf-views "$BTF_CAPTURE_VIEWS"}
 fi
 args=()
 for e in "${ENVS[@]}"; do args+=(--environment "$e"); done

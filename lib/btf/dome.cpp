@@ -138,10 +138,34 @@ const std::vector<Direction>& ubo2003_horizon_dome() {
     return set;
 }
 
-const std::vector<Direction>& named_direction_set(const std::string& name) {
+std::vector<Direction> fibonacci_hemisphere(int n) {
+    if (n < 1) throw Error(str("fibonacci_hemisphere: ", n, " directions (expected >= 1)"));
+    const double golden = (1.0 + std::sqrt(5.0)) / 2.0;
+    const double z_span = 1.0 - std::cos(kFibonacciMaxThetaDeg * kDegree);
+    std::vector<Direction> d;
+    d.reserve(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        const double z = 1.0 - (i + 0.5) / n * z_span;
+        // i / golden's fraction, so phi keeps full precision for large i.
+        const double turns = i / golden;
+        d.push_back({std::acos(z) / kDegree, 360.0 * (turns - std::floor(turns))});
+    }
+    return d;
+}
+
+std::vector<Direction> named_direction_set(const std::string& name) {
     if (name == "ubo2003") return ubo2003_dome();
     if (name == "ubo2003-horizon") return ubo2003_horizon_dome();
-    throw Error(str("direction set '", name, "': expected ubo2003 or ubo2003-horizon"));
+    const std::string prefix = "fibonacci-";
+    if (name.rfind(prefix, 0) == 0) {
+        const std::string digits = name.substr(prefix.size());
+        const bool all_digits = !digits.empty() && digits.size() <= 4 &&
+                                digits.find_first_not_of("0123456789") == std::string::npos;
+        const int n = all_digits ? std::stoi(digits) : 0;
+        if (n >= 16 && n <= 4096) return fibonacci_hemisphere(n);
+    }
+    throw Error(str("direction set '", name,
+                    "': expected ubo2003, ubo2003-horizon or fibonacci-N with N in [16, 4096]"));
 }
 
 std::string format_directions(const std::vector<Direction>& dirs, const std::string& comment) {

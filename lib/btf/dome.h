@@ -46,8 +46,20 @@ const std::vector<Direction>& ubo2003_dome();
 const std::vector<Direction>& ubo2003_horizon_dome();
 inline constexpr double kHorizonRingThetasDeg[] = {80.0, 84.0, 87.0, 89.0};
 
-/// A named light set: "ubo2003" or "ubo2003-horizon" (Error naming the value otherwise).
-const std::vector<Direction>& named_direction_set(const std::string& name);
+/// n light directions spread evenly over the hemisphere down to theta kFibonacciMaxThetaDeg: the
+/// spherical Fibonacci lattice (Marques et al. 2013), point i at cos(theta) = 1 - (i + 0.5) / n
+/// (1 - cos(kFibonacciMaxThetaDeg)) and phi = 360 i / golden ratio (mod 360), from the pole down.
+/// Equal solid angle per direction and no rings, so light from near the horizon is sampled as
+/// densely as light from above: with 250 directions the shaded BTF's mean luminance is within
+/// 2% of the path-traced truth under the 13 environments of docs/btf.md "Light beyond the last
+/// ring", where the dome with horizon rings (177) is not. For synthetic captures.
+/// Precondition: n >= 1.
+std::vector<Direction> fibonacci_hemisphere(int n);
+inline constexpr double kFibonacciMaxThetaDeg = 89.0;
+
+/// A named light set: "ubo2003", "ubo2003-horizon" or "fibonacci-N" with N in [16, 4096]
+/// (Error naming the value otherwise).
+std::vector<Direction> named_direction_set(const std::string& name);
 
 /// Writes a direction set as read_directions reads it (`theta_deg phi_deg` per line, exact to
 /// the last bit), with a comment line first.

@@ -44,6 +44,19 @@ TEST(Ubo2003Dome, RingsAndAzimuthsOfTheBonnGrid) {
     EXPECT_NEAR(min_sep, expected * 180 / kPi, 1e-9);
 }
 
+/// format_directions writes what read_directions reads back bit for bit (the file a capture
+/// folder records its set in).
+void ExpectRoundTripsThroughItsFile(const std::vector<Direction>& set, const std::string& name) {
+    const std::string path = testing::temp_dir(name) + "/lights.txt";
+    fs::write_text_atomic(path, format_directions(set, "test"));
+    const std::vector<Direction> back = read_directions(path);
+    ASSERT_EQ(back.size(), set.size());
+    for (size_t i = 0; i < set.size(); ++i) {
+        EXPECT_EQ(back[i].theta_deg, set[i].theta_deg);
+        EXPECT_EQ(back[i].phi_deg, set[i].phi_deg);
+    }
+}
+
 TEST(Ubo2003Dome, HorizonSetIsTheDomeThenRingsToTheHorizonAndRoundTripsThroughItsFile) {
     const auto& set = ubo2003_horizon_dome();
     const auto& dome = ubo2003_dome();
@@ -56,18 +69,40 @@ TEST(Ubo2003Dome, HorizonSetIsTheDomeThenRingsToTheHorizonAndRoundTripsThroughIt
         EXPECT_GT(set[i].theta_deg, 75.0);
         EXPECT_LT(set[i].theta_deg, 89.5);  // within 0.5 deg a direction owns no cell (lighting.h)
     }
-    EXPECT_EQ(&named_direction_set("ubo2003"), &dome);
-    EXPECT_EQ(&named_direction_set("ubo2003-horizon"), &set);
+    EXPECT_EQ(named_direction_set("ubo2003").size(), dome.size());
+    EXPECT_EQ(named_direction_set("ubo2003-horizon").size(), set.size());
     EXPECT_THROW(named_direction_set("bonn"), Error);
-    // format_directions writes what read_directions reads back bit for bit (phi 15 k, k < 24).
-    const std::string path = testing::temp_dir("dome_horizon_set") + "/lights.txt";
-    fs::write_text_atomic(path, format_directions(set, "test"));
-    const std::vector<Direction> back = read_directions(path);
-    ASSERT_EQ(back.size(), set.size());
-    for (size_t i = 0; i < set.size(); ++i) {
-        EXPECT_EQ(back[i].theta_deg, set[i].theta_deg);
-        EXPECT_EQ(back[i].phi_deg, set[i].phi_deg);
+    ExpectRoundTripsThroughItsFile(set, "dome_horizon_set");
+}
+
+TEST(FibonacciHemisphere, DirectionsHaveEqualSolidAngleDownTo89DegAndNoneRepeats) {
+    const int n = 250;
+    const std::vector<Direction> set = named_direction_set("fibonacci-250");
+    ASSERT_EQ(set.size(), static_cast<size_t>(n));
+    // The lattice's defining property: cos(theta) steps evenly from the pole to cos(89 deg), so
+    // each direction stands for the same solid angle; 1e-12 is a few ulps of acos/cos.
+    const double z_span = 1 - std::cos(kFibonacciMaxThetaDeg * kPi / 180);
+    for (int i = 0; i < n; ++i) {
+        EXPECT_NEAR(std::cos(set[i].theta_deg * kPi / 180), 1 - (i + 0.5) / n * z_span, 1e-12);
+        EXPECT_GE(set[i].phi_deg, 0.0);
+        EXPECT_LT(set[i].phi_deg, 360.0);
     }
+    EXPECT_LT(set.back().theta_deg, kFibonacciMaxThetaDeg);
+    EXPECT_GT(set.back().theta_deg, 88.5);  // half a cell (0.23 deg of z) above 89: reaches the lamps
+    // Even spread: every direction's nearest neighbour lies between 0.5 and 1.5 times the
+    // spacing of equal cells, sqrt(2 pi z_span / n) (a lattice with no clumps or holes).
+    const double spacing_deg = std::sqrt(2 * kPi * z_span / n) * 180 / kPi;
+    for (size_t a = 0; a < set.size(); ++a) {
+        double nearest = 180;
+        for (size_t b = 0; b < set.size(); ++b)
+            if (a != b) nearest = std::min(nearest, angle_between_deg(set[a], set[b]));
+        EXPECT_GT(nearest, 0.5 * spacing_deg) << a;
+        EXPECT_LT(nearest, 1.5 * spacing_deg) << a;
+    }
+    ExpectRoundTripsThroughItsFile(set, "dome_fibonacci_set");
+    for (const char* bad : {"fibonacci-15", "fibonacci-4097", "fibonacci-", "fibonacci-2e2",
+                            "fibonacci--20", "fibonacci-00250x"})
+        EXPECT_THROW(named_direction_set(bad), Error) << bad;
 }
 
 TEST(Direction, VectorFollowsTheSampleFrame) {

@@ -93,10 +93,22 @@ void add_capture_options(CLI::App& app, CaptureArgs& a) {
                    "the UBO2003 dome)")
         ->check(CLI::ExistingFile);
     app.add_option("--btf-light-set", a.light_set,
-                   "Capture: the light directions when no --btf-lights: ubo2003 (the Bonn dome, 81) "
-                   "or ubo2003-horizon (the dome plus rings of 24 at 80, 84, 87 and 89 deg, 177: light from "
-                   "near the horizon measured, not extrapolated; docs/btf.md)")
-        ->check(CLI::IsMember({"ubo2003", "ubo2003-horizon"}))
+                   "Capture: the light directions when no --btf-lights: ubo2003 (the Bonn dome, 81), "
+                   "ubo2003-horizon (the dome plus rings of 24 at 80, 84, 87 and 89 deg, 177: light from "
+                   "near the horizon measured, not extrapolated) or fibonacci-N (N directions of equal "
+                   "solid angle down to 89 deg, 16 <= N <= 4096; fibonacci-250 shades within 2% of the "
+                   "truth under 13 rooms and skies where ubo2003-horizon is off by up to 2.7%, for 1.4x "
+                   "its images; docs/btf.md \"Light beyond the last ring\")")
+        ->check(CLI::Validator(
+            [](std::string& name) -> std::string {
+                try {
+                    btf::named_direction_set(name);
+                } catch (const Error& e) {
+                    return e.what();
+                }
+                return {};
+            },
+            "SET"))
         ->excludes("--btf-lights")
         ->capture_default_str();
     app.add_option("--btf-views", a.views, "Capture: view directions file (default the dome)")

@@ -85,6 +85,19 @@ expect_exit 2 "--btf-light-set excludes --btf-lights" -- "$R" capture-btf "$FABR
 expect_stderr "excludes" "the conflict is named"
 expect_exit 2 "an unknown light set" -- "$R" capture-btf "$FABRICS/satin.toml" -o "$WORK/x" "${TINY[@]}" --btf-light-set bonn
 expect_stderr "btf-light-set" "the option is named"
+# An even spread (--btf-light-set fibonacci-N): N lights down to 89 deg, written into the folder.
+expect_exit 0 "fibonacci light set" -- "$R" capture-btf "$FABRICS/wool-twill.toml" -o "$WORK/fib" "${TINY[@]}" \
+    --btf-light-set fibonacci-20 --btf-views "$HV"
+expect_true "20 lights for each of 2 views" -- test "$(find "$WORK/fib" -name '*.png' | wc -l)" -eq 40
+# The last direction's cosine is half a cell above cos 89 deg: 1 - 19.5 / 20 (1 - cos 89 deg).
+expect_true "lights.txt holds the 20 directions, the last at 87.59 deg" -- \
+    awk '!/^#/ { n++; last = $1 } END { pi = atan2(0, -1); z = 1 - 19.5 / 20 * (1 - cos(89 * pi / 180))
+        want = atan2(sqrt(1 - z * z), z) * 180 / pi; exit !(n == 20 && (last - want) ^ 2 < 1e-12) }' "$WORK/fib/lights.txt"
+for bad in fibonacci-15 fibonacci-5000 fibonacci-x fibonacci-; do
+    expect_exit 2 "light set $bad" -- "$R" capture-btf "$FABRICS/satin.toml" -o "$WORK/x" "${TINY[@]}" --btf-light-set "$bad"
+    expect_stderr "btf-light-set.*$bad.*16, 4096" "the option, the value and the range are named"
+done
+expect_true "failed runs leave no output folder" -- test ! -e "$WORK/x"
 
 # Same files for any thread count.
 printf '0 0\n45 120\n' >"$WORK/two.txt"
