@@ -139,16 +139,18 @@ const std::vector<Direction>& ubo2003_horizon_dome() {
 }
 
 std::vector<Direction> fibonacci_hemisphere(int n) {
-    if (n < 1) throw Error(str("fibonacci_hemisphere: ", n, " directions (expected >= 1)"));
+    if (n < 2) throw Error(str("fibonacci_hemisphere: ", n, " directions (expected >= 2)"));
     const double golden = (1.0 + std::sqrt(5.0)) / 2.0;
     const double z_span = 1.0 - std::cos(kFibonacciMaxThetaDeg * kDegree);
     std::vector<Direction> d;
     d.reserve(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) {
-        const double z = 1.0 - (i + 0.5) / n * z_span;
+        const double z = 1.0 - static_cast<double>(i) / (n - 1) * z_span;
         // i / golden's fraction, so phi keeps full precision for large i.
         const double turns = i / golden;
-        d.push_back({std::acos(z) / kDegree, 360.0 * (turns - std::floor(turns))});
+        // The ends exactly: the pole (theta 0, phi 0) and kFibonacciMaxThetaDeg.
+        const double theta_deg = i == 0 ? 0.0 : i == n - 1 ? kFibonacciMaxThetaDeg : std::acos(z) / kDegree;
+        d.push_back({theta_deg, 360.0 * (turns - std::floor(turns))});
     }
     return d;
 }

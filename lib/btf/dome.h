@@ -47,13 +47,15 @@ const std::vector<Direction>& ubo2003_horizon_dome();
 inline constexpr double kHorizonRingThetasDeg[] = {80.0, 84.0, 87.0, 89.0};
 
 /// n light directions spread evenly over the hemisphere down to theta kFibonacciMaxThetaDeg: the
-/// spherical Fibonacci lattice (Marques et al. 2013), point i at cos(theta) = 1 - (i + 0.5) / n
-/// (1 - cos(kFibonacciMaxThetaDeg)) and phi = 360 i / golden ratio (mod 360), from the pole down.
+/// spherical Fibonacci lattice (Marques et al. 2013) with both ends included, point i at
+/// cos(theta) = 1 - i / (n - 1) (1 - cos(kFibonacciMaxThetaDeg)) and phi = 360 i / golden ratio
+/// (mod 360): the first exactly at the pole (the frontal light, `tl000 pl000`, that tools take
+/// the albedo from), the last exactly at kFibonacciMaxThetaDeg.
 /// Equal solid angle per direction and no rings, so light from near the horizon is sampled as
-/// densely as light from above: with 250 directions the shaded BTF's mean luminance is within
+/// densely as light from above: with 600 directions the shaded BTF's mean luminance is within
 /// 2% of the path-traced truth under the 13 environments of docs/btf.md "Light beyond the last
-/// ring", where the dome with horizon rings (177) is not. For synthetic captures.
-/// Precondition: n >= 1.
+/// ring" for every fabric measured, where the dome with horizon rings (177) is not. For synthetic captures.
+/// Precondition: n >= 2 (checked).
 std::vector<Direction> fibonacci_hemisphere(int n);
 inline constexpr double kFibonacciMaxThetaDeg = 89.0;
 

@@ -83,12 +83,14 @@ TEST(FibonacciHemisphere, DirectionsHaveEqualSolidAngleDownTo89DegAndNoneRepeats
     // each direction stands for the same solid angle; 1e-12 is a few ulps of acos/cos.
     const double z_span = 1 - std::cos(kFibonacciMaxThetaDeg * kPi / 180);
     for (int i = 0; i < n; ++i) {
-        EXPECT_NEAR(std::cos(set[i].theta_deg * kPi / 180), 1 - (i + 0.5) / n * z_span, 1e-12);
+        EXPECT_NEAR(std::cos(set[i].theta_deg * kPi / 180), 1 - double(i) / (n - 1) * z_span, 1e-12);
         EXPECT_GE(set[i].phi_deg, 0.0);
         EXPECT_LT(set[i].phi_deg, 360.0);
     }
-    EXPECT_LT(set.back().theta_deg, kFibonacciMaxThetaDeg);
-    EXPECT_GT(set.back().theta_deg, 88.5);  // half a cell (0.23 deg of z) above 89: reaches the lamps
+    // The ends exactly: the frontal light (tl000 pl000, the albedo's image) and 89 deg.
+    EXPECT_EQ(set.front().theta_deg, 0.0);
+    EXPECT_EQ(set.front().phi_deg, 0.0);
+    EXPECT_EQ(set.back().theta_deg, kFibonacciMaxThetaDeg);
     // Even spread: every direction's nearest neighbour lies between 0.5 and 1.5 times the
     // spacing of equal cells, sqrt(2 pi z_span / n) (a lattice with no clumps or holes).
     const double spacing_deg = std::sqrt(2 * kPi * z_span / n) * 180 / kPi;
