@@ -238,14 +238,17 @@ std::vector<ImageTerm> shading_terms(const DomeLighting& lighting, const std::ve
     return terms;
 }
 
-DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector<Direction>& lights,
-                                  const DomeLightingOptions& options) {
+namespace {
+
+/// The checks of integrate_dome_cells on a map of at least min_channels channels.
+void check_dome_inputs(const image::Image& latlong, int min_channels, const std::vector<Direction>& lights,
+                       const DomeLightingOptions& options) {
     if (latlong.height < 1 || latlong.width != 2 * latlong.height) {
         throw Error(str("dome lighting: expected a 2:1 lat-long map, got ", latlong.width, "x",
                         latlong.height));
     }
-    if (latlong.channels < 3) {
-        throw Error(str("dome lighting: expected >= 3 channels, got ", latlong.channels));
+    if (latlong.channels < min_channels) {
+        throw Error(str("dome lighting: expected >= ", min_channels, " channels, got ", latlong.channels));
     }
     if (latlong.color_space != image::ColorSpace::kLinearSrgb) {
         throw Error(str("dome lighting: expected linear_srgb radiance, got ",
@@ -263,6 +266,19 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
     for (float v : latlong.pixels) {
         if (!std::isfinite(v)) throw Error("dome lighting: the map holds NaN or Inf");
     }
+}
+
+/// The first `channels` channels of the map integrated over every light's cell: weight (light
+/// major, n x channels), the cells' solid angles and the lower hemisphere's integral. Each map
+/// direction's cell (or triangle) is found once, whatever the channel count.
+struct CellSums {
+    std::vector<double> weight;
+    std::vector<double> omega;
+    std::vector<double> below;
+};
+
+CellSums integrate_cells(const image::Image& latlong, int channels, const std::vector<Direction>& lights,
+                         const DomeLightingOptions& options) {
     std::vector<Eigen::Vector3d> lv;
     for (const Direction& d : lights) lv.push_back(d.vector());
     const bool extrapolated = options.rule == CellRule::kExtrapolated;
@@ -275,28 +291,25 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
         tri = std::make_unique<HorizonTriangulation>(build_triangulation(lights, cos_bary ? &eligible : nullptr));
     const std::vector<int> partner = extrapolated ? outer_ring_partners(lv, eligible) : std::vector<int>();
 
-    const int w = latlong.width, h = latlong.height, s = options.subsamples;
-    const size_t n = lights.size();
+    const int w = latlong.width, h = latlong.height, s = options.subsamples, nc = latlong.channels;
+    const size_t n = lights.size(), c_count = static_cast<size_t>(channels);
     // Per row: the weights, solid angles and below-horizon sum; combined in row order.
-    struct Partial {
-        std::vector<Eigen::Vector3d> weight;
-        std::vector<double> omega;
-        Eigen::Vector3d below = Eigen::Vector3d::Zero();
-    };
-    Partial identity{std::vector<Eigen::Vector3d>(n, Eigen::Vector3d::Zero()),
-                     std::vector<double>(n, 0.0), Eigen::Vector3d::Zero()};
-    const Partial total = parallel::reduce(
+    const CellSums identity{std::vector<double>(n * c_count, 0.0), std::vector<double>(n, 0.0),
+                            std::vector<double>(c_count, 0.0)};
+    return parallel::reduce(
         h, 1, identity,
         [&](int64_t r0, int64_t r1) {
-            Partial p = identity;
+            CellSums p = identity;
             size_t hint = 0;
             for (int64_t row = r0; row < r1; ++row) {
                 const double z0 = std::cos(kPi * row / h), z1 = std::cos(kPi * (row + 1) / h);
                 const double sub_omega = (z0 - z1) / s * (2 * kPi / w) / s;
                 for (int col = 0; col < w; ++col) {
-                    const Eigen::Vector3d l(latlong.at(col, static_cast<int>(row), 0),
-                                            latlong.at(col, static_cast<int>(row), 1),
-                                            latlong.at(col, static_cast<int>(row), 2));
+                    const float* l = &latlong.pixels[(static_cast<size_t>(row) * w + col) * nc];
+                    auto add = [&](size_t k, double f) {
+                        double* wk = &p.weight[k * c_count];
+                        for (size_t c = 0; c < c_count; ++c) wk[c] += l[c] * f;
+                    };
                     for (int a = 0; a < s; ++a) {
                         const double z = z0 + (a + 0.5) / s * (z1 - z0);
                         const double rr = std::sqrt(std::max(0.0, 1 - z * z));
@@ -306,13 +319,13 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
                                 options.sample_from_env *
                                 Eigen::Vector3d(rr * std::cos(phi), rr * std::sin(phi), z);
                             if (d.z() <= 0) {
-                                p.below += l * sub_omega;
+                                for (size_t c = 0; c < c_count; ++c) p.below[c] += l[c] * sub_omega;
                                 continue;
                             }
                             if (barycentric) {
                                 tri->spread(d, hint, [&](size_t k, double beta) {
                                     const double f = cos_bary ? beta * d.z() / lv[k].z() : beta;
-                                    p.weight[k] += l * (sub_omega * f);
+                                    add(k, sub_omega * f);
                                     p.omega[k] += sub_omega * beta;
                                 });
                                 continue;
@@ -321,29 +334,47 @@ DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector
                                 nearest_light(lv, d, cosine ? &eligible : nullptr));
                             p.omega[k] += sub_omega;
                             if (!cosine) {
-                                p.weight[k] += l * sub_omega;
+                                add(k, sub_omega);
                                 continue;
                             }
                             add_cosine_weight(lv, extrapolated ? &partner : nullptr, k, d,
-                                              [&](size_t i, double f) { p.weight[i] += l * (sub_omega * f); });
+                                              [&](size_t i, double f) { add(i, sub_omega * f); });
                         }
                     }
                 }
             }
             return p;
         },
-        [](Partial a, const Partial& b) {
-            for (size_t k = 0; k < a.weight.size(); ++k) {
-                a.weight[k] += b.weight[k];
-                a.omega[k] += b.omega[k];
-            }
-            a.below += b.below;
+        [](CellSums a, const CellSums& b) {
+            for (size_t i = 0; i < a.weight.size(); ++i) a.weight[i] += b.weight[i];
+            for (size_t k = 0; k < a.omega.size(); ++k) a.omega[k] += b.omega[k];
+            for (size_t c = 0; c < a.below.size(); ++c) a.below[c] += b.below[c];
             return a;
         });
+}
+
+}  // namespace
+
+DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector<Direction>& lights,
+                                  const DomeLightingOptions& options) {
+    check_dome_inputs(latlong, 3, lights, options);
+    const CellSums sums = integrate_cells(latlong, 3, lights, options);
     DomeLighting out;
-    out.weight = total.weight;
-    out.solid_angle_sr = total.omega;
-    out.below_horizon = total.below;
+    for (size_t k = 0; k < lights.size(); ++k)
+        out.weight.emplace_back(sums.weight[3 * k], sums.weight[3 * k + 1], sums.weight[3 * k + 2]);
+    out.solid_angle_sr = sums.omega;
+    out.below_horizon = Eigen::Vector3d(sums.below[0], sums.below[1], sums.below[2]);
+    return out;
+}
+
+Eigen::MatrixXd integrate_dome_cells_channels(const image::Image& map, const std::vector<Direction>& lights,
+                                              const DomeLightingOptions& options) {
+    check_dome_inputs(map, 1, lights, options);
+    const CellSums sums = integrate_cells(map, map.channels, lights, options);
+    Eigen::MatrixXd out(static_cast<Eigen::Index>(lights.size()), map.channels);
+    for (size_t k = 0; k < lights.size(); ++k)
+        for (int c = 0; c < map.channels; ++c)
+            out(static_cast<Eigen::Index>(k), c) = sums.weight[k * static_cast<size_t>(map.channels) + static_cast<size_t>(c)];
     return out;
 }
 

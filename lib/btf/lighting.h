@@ -87,6 +87,14 @@ struct DomeLighting {
 DomeLighting integrate_dome_cells(const image::Image& latlong, const std::vector<Direction>& lights,
                                   const DomeLightingOptions& options = {});
 
+/// integrate_dome_cells' weights for every channel of `map` (>= 1 channels, linear_srgb, finite;
+/// the same checks): out(k, c) is channel c integrated over light k's cell, exactly the value
+/// integrate_dome_cells gives for a 3-channel map. Each of the map's directions is placed in its
+/// cell (or triangle) once for all channels: the SH weight matrix passes all bands^2 basis
+/// functions in one map (sh_lighting.h).
+Eigen::MatrixXd integrate_dome_cells_channels(const image::Image& map, const std::vector<Direction>& lights,
+                                              const DomeLightingOptions& options = {});
+
 /// The shaded image of a BTF as terms of BtfSource::combine: L = sum_k btf_k W_k with
 /// btf = image / irradiance_w_m2, for each view `views[i]` blended with `view_weights[i]`.
 /// Term weight W_k * view_weight / irradiance per channel; view-major, lights in order. On a

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Geometry>
+
 #include <gtest/gtest.h>
 
 #include "core/conventions.h"
@@ -325,6 +327,45 @@ TEST(DomeLighting, CosineBarycentricRuleIsExactForLambertianAndSpreadsALightOver
     EXPECT_NEAR(irradiance, std::cos(52 * kDeg), 1e-12);  // three products of doubles of size ~1
     const DomeLighting below = directional_light_weights(dome, Eigen::Vector3d(0, 0, -1), {1, 1, 1}, opt);
     EXPECT_EQ(below.below_horizon, Eigen::Vector3d(1, 1, 1));
+}
+
+TEST(DomeLighting, AnyChannelCountGivesEachChannelTheThreeChannelWeightsExactly) {
+    // integrate_dome_cells_channels finds each direction's cell once for all channels; every
+    // channel must come out bit for bit as integrate_dome_cells gives it (same arithmetic, same
+    // row order), under every rule, on both light sets, rotated. Five channels: the room, its
+    // transpose, a gradient, and two more.
+    const RoomMap room;
+    const int w = room.map.width, h = room.map.height;
+    image::Image five(w, h, 5), first(w, h, 3), last(w, h, 3);
+    for (int row = 0; row < h; ++row)
+        for (int col = 0; col < w; ++col) {
+            const float v[5] = {room.map.at(col, row, 0), room.map.at(w - 1 - col, h - 1 - row, 0),
+                                float(row) / h, float(col) / w, room.map.at(col, row, 0) * float(row % 7)};
+            for (int c = 0; c < 5; ++c) five.at(col, row, c) = v[c];
+            for (int c = 0; c < 3; ++c) first.at(col, row, c) = v[c];
+            for (int c = 0; c < 2; ++c) last.at(col, row, c) = v[3 + c];
+        }
+    for (const auto* set : {&ubo2003_dome(), &ubo2003_horizon_dome()}) {
+        for (CellRule rule : {CellRule::kConstant, CellRule::kCosine, CellRule::kBarycentric,
+                              CellRule::kExtrapolated, CellRule::kCosineBarycentric}) {
+            DomeLightingOptions o;
+            o.rule = rule;
+            o.subsamples = 2;
+            o.sample_from_env = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+            const Eigen::MatrixXd all = integrate_dome_cells_channels(five, *set, o);
+            const DomeLighting a = integrate_dome_cells(first, *set, o), b = integrate_dome_cells(last, *set, o);
+            ASSERT_EQ(all.rows(), static_cast<Eigen::Index>(set->size()));
+            ASSERT_EQ(all.cols(), 5);
+            for (size_t k = 0; k < set->size(); ++k) {
+                const auto r = static_cast<Eigen::Index>(k);
+                for (int c = 0; c < 3; ++c) EXPECT_EQ(all(r, c), a.weight[k][c]) << to_string(rule) << " " << k;
+                for (int c = 0; c < 2; ++c) EXPECT_EQ(all(r, 3 + c), b.weight[k][c]) << to_string(rule) << " " << k;
+            }
+        }
+    }
+    EXPECT_NE(testing::error_of([] { integrate_dome_cells_channels(image::Image(3, 2, 1), ubo2003_dome()); })
+                  .find("2:1"),
+              std::string::npos);
 }
 
 TEST(DomeLighting, CellRuleNamesRoundTrip) {

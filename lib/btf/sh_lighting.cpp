@@ -17,31 +17,17 @@ Eigen::MatrixXd sh_light_weight_matrix(const std::vector<Direction>& lights, int
         throw Error(str("SH light weights: map height must be in 16..2048, got ", map_height));
     }
     const int count = sh::count(sh_bands), h = map_height, w = 2 * map_height;
-    // The basis functions at the pixel centres, once.
-    std::vector<double> basis(static_cast<size_t>(w) * h * count);
+    // Every basis function at the pixel centres, one channel each, through the map path in one pass.
+    image::Image map(w, h, count);
     for (int row = 0; row < h; ++row) {
         for (int col = 0; col < w; ++col) {
             const Eigen::Vector3d d = latlong_direction((col + 0.5) / w, (row + 0.5) / h);
-            sh::eval(sh_bands, d, &basis[(static_cast<size_t>(row) * w + col) * count]);
+            double y[81];
+            sh::eval(sh_bands, d, y);
+            for (int j = 0; j < count; ++j) map.at(col, row, j) = static_cast<float>(y[j]);
         }
     }
-    // Three basis functions per map (its three channels), each through the map path.
-    Eigen::MatrixXd a(static_cast<Eigen::Index>(lights.size()), count);
-    for (int j0 = 0; j0 < count; j0 += 3) {
-        image::Image map(w, h, 3);
-        for (int row = 0; row < h; ++row) {
-            for (int col = 0; col < w; ++col) {
-                for (int c = 0; c < 3 && j0 + c < count; ++c) {
-                    map.at(col, row, c) = static_cast<float>(
-                        basis[(static_cast<size_t>(row) * w + col) * count + j0 + c]);
-                }
-            }
-        }
-        const DomeLighting cells = integrate_dome_cells(map, lights, options);
-        for (size_t k = 0; k < lights.size(); ++k) {
-            for (int c = 0; c < 3 && j0 + c < count; ++c) a(static_cast<Eigen::Index>(k), j0 + c) = cells.weight[k][c];
-        }
-    }
+    const Eigen::MatrixXd a = integrate_dome_cells_channels(map, lights, options);
     return a;
 }
 
