@@ -89,6 +89,7 @@ expect_stderr "btf-light-set" "the option is named"
 expect_exit 0 "fibonacci light set" -- "$R" capture-btf "$FABRICS/wool-twill.toml" -o "$WORK/fib" "${TINY[@]}" \
     --btf-light-set fibonacci-20 --btf-views "$HV"
 expect_true "20 lights for each of 2 views" -- test "$(find "$WORK/fib" -name '*.png' | wc -l)" -eq 40
+# shellcheck disable=SC2016  # awk's own $1 and $2
 expect_true "lights.txt holds the 20 directions, the first at the pole and the last at 89 deg" -- \
     awk '!/^#/ { n++; if (n == 1) first = $1 " " $2; last = $1 } END { exit !(n == 20 && first == "0 0" && last == 89) }' \
     "$WORK/fib/lights.txt"
