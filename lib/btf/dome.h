@@ -54,7 +54,8 @@ inline constexpr double kHorizonRingThetasDeg[] = {80.0, 84.0, 87.0, 89.0};
 /// Equal solid angle per direction and no rings, so light from near the horizon is sampled as
 /// densely as light from above: with 600 directions the shaded BTF's mean luminance is within
 /// 2% of the path-traced truth under the 13 environments of docs/btf.md "Light beyond the last
-/// ring" for every fabric measured, where the dome with horizon rings (177) is not. For synthetic captures.
+/// ring" for every fabric measured, where the dome with horizon rings (177) is not. For
+/// synthetic captures.
 /// Precondition: n >= 2 (checked).
 std::vector<Direction> fibonacci_hemisphere(int n);
 inline constexpr double kFibonacciMaxThetaDeg = 89.0;

@@ -96,9 +96,10 @@ void add_capture_options(CLI::App& app, CaptureArgs& a) {
                    "Capture: the light directions when no --btf-lights: ubo2003 (the Bonn dome, 81), "
                    "ubo2003-horizon (the dome plus rings of 24 at 80, 84, 87 and 89 deg, 177: light from "
                    "near the horizon measured, not extrapolated) or fibonacci-N (N directions of equal "
-                   "solid angle down to 89 deg, 16 <= N <= 4096; fibonacci-250 shades within 2% of the "
-                   "truth under 13 rooms and skies where ubo2003-horizon is off by up to 2.7%, for 1.4x "
-                   "its images; docs/btf.md \"Light beyond the last ring\")")
+                   "solid angle from the pole down to 89 deg, 16 <= N <= 4096; fibonacci-600 shades "
+                   "wool, denim and satin within 1% of the truth under 13 rooms and skies where "
+                   "ubo2003-horizon is off by up to 3.5%, for 3.4x its images; docs/btf.md \"Light "
+                   "beyond the last ring\")")
         ->check(CLI::Validator(
             [](std::string& name) -> std::string {
                 try {
