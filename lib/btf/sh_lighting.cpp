@@ -1,6 +1,7 @@
 #include "btf/sh_lighting.h"
 
 #include <cmath>
+#include <vector>
 
 #include "core/conventions.h"
 #include "core/error.h"
@@ -19,16 +20,14 @@ Eigen::MatrixXd sh_light_weight_matrix(const std::vector<Direction>& lights, int
     const int count = sh::count(sh_bands), h = map_height, w = 2 * map_height;
     // Every basis function at the pixel centres, one channel each, through the map path in one pass.
     image::Image map(w, h, count);
+    std::vector<double> y(static_cast<size_t>(count));
     for (int row = 0; row < h; ++row) {
         for (int col = 0; col < w; ++col) {
-            const Eigen::Vector3d d = latlong_direction((col + 0.5) / w, (row + 0.5) / h);
-            double y[81];
-            sh::eval(sh_bands, d, y);
-            for (int j = 0; j < count; ++j) map.at(col, row, j) = static_cast<float>(y[j]);
+            sh::eval(sh_bands, latlong_direction((col + 0.5) / w, (row + 0.5) / h), y.data());
+            for (int j = 0; j < count; ++j) map.at(col, row, j) = static_cast<float>(y[size_t(j)]);
         }
     }
-    const Eigen::MatrixXd a = integrate_dome_cells_channels(map, lights, options);
-    return a;
+    return integrate_dome_cells_channels(map, lights, options);
 }
 
 }  // namespace inlight::btf
