@@ -130,8 +130,9 @@ if [ -n "$BTF" ]; then
             files+=(--file "btf_gles_vertex=$W/btf-gles/$v.vert@btf/$v.vert"
                 --file "btf_gles_fragment=$W/btf-gles/$v.frag@btf/$v.frag")
         done < <(jq -r '.variants[].name' "$W/btf-gles/btf-gles.json")
-        say "BTF GLES shaders: $(jq -r '[.load[] | "\(.capability): \(.variant // "none")"] | join("; ")' \
-            "$W/btf-gles/btf-gles.json")"
+        say "BTF GLES shaders: $(jq -r '[.load[] | "\(.capability): \(.variant // "none")" +
+            (if .requires then " (needs GL_MAX_FRAGMENT_UNIFORM_VECTORS >= \(.requires.max_fragment_uniform_vectors))"
+             else "" end)] | join("; ")' "$W/btf-gles/btf-gles.json")"
     else
         say "no BTF GLES shaders: they draw only a linear fit with 8-bit PNG components (docs/btf-gles.md)"
     fi

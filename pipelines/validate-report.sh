@@ -318,8 +318,7 @@ btf_view_table() {
 }
 
 # btf_gles_table md|html: the BTF as the phone draws it: per BTF fabric, view and exported
-# variant (its longest prefix: the whole stream for ES 3.00, at most 3 components per group for
-# ES 1.00), the median and worst error over the environments of its GLES picture against the
+# variant (its longest prefix: the whole stream), the median and worst error over the environments of its GLES picture against the
 # truth, its mean-luminance bias, and its distance from the CPU shading of the same components
 # (the SH lighting's truncation at the shipped bands: the CPU shading integrates the whole map).
 btf_gles_table() {

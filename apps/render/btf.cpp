@@ -72,7 +72,6 @@ public:
         if (it == m_lighting.end()) it = m_lighting.emplace(env_path, frame_lighting(env)).first;
         std::vector<render::GlesPicture> out;
         for (const gles::BtfGlesVariant& v : e.variants) {
-            if (sent > gles::btf_drawable_prefix(e, v)) continue;
             const gles::Context context(v.version == gles::GlslVersion::kEs300 ? 3 : 2);
             out.push_back({v.name, gles::draw_btf(context, e, v, view, it->second.sh, sent, nullptr, it->second.lights),
                            static_cast<int>(it->second.lights.size())});

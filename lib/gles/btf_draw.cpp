@@ -35,13 +35,4 @@ image::Image draw_btf(const Context& context, const BtfGlesExport& e, const BtfG
     return img;
 }
 
-int64_t btf_drawable_prefix(const BtfGlesExport& e, const BtfGlesVariant& variant) {
-    const int max_components = variant.slabs_used * 4 - 1;
-    std::vector<int> arrived(e.components.size(), 0);
-    for (size_t i = 0; i < e.stream.size(); ++i) {
-        if (++arrived[static_cast<size_t>(e.stream[i].first)] > max_components) return static_cast<int64_t>(i);
-    }
-    return static_cast<int64_t>(e.stream.size());
-}
-
 }  // namespace inlight::gles

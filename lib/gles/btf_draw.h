@@ -22,14 +22,9 @@ Mesh btf_sample_quad();
 /// fabric frame) and dominant `lights`, as btf_frame_weights, with the first `sent` stream
 /// entries arrived. Returns the
 /// linear_srgb radiance (3 channels, e.width x e.height); `draw_ms` (optional) the draw's wall
-/// time. Throws Error as btf_frame_weights and draw do (a prefix the variant cannot show, no
-/// RGBA32F target).
+/// time. Throws Error as btf_frame_weights and draw do (no RGBA32F target).
 image::Image draw_btf(const Context& context, const BtfGlesExport& e, const BtfGlesVariant& variant,
                       const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent,
                       double* draw_ms = nullptr, const std::vector<BtfLight>& lights = {});
-
-/// The number of stream entries `variant` can show: the longest prefix of e.stream in which no
-/// group has more components than the variant reads (ES 1.00: 3); the whole stream for ES 3.00.
-int64_t btf_drawable_prefix(const BtfGlesExport& e, const BtfGlesVariant& variant);
 
 }  // namespace inlight::gles

@@ -239,13 +239,16 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
         BtfGlesVariant var;
         var.version = ver;
         var.name = es3 ? "btf-es300-highp" : "btf-es100-highp";
-        // ES 2.0's 16 vectors hold one slab (15); ES 3.0's 224 hold 14 slabs.
-        const int fit = lim.max_fragment_uniform_vectors / (kSlots * kVectorsPerSlab);
-        var.slabs_used = std::min(e.slabs, fit);
-        if (es3 && var.slabs_used < e.slabs)
+        // Every variant reads every slab: 15 S vectors. ES 3.0 guarantees 224 (S <= 14) and runs
+        // ES 1.00 shaders too, so that is the bound for both; ES 2.0 guarantees only 16 (S = 1)
+        // and devices report more (the load table's requires: the app checks it).
+        const int es3_vectors = Limits::minimum(GlslVersion::kEs300).max_fragment_uniform_vectors;
+        const int fit = es3_vectors / (kSlots * kVectorsPerSlab);
+        if (e.slabs > fit)
             throw Error(str(manifest_path, ": ", max_c, " components need ", e.slabs * kSlots * kVectorsPerSlab,
-                            " fragment uniform vectors, OpenGL ES 3.0 guarantees ",
-                            lim.max_fragment_uniform_vectors, " (at most ", fit * 4 - 1, " components)"));
+                            " fragment uniform vectors, OpenGL ES 3.0 guarantees ", es3_vectors, " (at most ",
+                            fit * 4 - 1, " components)"));
+        var.slabs_used = e.slabs;
         var.fragment_uniform_vectors = var.slabs_used * kSlots * kVectorsPerSlab;
         const int side = std::max(e.width, e.height * e.slabs);
         var.vertex_source = vertex_source(es3);
@@ -269,14 +272,25 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
             {"gl_limits_needed",
              {{"context", es3 ? "OpenGL ES 3.0" : "OpenGL ES 2.0"},
               {"max_fragment_uniform_vectors", var.fragment_uniform_vectors},
+              {"max_fragment_uniform_vectors_guaranteed", lim.max_fragment_uniform_vectors},
               {"max_texture_image_units", kSlots},
               {"max_texture_size", side},
               {"max_texture_size_guaranteed", lim.max_texture_size},
               {"requires", es3 ? nlohmann::json::array()
                                : nlohmann::json::array({"GL_FRAGMENT_PRECISION_HIGH (highp in fragment shaders)"})}}}};
+        std::vector<std::string> notes;
+        if (var.fragment_uniform_vectors > lim.max_fragment_uniform_vectors)
+            notes.push_back(str(var.fragment_uniform_vectors, " fragment uniform vectors (", e.slabs,
+                                " slabs x 3 slots x 5), above the ", lim.max_fragment_uniform_vectors,
+                                " every device guarantees: check GL_MAX_FRAGMENT_UNIFORM_VECTORS"));
         if (side > lim.max_texture_size)
-            vm["gl_limits_needed"]["note"] = str("the atlases are ", side, " texels on a side, above the ",
-                                                 lim.max_texture_size, " every device guarantees: check GL_MAX_TEXTURE_SIZE");
+            notes.push_back(str("the atlases are ", side, " texels on a side, above the ", lim.max_texture_size,
+                                " every device guarantees: check GL_MAX_TEXTURE_SIZE"));
+        if (!notes.empty()) {
+            std::string joined;
+            for (const std::string& n : notes) joined += (joined.empty() ? "" : "; ") + n;
+            vm["gl_limits_needed"]["note"] = joined;
+        }
         variants.push_back(vm);
         var.as_export.name = var.name;
         var.as_export.variant.version = ver;

@@ -53,7 +53,7 @@ struct BtfGlesVariant {
     GlslVersion version = GlslVersion::kEs300;
     std::string name;  ///< "btf-es300-highp"
     std::string vertex_source, fragment_source;
-    int slabs_used = 0;        ///< slabs of the atlas the shader reads (ES 1.00: 1)
+    int slabs_used = 0;        ///< slabs of the atlas the shader reads: all of them
     int fragment_uniform_vectors = 0;  ///< 15 x slabs_used
     /// Export (the harness' view of it): the manifest's "variant", "textures" (u_group0..2)
     /// and the sources, for gles::draw.
@@ -111,9 +111,11 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& opti
 /// shape of the BRDF shaders' index.json "load" (export.h load_choices): one entry per
 /// capability ("OpenGL ES 3.0 or later", "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH",
 /// "OpenGL ES 2.0 without GL_FRAGMENT_PRECISION_HIGH") with capability, variant (an exported
-/// variant's name or null), manifest, validated and why. ES 2.0 names btf-es100-highp only when
-/// every group's components fit its one slab (3); without highp fragments nothing (mediump is
-/// refused, docs/btf-gles.md "Precision").
+/// variant's name or null), manifest, validated and why. When btf-es100-highp needs more
+/// fragment uniform vectors than ES 2.0 guarantees (16: more than 3 components in a group), its
+/// entry carries requires.max_fragment_uniform_vectors and a fourth entry names no variant for an
+/// ES 2.0 device that reports fewer; without highp fragments nothing (mediump is refused,
+/// docs/btf-gles.md "Precision").
 nlohmann::json btf_load_choices(const BtfGlesExport& e);
 
 /// The uniforms of one frame: u_weight (9 x slabs_used vec4, index (slot x 3 + ch) x S + s),
@@ -127,8 +129,8 @@ struct BtfFrame {
 /// `sent` stream entries arrived (the means always), `lights` dominant lights added to the SH
 /// (each spread over the light directions by the export's cell rule, btf/sh_lighting.h
 /// directional_light_weights; one at or below the sample's plane adds nothing). Throws Error
-/// when the arrived components need more slabs than `variant` reads (ES 1.00: 3 components per
-/// group) or a light is not finite or its direction not unit.
+/// when the arrived components need more slabs than `variant` reads (a variant made by hand:
+/// the exported ones read every slab) or a light is not finite or its direction not unit.
 BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant,
                            const btf::Direction& view, const Eigen::MatrixXd& sh, int64_t sent,
                            const std::vector<BtfLight>& lights = {});

@@ -89,17 +89,11 @@ nlohmann::json btf_load_choices(const BtfGlesExport& e) {
     const int max_c = e.components.empty() ? 0 : *std::max_element(e.components.begin(), e.components.end());
     const char* validated = "; highp: drawn through EGL equal to the CPU decoder within one 8-bit code "
                             "(docs/btf-gles.md, \"Tests\")";
-    // ES 1.00 reads one slab: the whole stream only when every group's components fit in it.
-    std::string es1_refused;
-    if (!es1) {
-        es1_refused = "btf-es100-highp was not exported (--gles-versions)";
-    } else if (max_c > es1->slabs_used * 4 - 1) {
-        es1_refused = str("btf-es100-highp reads one atlas slab: the mean and ", es1->slabs_used * 4 - 1,
-                          " components per group, and a group here has ", max_c,
-                          "; it could draw only the first ", btf_drawable_prefix(e, *es1), " of the ", e.stream.size(),
-                          " stream entries, so it is not named (compress with at most ", es1->slabs_used * 4 - 1,
-                          " components for ES 2.0 devices)");
-    }
+    // Both variants read every slab (15 fragment uniform vectors a slab): ES 3.0 guarantees 224,
+    // which the export enforces; ES 2.0 guarantees 16, one slab, and a device reports its own.
+    constexpr int kVectorsPerSlab = 15;  // 3 slots x (scale, offset, 3 colours' weights)
+    const int es2_guaranteed = Limits::minimum(GlslVersion::kEs100).max_fragment_uniform_vectors;
+    const int es1_vectors = es1 ? es1->fragment_uniform_vectors : 0;
     auto entry = [&](const std::string& capability, const BtfGlesVariant* v, const std::string& why) {
         nlohmann::json c = {{"capability", capability}};
         if (!v) {
@@ -113,24 +107,45 @@ nlohmann::json btf_load_choices(const BtfGlesExport& e) {
         c["why"] = why + validated;
         return c;
     };
+    const std::string every = str("all ", e.slabs, " slab(s): the mean and every component (at most ", max_c,
+                                  " per group)");
     nlohmann::json out = nlohmann::json::array();
     if (es3) {
-        out.push_back(entry("OpenGL ES 3.0 or later", es3,
-                            str("GLSL ES 3.00: exact texel fetches, all ", e.slabs, " slab(s), every component")));
+        out.push_back(entry("OpenGL ES 3.0 or later", es3, "GLSL ES 3.00: exact texel fetches, " + every));
     } else {
-        out.push_back(entry("OpenGL ES 3.0 or later", es1_refused.empty() ? es1 : nullptr,
-                            es1_refused.empty() ? "btf-es300-highp was not exported: the ES 1.00 variant runs on "
-                                                  "ES 3.0 and draws every component here"
-                                                : "btf-es300-highp was not exported and " + es1_refused));
+        out.push_back(entry("OpenGL ES 3.0 or later", es1,
+                            es1 ? "btf-es300-highp was not exported: the ES 1.00 variant runs on ES 3.0 (" +
+                                      std::to_string(es1_vectors) + " fragment uniform vectors, within its 224), " + every
+                                : std::string("no variant was exported")));
     }
-    out.push_back(entry("OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH", es1_refused.empty() ? es1 : nullptr,
-                        es1_refused.empty() ? str("GLSL ES 1.00: one slab holds every group's mean and ", max_c,
-                                                  " component(s)")
-                                            : es1_refused));
+    if (!es1) {
+        out.push_back(entry("OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH", nullptr,
+                            "btf-es100-highp was not exported (--gles-versions)"));
+    } else {
+        nlohmann::json c = entry("OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH", es1,
+                                 str("GLSL ES 1.00: ", every, ", ", es1_vectors, " fragment uniform vectors"));
+        if (es1_vectors > es2_guaranteed) {
+            // Machine-readable, beside the text: the app compares it with GL_MAX_FRAGMENT_UNIFORM_VECTORS.
+            c["requires"] = {{"max_fragment_uniform_vectors", es1_vectors}};
+            c["why"] = str(c["why"].get<std::string>(), "; needs GL_MAX_FRAGMENT_UNIFORM_VECTORS >= ", es1_vectors,
+                           " (ES 2.0 guarantees ", es2_guaranteed, "): the next row covers a device that reports fewer");
+        }
+        out.push_back(c);
+    }
     out.push_back(entry("OpenGL ES 2.0 without GL_FRAGMENT_PRECISION_HIGH", nullptr,
                         "mediump is refused: its 10-bit mantissa on 3 x (1 + C) decoded terms errs by more than "
                         "an 8-bit code (docs/btf-gles.md, \"Precision\"); every exported variant needs highp "
                         "fragment floats"));
+    if (es1 && es1_vectors > es2_guaranteed) {
+        out.push_back(entry(str("OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH and GL_MAX_FRAGMENT_UNIFORM_VECTORS < ",
+                                es1_vectors),
+                            nullptr,
+                            str("btf-es100-highp holds ", e.slabs, " slabs of uniforms (", es1_vectors,
+                                " vectors) for groups of up to ", max_c,
+                                " components; no variant draws the whole stream within fewer, and none is cut "
+                                "to a prefix silently (compress with at most ",
+                                (es2_guaranteed / kVectorsPerSlab) * 4 - 1, " components per group for every ES 2.0 device)")));
+    }
     return out;
 }
 
