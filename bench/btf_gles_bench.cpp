@@ -14,6 +14,9 @@
 // versions) for the groups one frame binds (tex_frame_bytes) and for the whole fabric
 // (tex_fabric_bytes), and the lighting-matrices.bin bytes (matrices_bytes).
 //
+// BM_BtfGlesFrameDecodeInShader: the ablation, the same draw with the decode in the shader (as
+// exported before it was folded into the weights), to time the fold as a ratio in one run.
+//
 // BM_BtfFrameWeights: the app's per-frame CPU work, gles::btf_frame_weights (the view blend and
 // the 3 blended views' (1 + C) x bands^2 matrices times the SH, per colour), at 2, 3 and 9 bands
 // (one export each, the whole stream arrived). Counter madds_per_colour: sum over the blended
@@ -29,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -138,6 +142,20 @@ int groups_bound(const gles::BtfFrame& f) {
     return static_cast<int>(std::set<int>(f.slot_group.begin(), f.slot_group.end()).size());
 }
 
+/// Draws `v` with `b` tiled over the kWidth x kHeight target, each iteration's time the least of
+/// kRepeat draws (the first compiles); returns the last iteration's ms.
+double time_frames(benchmark::State& state, const gles::Context& ctx, const gles::BtfGlesExport& e,
+                   const gles::BtfGlesVariant& v, gles::Bindings b) {
+    b.uv_scale = {static_cast<float>(kWidth) / e.width, static_cast<float>(kHeight) / e.height};
+    const gles::Mesh quad = gles::btf_sample_quad();
+    double ms = 0;
+    for (auto _ : state) {
+        ms = gles::draw(ctx, v.as_export, b, quad, kWidth, kHeight, gles::TargetFormat::kRgba32f, kRepeat).draw_ms;
+        state.SetIterationTime(ms * 1e-3);
+    }
+    return ms;
+}
+
 // args: GLSL ES version (100 | 300), prefix (0 = means only, 1 = the first half of the stream,
 // -1 = the whole stream). Both versions read every slab.
 void BM_BtfGlesFrame(benchmark::State& state) {
@@ -149,18 +167,12 @@ void BM_BtfGlesFrame(benchmark::State& state) {
                                                : static_cast<int64_t>(e.stream.size());
     const gles::Context ctx(es3 ? 3 : 2);
     const gles::BtfFrame frame = gles::btf_frame_weights(e, v, kView, smooth_sky_sh(3), sent);
-    gles::Bindings b = gles::btf_bindings(e, frame);
-    b.uv_scale = {static_cast<float>(kWidth) / e.width, static_cast<float>(kHeight) / e.height};
-    const gles::Mesh quad = gles::btf_sample_quad();
-    double ms = 0;
-    for (auto _ : state) {
-        ms = gles::draw(ctx, v.as_export, b, quad, kWidth, kHeight, gles::TargetFormat::kRgba32f, kRepeat).draw_ms;
-        state.SetIterationTime(ms * 1e-3);
-    }
+    const double ms = time_frames(state, ctx, e, v, gles::btf_bindings(e, frame));
     const double slab_bytes = 4.0 * e.width * e.height;
     state.SetLabel(v.name + " | " + std::to_string(e.width) + " px, " + std::to_string(e.components.size()) +
                    " groups, S " + std::to_string(e.slabs) + " | " + ctx.info().renderer);
     state.counters["N"] = static_cast<double>(sent);
+    state.counters["fragment_uniform_vectors"] = v.fragment_uniform_vectors;
     state.counters["groups_bound"] = groups_bound(frame);
     state.counters["tex_frame_bytes"] = groups_bound(frame) * v.slabs_used * slab_bytes;
     state.counters["tex_fabric_bytes"] = static_cast<double>(e.components.size()) * v.slabs_used * slab_bytes;
@@ -176,6 +188,62 @@ BENCHMARK(BM_BtfGlesFrame)
     ->Args({100, 0})
     ->Args({100, 1})
     ->Args({100, -1})
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+
+/// The ablation: `folded` (an exported fragment shader) with the decode moved back into it, as
+/// exported before the fold: per slot and slab u_scale and u_offset (3 S vec4 each) and
+/// v = u_offset + u_scale * t dotted with the weights, 15 S vectors and 16 multiply-adds per slab
+/// and slot against 9 S + 1 and 12. Its k-th weight line is slot k / S, slab k % S.
+std::string decode_in_shader(const std::string& folded, int slabs_used) {
+    const int n = 3 * slabs_used;
+    std::string out;
+    std::istringstream in(folded);
+    int k = 0;
+    for (std::string line; std::getline(in, line);) {
+        if (line == "uniform vec4 u_bias;") {
+            out += line + "\nuniform vec4 u_scale[" + std::to_string(n) + "];\nuniform vec4 u_offset[" +
+                   std::to_string(n) + "];\n";
+        } else if (line == "  vec4 t;") {
+            out += line + "\n  vec4 v;\n";
+        } else if (line.rfind("  sum += vec3(dot(t, ", 0) == 0) {
+            std::string dots = line;
+            for (size_t at = 0; (at = dots.find("dot(t, ", at)) != std::string::npos;) dots.replace(at, 7, "dot(v, ");
+            out += "  v = u_offset[" + std::to_string(k) + "] + u_scale[" + std::to_string(k) + "] * t;\n" + dots + "\n";
+            ++k;
+        } else {
+            out += line + "\n";
+        }
+    }
+    if (k != n) throw std::runtime_error("btf_gles_bench: the fragment shader's weight lines changed");
+    return out;
+}
+
+// The ablation's frame time beside BM_BtfGlesFrame's, same view and lighting (whole stream;
+// u_scale 1, u_offset 0: the values do not change the work). args: GLSL ES version.
+void BM_BtfGlesFrameDecodeInShader(benchmark::State& state) {
+    const gles::BtfGlesExport& e = exported(3);
+    const bool es3 = state.range(0) == 300;
+    gles::BtfGlesVariant v = variant(e, es3 ? gles::GlslVersion::kEs300 : gles::GlslVersion::kEs100);
+    v.as_export.fragment_source = decode_in_shader(v.as_export.fragment_source, v.slabs_used);
+    v.as_export.name += "-decode-in-shader";
+    const gles::Context ctx(es3 ? 3 : 2);
+    const gles::BtfFrame frame =
+        gles::btf_frame_weights(e, v, kView, smooth_sky_sh(3), static_cast<int64_t>(e.stream.size()));
+    gles::Bindings b = gles::btf_bindings(e, frame);
+    const size_t n4 = static_cast<size_t>(3 * v.slabs_used) * 4;
+    b.vec4_arrays.emplace_back("u_scale", std::vector<float>(n4, 1.f));
+    b.vec4_arrays.emplace_back("u_offset", std::vector<float>(n4, 0.f));
+    const double ms = time_frames(state, ctx, e, v, b);
+    state.SetLabel(v.as_export.name + " | " + ctx.info().renderer);
+    state.counters["fragment_uniform_vectors"] = 15.0 * v.slabs_used;
+    state.counters["Mfragments_per_s"] = kWidth * kHeight / (ms * 1e-3) * 1e-6;
+}
+BENCHMARK(BM_BtfGlesFrameDecodeInShader)
+    ->ArgNames({"es"})
+    ->Args({300})
+    ->Args({100})
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);

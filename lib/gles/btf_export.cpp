@@ -23,7 +23,7 @@ namespace inlight::gles {
 namespace {
 
 constexpr int kSlots = 3;              // groups drawn at once: the 3 nearest views' groups
-constexpr int kVectorsPerSlab = 5;     // per slot: scale, offset, 3 colours' weights
+constexpr int kVectorsPerSlab = 3;     // per slot: the 3 colours' weights (the decode folded in)
 constexpr const char* kManifest = "btf-gles.json";
 constexpr const char* kMatrices = "lighting-matrices.bin";
 
@@ -71,19 +71,19 @@ std::string fragment_source(bool es3, int w, int h, int slabs, int used) {
     std::ostringstream s;
     s << (es3 ? "#version 300 es\n" : "#version 100\n")
       << "// inlight BTF export (docs/btf-gles.md): per slot g (the 3 nearest views' groups) and\n"
-      << "// slab s, t = the atlas texel (RGBA8, nearest, UV wrapped), v = u_offset + u_scale * t\n"
-      << "// (the folder's decode), radiance_ch += dot(v, u_weight[(g * 3 + ch) * S + s]).\n"
+      << "// slab s, t = the atlas texel (RGBA8 code / 255, nearest, UV wrapped), radiance_ch =\n"
+      << "// u_bias[ch] + sum of dot(t, u_weight[(g * 3 + ch) * S + s]) (the folder's decode, offset +\n"
+      << "// scale x t, folded into the weights and the bias by the app each frame).\n"
       << "precision highp float;\n";
     if (es3) s << "precision highp int;\n";
     for (int g = 0; g < kSlots; ++g) s << "uniform highp sampler2D u_group" << g << ";  // highp: the default lowp result loses codes\n";
     const int n = kSlots * used;
-    s << "uniform vec4 u_scale[" << n << "];\nuniform vec4 u_offset[" << n << "];\n"
-      << "uniform vec4 u_weight[" << 3 * n << "];\n"
+    s << "uniform vec4 u_weight[" << 3 * n << "];\nuniform vec4 u_bias;\n"
       << (es3 ? "in" : "varying") << " highp vec2 v_uv;\n";
     if (es3) s << "layout(location = 0) out vec4 o_radiance;\n";
     s << "void main() {\n  vec2 f = fract(v_uv);\n"
       << "  vec2 texel = min(floor(f * vec2(" << w << ".0, " << h << ".0)), vec2(" << w - 1 << ".0, " << h - 1
-      << ".0));\n  vec3 sum = vec3(0.0);\n  vec4 t;\n  vec4 v;\n";
+      << ".0));\n  vec3 sum = u_bias.rgb;\n  vec4 t;\n";
     for (int g = 0; g < kSlots; ++g) {
         for (int sl = 0; sl < used; ++sl) {
             if (es3) {
@@ -92,10 +92,8 @@ std::string fragment_source(bool es3, int w, int h, int slabs, int used) {
                 s << "  t = texture2D(u_group" << g << ", vec2((texel.x + 0.5) / " << w << ".0, (texel.y + "
                   << sl * h << ".5) / " << h * slabs << ".0));\n";
             }
-            const int i = g * used + sl;
-            s << "  v = u_offset[" << i << "] + u_scale[" << i << "] * t;\n"
-              << "  sum += vec3(dot(v, u_weight[" << (g * 3) * used + sl << "]), dot(v, u_weight["
-              << (g * 3 + 1) * used + sl << "]), dot(v, u_weight[" << (g * 3 + 2) * used + sl << "]));\n";
+            s << "  sum += vec3(dot(t, u_weight[" << (g * 3) * used + sl << "]), dot(t, u_weight["
+              << (g * 3 + 1) * used + sl << "]), dot(t, u_weight[" << (g * 3 + 2) * used + sl << "]));\n";
         }
     }
     s << "  " << (es3 ? "o_radiance" : "gl_FragColor") << " = vec4(sum, 1.0);\n}\n";
@@ -239,17 +237,17 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
         BtfGlesVariant var;
         var.version = ver;
         var.name = es3 ? "btf-es300-highp" : "btf-es100-highp";
-        // Every variant reads every slab: 15 S vectors. ES 3.0 guarantees 224 (S <= 14) and runs
-        // ES 1.00 shaders too, so that is the bound for both; ES 2.0 guarantees only 16 (S = 1)
-        // and devices report more (the load table's requires: the app checks it).
+        // Every variant reads every slab: 9 S + 1 vectors (u_weight, u_bias). ES 3.0 guarantees
+        // 224 (S <= 24) and runs ES 1.00 shaders too, so that is the bound for both; ES 2.0
+        // guarantees only 16 (S = 1) and devices report more (the load table's requires).
         const int es3_vectors = Limits::minimum(GlslVersion::kEs300).max_fragment_uniform_vectors;
-        const int fit = es3_vectors / (kSlots * kVectorsPerSlab);
+        const int fit = (es3_vectors - 1) / (kSlots * kVectorsPerSlab);
         if (e.slabs > fit)
-            throw Error(str(manifest_path, ": ", max_c, " components need ", e.slabs * kSlots * kVectorsPerSlab,
-                            " fragment uniform vectors, OpenGL ES 3.0 guarantees ", es3_vectors, " (at most ",
-                            fit * 4 - 1, " components)"));
+            throw Error(str(manifest_path, ": ", max_c, " components need ",
+                            btf_fragment_uniform_vectors(e.slabs), " fragment uniform vectors, OpenGL ES 3.0 guarantees ",
+                            es3_vectors, " (at most ", fit * 4 - 1, " components)"));
         var.slabs_used = e.slabs;
-        var.fragment_uniform_vectors = var.slabs_used * kSlots * kVectorsPerSlab;
+        var.fragment_uniform_vectors = btf_fragment_uniform_vectors(var.slabs_used);
         const int side = std::max(e.width, e.height * e.slabs);
         var.vertex_source = vertex_source(es3);
         var.fragment_source = fragment_source(es3, e.width, e.height, e.slabs, var.slabs_used);
@@ -268,7 +266,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
             {"slabs_read", var.slabs_used},
             {"max_components_per_group", var.slabs_used * 4 - 1},
             {"texel_fetches_per_pixel", kSlots * var.slabs_used},
-            {"multiply_adds_per_pixel", kSlots * var.slabs_used * 4 * 4},
+            {"multiply_adds_per_pixel", kSlots * var.slabs_used * 3 * 4},
             {"gl_limits_needed",
              {{"context", es3 ? "OpenGL ES 3.0" : "OpenGL ES 2.0"},
               {"max_fragment_uniform_vectors", var.fragment_uniform_vectors},
@@ -281,7 +279,7 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
         std::vector<std::string> notes;
         if (var.fragment_uniform_vectors > lim.max_fragment_uniform_vectors)
             notes.push_back(str(var.fragment_uniform_vectors, " fragment uniform vectors (", e.slabs,
-                                " slabs x 3 slots x 5), above the ", lim.max_fragment_uniform_vectors,
+                                " slabs x 3 slots x 3 colours + u_bias), above the ", lim.max_fragment_uniform_vectors,
                                 " every device guarantees: check GL_MAX_FRAGMENT_UNIFORM_VECTORS"));
         if (side > lim.max_texture_size)
             notes.push_back(str("the atlases are ", side, " texels on a side, above the ", lim.max_texture_size,
@@ -366,11 +364,11 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& give
         {"uniforms",
          {{"u_clip_from_object", "mat4: clip from object (vertex stage)"},
           {"u_uv_scale", "vec2: texture repeats per UV unit (vertex stage)"},
-          {"u_scale", "vec4[3 S] (S = the variant's slabs_read): index slot x S + s = the channels' scale of slab s "
-                      "of the slot's group (textures.groups[g].channels[4 s .. 4 s + 3].scale)"},
-          {"u_offset", "vec4[3 S]: as u_scale with the offsets"},
-          {"u_weight", "vec4[9 S]: index (slot x 3 + ch) x S + s, channel k = w_slot,ch[4 s + k] (0 when that column "
-                       "has not arrived or is unused)"}}},
+          {"u_weight", "vec4[9 S] (S = the variant's slabs_read): index (slot x 3 + ch) x S + s, channel k = "
+                       "scale_4s+k x w_slot,ch[4 s + k] (scale: the slot's group's textures.groups[g].channels[4 s + "
+                       "k].scale; 0 when that column has not arrived or is unused)"},
+          {"u_bias", "vec4: (b_r, b_g, b_b, 0), b_ch = sum over slots and columns k of offset_k x w_slot,ch[k] (offset: "
+                     "the slot's group's channels[k].offset; the columns that have arrived)"}}},
         {"weights",
          {{"per_frame", "blend = the 3 views nearest the view direction (fabric frame) by angle, alpha_v = (1 / angle_v) "
                         "/ sum (1 / angle); a view within 1e-9 degrees of a measured one takes it alone (alpha 1). "
@@ -515,9 +513,8 @@ BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant
     const render::ViewBlend blend = render::select_views(e.views, view, 3);
     const int s_used = variant.slabs_used;
     BtfFrame f;
-    f.weight.assign(static_cast<size_t>(kSlots) * 3 * s_used * 4, 0.f);
-    f.scale.assign(static_cast<size_t>(kSlots) * s_used * 4, 0.f);
-    f.offset.assign(f.scale.size(), 0.f);
+    // w_slot,ch[k] in double, in u_weight's layout; the decode is folded in below.
+    std::vector<double> w_all(static_cast<size_t>(kSlots) * 3 * s_used * 4, 0.0);
     for (size_t i = 0; i < blend.views.size(); ++i) {
         const int v = blend.views[i];
         const int g = e.manifest.at("views").at(static_cast<size_t>(v)).at("group").get<int>();
@@ -536,29 +533,38 @@ BtfFrame btf_frame_weights(const BtfGlesExport& e, const BtfGlesVariant& variant
                 double w = 0;
                 for (int j = 0; j < j_count; ++j) w += double(m[(ch * rows + r) * j_count + j]) * sh(j, ch);
                 for (const auto& [k, wk] : light_w) w += double(lr[(ch * rows + r) * k_count + k]) * wk[ch];
-                f.weight[static_cast<size_t>(((slot * 3 + ch) * s_used) * 4 + r)] +=
-                    static_cast<float>(blend.weights[i] * w);
+                w_all[static_cast<size_t>(((slot * 3 + ch) * s_used) * 4 + r)] += blend.weights[i] * w;
             }
         }
     }
     while (f.slot_group.size() < kSlots) f.slot_group.push_back(f.slot_group[0]);
+    // The folder's decode, value = offset + scale x t, folded in: u_weight = scale x w and
+    // u_bias = sum of offset x w (an unused slot's w is 0, so it adds nothing).
+    f.weight.assign(w_all.size(), 0.f);
+    double bias[3] = {0, 0, 0};
     for (int slot = 0; slot < kSlots; ++slot) {
         const auto& sc = e.scale[static_cast<size_t>(f.slot_group[static_cast<size_t>(slot)])];
         const auto& of = e.offset[static_cast<size_t>(f.slot_group[static_cast<size_t>(slot)])];
-        for (int k = 0; k < s_used * 4; ++k) {
-            f.scale[static_cast<size_t>(slot * s_used * 4 + k)] = sc[static_cast<size_t>(k)];
-            f.offset[static_cast<size_t>(slot * s_used * 4 + k)] = of[static_cast<size_t>(k)];
+        for (int ch = 0; ch < 3; ++ch) {
+            for (int k = 0; k < s_used * 4; ++k) {
+                const size_t i = static_cast<size_t>(((slot * 3 + ch) * s_used) * 4 + k);
+                f.weight[i] = static_cast<float>(double(sc[static_cast<size_t>(k)]) * w_all[i]);
+                bias[ch] += double(of[static_cast<size_t>(k)]) * w_all[i];
+            }
         }
     }
+    f.bias = {static_cast<float>(bias[0]), static_cast<float>(bias[1]), static_cast<float>(bias[2]), 0.f};
     return f;
 }
+
+int btf_fragment_uniform_vectors(int slabs) { return kSlots * kVectorsPerSlab * slabs + 1; }
 
 Bindings btf_bindings(const BtfGlesExport& e, const BtfFrame& frame) {
     Bindings b;
     b.sh = Eigen::MatrixXd::Zero(sh::count(e.sh_bands), 3);  // not a uniform of these shaders
     for (int slot = 0; slot < kSlots; ++slot)
         b.textures8.emplace_back(str("u_group", slot), &e.atlases[static_cast<size_t>(frame.slot_group[static_cast<size_t>(slot)])]);
-    b.vec4_arrays = {{"u_weight", frame.weight}, {"u_scale", frame.scale}, {"u_offset", frame.offset}};
+    b.vec4_arrays = {{"u_weight", frame.weight}, {"u_bias", frame.bias}};
     return b;
 }
 

@@ -6,9 +6,11 @@
 // code / 255). The export packs them 4 per RGBA8 texel into one atlas per group: W x (H x S)
 // texels, S = ceil((1 + C) / 4) slabs stacked top to bottom, slab s holding columns 4s .. 4s + 3
 // of L_g (unused channels code 0, scale 0, offset 0). The fragment shader reads, for the 3 group
-// slots of a frame, the slabs it uses at the pixel of UV (wrapped, nearest texel), decodes them
-// with u_scale / u_offset and dots them with the frame's weights u_weight per colour:
-//   radiance_ch(uv) = sum_slot sum_k (offset_k + scale_k t_k(uv)) w_slot,ch,k.
+// slots of a frame, every slab at the pixel of UV (wrapped, nearest texel) and dots the texels
+// t (code / 255) with the frame's weights u_weight per colour, plus u_bias:
+//   radiance_ch(uv) = sum_slot sum_k (offset_k + scale_k t_k(uv)) w_slot,ch,k
+//                   = u_bias_ch + sum_slot sum_k t_k(uv) u_weight_slot,ch,k,
+// the folder's decode folded into u_weight = scale x w and u_bias = sum offset x w per frame.
 // The app computes the weights once per frame (btf_frame_weights): the view's 3 nearest views
 // v (inverse-angle weights alpha_v, render::select_views), and for each view's group slot
 //   w_slot,ch = sum_{v in slot's group} alpha_v M_v,ch c_ch,
@@ -54,7 +56,7 @@ struct BtfGlesVariant {
     std::string name;  ///< "btf-es300-highp"
     std::string vertex_source, fragment_source;
     int slabs_used = 0;        ///< slabs of the atlas the shader reads: all of them
-    int fragment_uniform_vectors = 0;  ///< 15 x slabs_used
+    int fragment_uniform_vectors = 0;  ///< btf_fragment_uniform_vectors(slabs_used)
     /// Export (the harness' view of it): the manifest's "variant", "textures" (u_group0..2)
     /// and the sources, for gles::draw.
     Export as_export;
@@ -118,13 +120,18 @@ BtfGlesExport export_btf_gles(const std::string& dir, const BtfGlesOptions& opti
 /// docs/btf-gles.md "Precision").
 nlohmann::json btf_load_choices(const BtfGlesExport& e);
 
-/// The uniforms of one frame: u_weight (9 x slabs_used vec4, index (slot x 3 + ch) x S + s),
-/// u_scale and u_offset (3 x slabs_used vec4, index slot x S + s) and which group each of the 3
-/// slots shows (unused slots: weight 0, bound to slot 0's group's atlas).
+/// The uniforms of one frame: u_weight (9 x slabs_used vec4, index (slot x 3 + ch) x S + s,
+/// channel k = scale_k x w_slot,ch[4 s + k]), u_bias (vec4: per colour the sum of offset_k x
+/// w_slot,ch[k], then 0) and which group each of the 3 slots shows (unused slots: weight 0,
+/// bound to slot 0's group's atlas).
 struct BtfFrame {
     std::vector<int> slot_group;  ///< 3 entries
-    std::vector<float> weight, scale, offset;
+    std::vector<float> weight;    ///< u_weight
+    std::vector<float> bias;      ///< u_bias, 4 floats
 };
+
+/// Fragment uniform vectors of a variant that reads `slabs` slabs: 9 slabs (u_weight) + 1 (u_bias).
+int btf_fragment_uniform_vectors(int slabs);
 /// The app's per-frame computation: `view` (sample frame), `sh` (bands^2 x 3, fabric frame),
 /// `sent` stream entries arrived (the means always), `lights` dominant lights added to the SH
 /// (each spread over the light directions by the export's cell rule, btf/sh_lighting.h

@@ -199,7 +199,7 @@ TEST(BtfGles, Es300DrawEqualsTheCpuDecoder) {
 TEST(BtfGles, Es100DrawEqualsTheCpuDecoder) {
     if (!have_context(2)) GTEST_SKIP() << "no EGL OpenGL ES 2 context";
     if (!context2().info().float_color_buffer) GTEST_SKIP() << "no RGBA32F target";
-    // C = 6: two slabs, 30 fragment uniform vectors (above ES 2.0's guaranteed 16; llvmpipe has
+    // C = 6: two slabs, 19 fragment uniform vectors (above ES 2.0's guaranteed 16; llvmpipe has
     // more), every prefix. C = 3 (one slab) is drawn in DominantLightsFoldIntoTheFrameWeights.
     check_version(GlslVersion::kEs100, folder6(), "es100 C=6");
     check_version(GlslVersion::kEs100, folder_zero(), "es100 zero components");
@@ -389,13 +389,10 @@ TEST(BtfGles, ShaderDecodeEqualsTheCpuDecoder) {
             BtfFrame f = btf_frame_weights(e, var, btf::Direction{0, 0}, Eigen::MatrixXd::Zero(sh::count(3), 3), 0);
             f.slot_group = {g, g, g};
             std::fill(f.weight.begin(), f.weight.end(), 0.f);
-            for (int slot = 0; slot < 3; ++slot) {
-                for (int i = 0; i < s_used * 4; ++i) {
-                    f.scale[size_t(slot * s_used * 4 + i)] = e.scale[size_t(g)][size_t(i)];
-                    f.offset[size_t(slot * s_used * 4 + i)] = e.offset[size_t(g)][size_t(i)];
-                }
-            }
-            f.weight[size_t((0 * s_used) * 4 + k)] = 1.f;  // slot 0, red: column k
+            // Weight 1 on column k, folded as btf_frame_weights folds it: u_weight = scale,
+            // u_bias = offset (slot 0, red).
+            f.weight[size_t((0 * s_used) * 4 + k)] = e.scale[size_t(g)][size_t(k)];
+            f.bias = {e.offset[size_t(g)][size_t(k)], 0.f, 0.f, 0.f};
             const Readback out = draw(context3(), var.as_export, btf_bindings(e, f), btf_sample_quad(), kWidth, kHeight,
                                       TargetFormat::kRgba32f);
             const Eigen::VectorXf col = k == 0 ? btf->group_mean(g) : Eigen::VectorXf(btf->group_basis(g).col(k - 1));
@@ -555,7 +552,7 @@ TEST(BtfGlesFiles, LoadTableNamesOnlyExportedVariantsThatDrawTheWholeStream) {
     EXPECT_TRUE(l3[2]["variant"].is_null());
     EXPECT_NE(l3[2]["why"].get<std::string>().find("mediump is refused"), std::string::npos);
     check_names(c3);
-    // 6 components: ES 1.00 reads both slabs, 30 vectors, above ES 2.0's guaranteed 16: its entry
+    // 6 components: ES 1.00 reads both slabs, 19 vectors (9 x 2 + 1), above ES 2.0's guaranteed 16: its entry
     // says so, and a fourth names no variant for a device that reports fewer.
     const BtfGlesExport c6 = export_btf_gles(folder6(), o);
     const nlohmann::json& l6 = c6.manifest["load"];
@@ -563,13 +560,13 @@ TEST(BtfGlesFiles, LoadTableNamesOnlyExportedVariantsThatDrawTheWholeStream) {
     EXPECT_EQ(l6[0]["variant"], "btf-es300-highp");
     EXPECT_EQ(l6[1]["capability"], "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH");
     EXPECT_EQ(l6[1]["variant"], "btf-es100-highp");
-    EXPECT_EQ(l6[1]["requires"]["max_fragment_uniform_vectors"], 30);
-    EXPECT_NE(l6[1]["why"].get<std::string>().find("GL_MAX_FRAGMENT_UNIFORM_VECTORS >= 30"), std::string::npos);
+    EXPECT_EQ(l6[1]["requires"]["max_fragment_uniform_vectors"], 19);
+    EXPECT_NE(l6[1]["why"].get<std::string>().find("GL_MAX_FRAGMENT_UNIFORM_VECTORS >= 19"), std::string::npos);
     EXPECT_TRUE(l6[2]["variant"].is_null());
     EXPECT_EQ(l6[3]["capability"],
-              "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH and GL_MAX_FRAGMENT_UNIFORM_VECTORS < 30");
+              "OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH and GL_MAX_FRAGMENT_UNIFORM_VECTORS < 19");
     EXPECT_TRUE(l6[3]["variant"].is_null());
-    EXPECT_FALSE(l3[1].contains("requires"));  // one slab: 15 vectors, within every ES 2.0 device
+    EXPECT_FALSE(l3[1].contains("requires"));  // one slab: 10 vectors, within every ES 2.0 device
     check_names(c6);
     for (const auto& v : c6.manifest["variants"]) {
         EXPECT_EQ(v["slabs_read"], 2) << v["name"];
@@ -579,7 +576,7 @@ TEST(BtfGlesFiles, LoadTableNamesOnlyExportedVariantsThatDrawTheWholeStream) {
     for (const auto& v : c6.manifest["variants"])
         if (v["glsl_version"] == "100") es100_limits = v["gl_limits_needed"];
     ASSERT_TRUE(es100_limits.is_object());
-    EXPECT_EQ(es100_limits["max_fragment_uniform_vectors"], 30);
+    EXPECT_EQ(es100_limits["max_fragment_uniform_vectors"], 19);
     EXPECT_EQ(es100_limits["max_fragment_uniform_vectors_guaranteed"], 16);
     EXPECT_NE(es100_limits["note"].get<std::string>().find("check GL_MAX_FRAGMENT_UNIFORM_VECTORS"), std::string::npos);
     // Only what is exported: ES 3.00 alone leaves ES 2.0 without; ES 1.00 alone serves ES 3.0 too.
@@ -593,7 +590,7 @@ TEST(BtfGlesFiles, LoadTableNamesOnlyExportedVariantsThatDrawTheWholeStream) {
     EXPECT_EQ(e100.manifest["load"][0]["variant"], "btf-es100-highp");
     EXPECT_EQ(e100.manifest["load"][1]["variant"], "btf-es100-highp");
     check_names(e100);
-    // ES 1.00 alone serves ES 3.0 whatever C: its 30 vectors are within ES 3.0's 224.
+    // ES 1.00 alone serves ES 3.0 whatever C: its 19 vectors are within ES 3.0's 224.
     EXPECT_EQ(export_btf_gles(folder6(), o).manifest["load"][0]["variant"], "btf-es100-highp");
 }
 
@@ -629,29 +626,30 @@ TEST(BtfGlesFiles, RefusesWhatItCannotDraw) {
     o2.versions = {GlslVersion::kEs100};
     const BtfGlesExport e = export_btf_gles(folder6(), o2);
     EXPECT_EQ(e.variants[0].slabs_used, 2);
-    EXPECT_EQ(e.variants[0].fragment_uniform_vectors, 30);
+    EXPECT_EQ(e.variants[0].fragment_uniform_vectors, 19);
     const auto all = static_cast<int64_t>(e.stream.size());
     EXPECT_NO_THROW(btf_frame_weights(e, e.variants[0], {0, 0}, lighting(3, 1), all));
     BtfGlesVariant one_slab = e.variants[0];
     one_slab.slabs_used = 1;
     EXPECT_THROW(btf_frame_weights(e, one_slab, {0, 0}, lighting(3, 1), all), Error);
-    // 56 components in a group need 15 slabs, 225 vectors: more than ES 3.0 guarantees (224), so
-    // neither version is exported. The manifest of folder6 lists its PNGs again as components 6-55.
+    // 96 components in a group need 25 slabs, 226 vectors: more than ES 3.0 guarantees (224), so
+    // neither version is exported (95 would fit: 24 slabs, 217). The manifest of folder6 lists
+    // its PNGs again as components 6-95.
     const std::string big = inlight::testing::temp_dir("btf_gles_c56");
     std::filesystem::copy(folder6(), big, std::filesystem::copy_options::overwrite_existing |
                                               std::filesystem::copy_options::recursive);
     nlohmann::json m = nlohmann::json::parse(fs::read_file(big + "/btf-pca.json"));
     auto& comps = m["groups"][0]["components"];
-    for (int k = 6; k < 56; ++k) comps.push_back(comps[static_cast<size_t>(k % 6)]);
+    for (int k = 6; k < 96; ++k) comps.push_back(comps[static_cast<size_t>(k % 6)]);
     fs::write_text_atomic(big + "/btf-pca.json", m.dump(2));
     for (GlslVersion ver : {GlslVersion::kEs100, GlslVersion::kEs300}) {
         BtfGlesOptions o3;
         o3.versions = {ver};
         try {
             export_btf_gles(big, o3);
-            ADD_FAILURE() << "56 components exported";
+            ADD_FAILURE() << "96 components exported";
         } catch (const Error& err) {
-            EXPECT_NE(std::string(err.what()).find("225 fragment uniform vectors, OpenGL ES 3.0 guarantees 224"),
+            EXPECT_NE(std::string(err.what()).find("226 fragment uniform vectors, OpenGL ES 3.0 guarantees 224"),
                       std::string::npos) << err.what();
         }
     }

@@ -89,11 +89,12 @@ nlohmann::json btf_load_choices(const BtfGlesExport& e) {
     const int max_c = e.components.empty() ? 0 : *std::max_element(e.components.begin(), e.components.end());
     const char* validated = "; highp: drawn through EGL equal to the CPU decoder within one 8-bit code "
                             "(docs/btf-gles.md, \"Tests\")";
-    // Both variants read every slab (15 fragment uniform vectors a slab): ES 3.0 guarantees 224,
+    // Both variants read every slab (9 S + 1 fragment uniform vectors): ES 3.0 guarantees 224,
     // which the export enforces; ES 2.0 guarantees 16, one slab, and a device reports its own.
-    constexpr int kVectorsPerSlab = 15;  // 3 slots x (scale, offset, 3 colours' weights)
     const int es2_guaranteed = Limits::minimum(GlslVersion::kEs100).max_fragment_uniform_vectors;
     const int es1_vectors = es1 ? es1->fragment_uniform_vectors : 0;
+    int guaranteed_slabs = 0;
+    while (btf_fragment_uniform_vectors(guaranteed_slabs + 1) <= es2_guaranteed) ++guaranteed_slabs;
     auto entry = [&](const std::string& capability, const BtfGlesVariant* v, const std::string& why) {
         nlohmann::json c = {{"capability", capability}};
         if (!v) {
@@ -140,11 +141,11 @@ nlohmann::json btf_load_choices(const BtfGlesExport& e) {
         out.push_back(entry(str("OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH and GL_MAX_FRAGMENT_UNIFORM_VECTORS < ",
                                 es1_vectors),
                             nullptr,
-                            str("btf-es100-highp holds ", e.slabs, " slabs of uniforms (", es1_vectors,
-                                " vectors) for groups of up to ", max_c,
+                            str("btf-es100-highp reads ", e.slabs, " atlas slabs (", es1_vectors,
+                                " fragment uniform vectors) for groups of up to ", max_c,
                                 " components; no variant draws the whole stream within fewer, and none is cut "
                                 "to a prefix silently (compress with at most ",
-                                (es2_guaranteed / kVectorsPerSlab) * 4 - 1, " components per group for every ES 2.0 device)")));
+                                guaranteed_slabs * 4 - 1, " components per group for every ES 2.0 device)")));
     }
     return out;
 }

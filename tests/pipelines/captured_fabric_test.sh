@@ -33,13 +33,13 @@ expect_exit 1 "verify rejects components out of the BTF's stream order" -- "$BIN
 expect_stderr "stream order" "says the stream order differs"
 expect_true "float components: no BTF GLES shaders in the bundle" -- jq -e '[.files[] | select(.role | startswith("btf_gles"))] == []' "$C/manifest.json"
 # The same capture as 8-bit PNG components (the shipped format; 4 components: two atlas slabs, so
-# ES 1.00 needs 30 fragment uniform vectors, more than ES 2.0 guarantees): the bundle carries the
+# ES 1.00 needs 19 fragment uniform vectors, more than ES 2.0 guarantees): the bundle carries the
 # BTF's GLES shaders beside btf-pca.json, without atlases.
 make_fabric "$WORK/png" "PNG twill" 0.3
 printf 'view-group-size = 27\ncomponents = 4\nformat = "png"\n' > "$WORK/png/btf-pca.toml"
 expect_exit 0 "bake-fabric with the capture as PNG components" -- \
     "$PIPE/bake-fabric.sh" "$WORK/png" "$WORK/out" png "$WORK/out/work/fabrics/cap/capture/btf"
-expect_stderr "BTF GLES shaders: OpenGL ES 3.0 or later: btf-es300-highp; OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH: btf-es100-highp (needs GL_MAX_FRAGMENT_UNIFORM_VECTORS >= 30)" \
+expect_stderr "BTF GLES shaders: OpenGL ES 3.0 or later: btf-es300-highp; OpenGL ES 2.0 with GL_FRAGMENT_PRECISION_HIGH: btf-es100-highp (needs GL_MAX_FRAGMENT_UNIFORM_VECTORS >= 19)" \
     "says which variant each GL capability loads"
 PM="$WORK/out/bundles/fabrics/png/manifest.json"
 PG="$WORK/out/work/fabrics/png/btf-gles"

@@ -22,7 +22,7 @@ expect_exit 0 "compressed, stream prefixes, GLES at 3 bands" -- "$R" shade-btf "
     --shade-views "$WORK/views.txt" --environment "$WORK/sky.exr" --environment "$WORK/sun.exr" -o "$WORK/sh" \
     --spp 2 --report "$WORK/sh.json"
 expect_true "the GLES pictures of the whole stream are written" -- test -s "$WORK/sh_sky_tv037_pv021_pca0_btf-es300-highp.exr"
-# 4 components per group: two slabs, which both variants read (ES 1.00 with 30 fragment uniform
+# 4 components per group: two slabs, which both variants read (ES 1.00 with 19 fragment uniform
 # vectors, above ES 2.0's guaranteed 16: llvmpipe has more).
 expect_true "ES 3.00 and ES 1.00 at every prefix (0, 30, all 108)" -- jq -e '
     [.metrics.btf_shade.results[] | .compressed[0].gles as $g |
