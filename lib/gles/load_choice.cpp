@@ -115,8 +115,9 @@ nlohmann::json btf_load_choices(const BtfGlesExport& e) {
         out.push_back(entry("OpenGL ES 3.0 or later", es3, "GLSL ES 3.00: exact texel fetches, " + every));
     } else {
         out.push_back(entry("OpenGL ES 3.0 or later", es1,
-                            es1 ? "btf-es300-highp was not exported: the ES 1.00 variant runs on ES 3.0 (" +
-                                      std::to_string(es1_vectors) + " fragment uniform vectors, within its 224), " + every
+                            es1 ? str("btf-es300-highp was not exported: the ES 1.00 variant runs on ES 3.0 (", es1_vectors,
+                                          " fragment uniform vectors, within its ",
+                                          Limits::minimum(GlslVersion::kEs300).max_fragment_uniform_vectors, "), ", every)
                                 : std::string("no variant was exported")));
     }
     if (!es1) {
@@ -129,7 +130,7 @@ nlohmann::json btf_load_choices(const BtfGlesExport& e) {
             // Machine-readable, beside the text: the app compares it with GL_MAX_FRAGMENT_UNIFORM_VECTORS.
             c["requires"] = {{"max_fragment_uniform_vectors", es1_vectors}};
             c["why"] = str(c["why"].get<std::string>(), "; needs GL_MAX_FRAGMENT_UNIFORM_VECTORS >= ", es1_vectors,
-                           " (ES 2.0 guarantees ", es2_guaranteed, "): the next row covers a device that reports fewer");
+                           " (ES 2.0 guarantees ", es2_guaranteed, "): the last entry covers a device that reports fewer");
         }
         out.push_back(c);
     }
