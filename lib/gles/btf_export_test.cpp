@@ -635,7 +635,7 @@ TEST(BtfGlesFiles, RefusesWhatItCannotDraw) {
     // 96 components in a group need 25 slabs, 226 vectors: more than ES 3.0 guarantees (224), so
     // neither version is exported (95 would fit: 24 slabs, 217). The manifest of folder6 lists
     // its PNGs again as components 6-95.
-    const std::string big = inlight::testing::temp_dir("btf_gles_c56");
+    const std::string big = inlight::testing::temp_dir("btf_gles_c96");
     std::filesystem::copy(folder6(), big, std::filesystem::copy_options::overwrite_existing |
                                               std::filesystem::copy_options::recursive);
     nlohmann::json m = nlohmann::json::parse(fs::read_file(big + "/btf-pca.json"));
