@@ -363,9 +363,19 @@ void fuzz_read_btf_zip(const uint8_t* data, size_t size, const OpenOptions& opti
     }
 }
 
-std::vector<std::vector<int>> view_groups(const std::vector<Direction>& views, int k) {
+std::string to_string(ViewGrouping g) { return g == ViewGrouping::kConsecutive ? "consecutive" : "neighbours"; }
+
+std::vector<std::vector<int>> view_groups(const std::vector<Direction>& views, int k, ViewGrouping grouping) {
     INLIGHT_CHECK_GE(k, 1);
     const int n = static_cast<int>(views.size());
+    if (grouping == ViewGrouping::kConsecutive) {
+        std::vector<std::vector<int>> groups;
+        for (int v = 0; v < n; ++v) {
+            if (v % k == 0) groups.emplace_back();
+            groups.back().push_back(v);
+        }
+        return groups;
+    }
     std::vector<std::vector<double>> dist(static_cast<size_t>(n), std::vector<double>(n, 0.0));
     for (int a = 0; a < n; ++a)
         for (int b = 0; b < n; ++b) dist[a][b] = angle_between_deg(views[a], views[b]);

@@ -129,12 +129,24 @@ class FolderBtf : public BtfSource {
 /// (the options' files) and decodes every image it indexes. Throws Error on bad input.
 void fuzz_read_btf_zip(const uint8_t* data, size_t size, const OpenOptions& options = {});
 
-/// The views of each group of k neighbouring view directions. Groups are seeded from the rim
-/// inward (largest theta first, then set order), each grown by complete linkage (the next view
-/// is the ungrouped one whose farthest group member is nearest; ties to the lower index); the
-/// last groups hold what is left and may have fewer than k views. Each group's views are sorted.
-/// k = 1 gives one group per view (PCA RF), k >= n_views one group (PCA BTF).
+/// How views are put into groups of k.
+enum class ViewGrouping {
+    /// Neighbouring directions: groups are seeded from the rim inward (largest theta first, then
+    /// set order), each grown by complete linkage (the next view is the ungrouped one whose
+    /// farthest group member is nearest; ties to the lower index); the last groups hold what
+    /// is left and may have fewer than k views.
+    kNeighbours,
+    /// k consecutive views of the set's order, {0..k-1}, {k..2k-1}, ...; the last group holds
+    /// the rest. The BTF thesis' grouping (section 4.3: "k neighbour camera directions" of the
+    /// Bonn order, rings by theta and each ring by phi), kept as its baseline.
+    kConsecutive,
+};
+std::string to_string(ViewGrouping g);  ///< "neighbours", "consecutive"
+
+/// The views of each group of k views, grouped as `grouping` says. Each group's views are
+/// sorted. k = 1 gives one group per view (PCA RF), k >= n_views one group (PCA BTF).
 /// Precondition: k >= 1 (checked).
-std::vector<std::vector<int>> view_groups(const std::vector<Direction>& views, int k);
+std::vector<std::vector<int>> view_groups(const std::vector<Direction>& views, int k,
+                                          ViewGrouping grouping = ViewGrouping::kNeighbours);
 
 }  // namespace inlight::btf

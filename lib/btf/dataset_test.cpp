@@ -290,5 +290,21 @@ TEST(ViewGroups, NeighboursOnTheDome) {
     }
 }
 
+// The thesis' grouping: k consecutive views of the set's order, the rest in the last group.
+TEST(ViewGroups, ConsecutiveAreTheSetsOrderInRunsOfK) {
+    const auto& dome = ubo2003_dome();
+    const auto g3 = view_groups(dome, 3, ViewGrouping::kConsecutive);
+    ASSERT_EQ(g3.size(), 27u);
+    for (size_t g = 0; g < g3.size(); ++g)
+        EXPECT_EQ(g3[g], (std::vector<int>{int(3 * g), int(3 * g + 1), int(3 * g + 2)}));
+    const auto g4 = view_groups(dome, 4, ViewGrouping::kConsecutive);
+    ASSERT_EQ(g4.size(), 21u);
+    EXPECT_EQ(g4.back(), std::vector<int>{80});
+    EXPECT_EQ(view_groups(dome, 200, ViewGrouping::kConsecutive).size(), 1u);
+    EXPECT_EQ(view_groups(dome, 1, ViewGrouping::kConsecutive).size(), 81u);
+    EXPECT_EQ(to_string(ViewGrouping::kConsecutive), "consecutive");
+    EXPECT_EQ(to_string(ViewGrouping::kNeighbours), "neighbours");
+}
+
 }  // namespace
 }  // namespace inlight::btf

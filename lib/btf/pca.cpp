@@ -700,7 +700,7 @@ CompressStats compress_btf(const BtfSource& source, const PcaOptions& options,
                            const std::function<void(GroupFit&)>& sink) {
     INLIGHT_CHECK_GE(options.view_group_size, 1);
     using Clock = std::chrono::steady_clock;
-    const auto groups = view_groups(source.shape().views, options.view_group_size);
+    const auto groups = view_groups(source.shape().views, options.view_group_size, options.grouping);
     CompressStats stats;
     stats.groups = static_cast<int>(groups.size());
     for (size_t gi = 0; gi < groups.size(); ++gi) {

@@ -40,6 +40,7 @@ PcaMethod pca_method_from_string(const std::string& name);
 
 struct PcaOptions {
     int view_group_size = 3;  ///< k: neighbouring views per group (>= 1)
+    ViewGrouping grouping = ViewGrouping::kNeighbours;  ///< which k views form a group (view_groups)
     int components = 8;       ///< C, or the most components the error budget may choose (>= 1)
     /// Error budget: the RMS error of the unquantised reconstruction per sample (linear_srgb
     /// units, over all pixels, lights, views and channels of a group); each group keeps the
