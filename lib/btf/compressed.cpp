@@ -90,8 +90,7 @@ void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std:
         const Quantized8 q = quantize8(values, n);
         scale = q.scale;
         offset = q.offset;
-        out.append(reinterpret_cast<const char*>(q.codes.data()), q.codes.size());
-        for (int64_t i = 0; i < n; ++i) decoded[i] = q.value(i);
+        append_weight_codes(q.codes.data(), n, scale, offset, out, decoded);
     } else if (f == WeightsFormat::kFloat16) {
         for (int64_t i = 0; i < n; ++i) {
             const Eigen::half h(values[i]);
@@ -106,31 +105,46 @@ void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std:
     }
 }
 
+void append_weight_codes(const uint8_t* codes, int64_t n, float scale, float offset, std::string& out,
+                         float* decoded) {
+    out.append(reinterpret_cast<const char*>(codes), size_t(n));
+    for (int64_t i = 0; i < n; ++i) decoded[i] = offset + scale * codes[i];
+}
+
+std::string encode_codes(const uint8_t* codes, int width, int height, float scale, float offset,
+                         const std::string& file, StoredImage& meta, float* decoded) {
+    const int64_t n = int64_t(width) * height;
+    image::Image img(width, height, 1, image::ColorSpace::kData);
+    meta.file = file;
+    meta.scale = scale * 255.0f;  // stored value = code / 255
+    meta.offset = offset;
+    for (int64_t i = 0; i < n; ++i) {
+        img.pixels[static_cast<size_t>(i)] = codes[i] / 255.0f;
+        decoded[i] = offset + scale * codes[i];
+    }
+    image::WriteOptions wo;
+    wo.encode_srgb = false;
+    return image::encode_image(file, img, wo);
+}
+
 std::string extension_of(ComponentEncoding e) { return e == ComponentEncoding::kPng8 ? "png" : "exr"; }
 
 std::string encode_column(const float* values, int width, int height, ComponentEncoding e,
                           const std::string& file, StoredImage& meta, float* decoded, float min_step) {
     const int64_t n = int64_t(width) * height;
+    if (e == ComponentEncoding::kPng8) {
+        const Quantized8 q = quantize8(values, n, min_step);
+        return encode_codes(q.codes.data(), width, height, q.scale, q.offset, file, meta, decoded);
+    }
     image::Image img(width, height, 1, image::ColorSpace::kData);
     image::WriteOptions wo;
     meta.file = file;
-    if (e == ComponentEncoding::kPng8) {
-        const Quantized8 q = quantize8(values, n, min_step);
-        meta.scale = q.scale * 255.0f;  // stored value = code / 255
-        meta.offset = q.offset;
-        for (int64_t i = 0; i < n; ++i) {
-            img.pixels[static_cast<size_t>(i)] = q.codes[static_cast<size_t>(i)] / 255.0f;
-            decoded[i] = q.value(i);
-        }
-        wo.encode_srgb = false;
-    } else {
-        meta.scale = 1;
-        meta.offset = 0;
-        wo.exr_half = e == ComponentEncoding::kExrHalf;
-        for (int64_t i = 0; i < n; ++i) {
-            img.pixels[static_cast<size_t>(i)] = values[i];
-            decoded[i] = wo.exr_half ? static_cast<float>(Eigen::half(values[i])) : values[i];
-        }
+    meta.scale = 1;
+    meta.offset = 0;
+    wo.exr_half = e == ComponentEncoding::kExrHalf;
+    for (int64_t i = 0; i < n; ++i) {
+        img.pixels[static_cast<size_t>(i)] = values[i];
+        decoded[i] = wo.exr_half ? static_cast<float>(Eigen::half(values[i])) : values[i];
     }
     return image::encode_image(file, img, wo);
 }

@@ -11,7 +11,10 @@
 //                 (file, scale, offset, bytes, energy), and where its V sits in weights.bin; then
 //                 "stream": the components [group, component] in order of importance across
 //                 groups (energy removed, largest first), the order a server sends them in after
-//                 the manifest, weights.bin and the mean images.
+//                 the manifest, weights.bin and the mean images ("codec": "thesis", the BTF
+//                 thesis' method: component 0 of every group, then component 1, ...; each group
+//                 then has "thesis": its factor_u, factor_v and sigma_digits, which its scales
+//                 and offsets already hold; "view_grouping": "neighbours" or "consecutive").
 //   weights.bin   per group its V (N x C, column-major), N = 3 * n_lights * views with column =
 //                 (view_in_group * n_lights + light) * 3 + channel; "weights"."dtype" says how:
 //                 float32_le (default), float16_le, or uint8 with value = v_offset + v_scale *
@@ -94,6 +97,18 @@ struct StoredImage {
 /// kPng8: codes of step range / 255, or `min_step` when larger (quantize8).
 std::string encode_column(const float* values, int width, int height, ComponentEncoding e,
                           const std::string& file, StoredImage& meta, float* decoded, float min_step = 0);
+
+/// Encodes P = width * height given 8-bit codes as a grey PNG named `file` that stands for the
+/// values offset + scale * code (meta.scale = 255 scale, the PNG's stored value being code / 255);
+/// fills `meta` (not `bytes`) and writes those values to `decoded`. encode_column's kPng8 after
+/// its quantisation, and the BTF thesis' packing (btf/quantize.h) with its own codes.
+std::string encode_codes(const uint8_t* codes, int width, int height, float scale, float offset,
+                         const std::string& file, StoredImage& meta, float* decoded);
+
+/// Appends n given uint8 codes of a column of V to `out` (WeightsFormat::kUint8: value = offset +
+/// scale * code) and writes those values to `decoded`.
+void append_weight_codes(const uint8_t* codes, int64_t n, float scale, float offset, std::string& out,
+                         float* decoded);
 
 /// A compressed BTF read back: every group's mean, basis and V in memory (float).
 class CompressedBtf : public BtfSource {
