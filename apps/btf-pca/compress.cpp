@@ -72,10 +72,25 @@ int compress(int argc, char** argv) {
     app.add_option("--reference", o.reference, "A second BTF of the same directions and size (e.g. "
                    "an independent capture): the input and the table rows are also measured against it")
         ->check(CLI::ExistingPath);
+    std::string codec = "inlight";
+    app.add_option("--codec", codec, "inlight: these options; thesis: the BTF thesis' method as the "
+                   "baseline (k consecutive views, the PCA of the 8-bit sRGB values, U and V on 8 bits as "
+                   "(x + 1) / 2 after a power-of-ten factor, Sigma as four digits, streamed component by "
+                   "component; implies --fit-space srgb --weights-format uint8 --method gram, and refuses options that "
+                   "change its method)")->check(CLI::IsMember({"inlight", "thesis"}))->capture_default_str();
     bool linear = false;
     add_open_options(app, o.open, linear);
     app::setup(app, common, kCompressExample);
     if (auto code = app::parse(app, argc, argv, 1)) return *code;
+    o.codec = btf::codec_from_string(codec);
+    if (o.codec == btf::Codec::kThesis) {
+        // The thesis' settings where none is given; a conflicting one is named by run_pca.
+        if (app.count("--fit-space") == 0) fit_space = "srgb";
+        if (app.count("--weights-format") == 0) weights_format = "uint8";
+        // Its SVD: an exact decomposition (the Gram matrix's, in double), not the randomized one.
+        if (app.count("--method") == 0) method = "gram";
+        o.pca.grouping = btf::ViewGrouping::kConsecutive;
+    }
     o.open.decode_srgb = !linear;
     o.pca.method = btf::pca_method_from_string(method);
     o.encoding = btf::component_encoding_from_string(format);

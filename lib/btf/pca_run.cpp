@@ -153,7 +153,7 @@ MemoryPlan plan_memory(const BtfShape& shape, const PcaRunOptions& o, bool refer
         if (m.budget == 0) m.budget = std::numeric_limits<uint64_t>::max(), m.budget_source = "none (memory size unknown)";
     }
     int largest = 0;
-    for (const auto& g : view_groups(shape.views, o.pca.view_group_size)) largest = std::max(largest, int(g.size()));
+    for (const auto& g : view_groups(shape.views, o.pca.view_group_size, o.pca.grouping)) largest = std::max(largest, int(g.size()));
     m.in_core_bytes = group_memory_bytes(shape, o, reference, largest, largest);
     auto mib = [](uint64_t b) { return str(std::ceil(double(b) / 1048576.0)); };
     if (o.pca.stream_views > 0) {
@@ -202,9 +202,39 @@ uint64_t cut_manifest_bytes(const nlohmann::json& full, const std::vector<int>& 
 
 }  // namespace
 
+std::string to_string(Codec c) { return c == Codec::kThesis ? "thesis" : "inlight"; }
+
+Codec codec_from_string(const std::string& name) {
+    if (name == "inlight") return Codec::kInlight;
+    if (name == "thesis") return Codec::kThesis;
+    throw UsageError(str("--codec '", name, "': expected inlight or thesis"));
+}
+
+namespace {
+
+/// Codec::kThesis fixes the options its method has; anything else is named.
+void check_thesis_options(const PcaRunOptions& o) {
+    auto need = [](bool ok, const std::string& what) {
+        if (!ok) throw UsageError(str("--codec thesis: ", what));
+    };
+    need(o.fit_space == FitSpace::kSrgb, str("the thesis' PCA fits the 8-bit sRGB values (--fit-space srgb), not --fit-space ",
+                                             to_string(o.fit_space)));
+    need(o.pca.l1_iterations == 0, "the thesis' fit is the PCA (--fit-norm l2), not --fit-norm l1");
+    need(o.pca.grouping == ViewGrouping::kConsecutive, "the thesis groups k consecutive views");
+    need(o.weights_format == WeightsFormat::kUint8,
+         str("the thesis stores V on 8 bits (--weights-format uint8), not --weights-format ", to_string(o.weights_format)));
+    need(o.encoding == ComponentEncoding::kPng8, str("the thesis stores 8-bit PNG (--format png), not --format ", to_string(o.encoding)));
+    need(o.quant_noise == 0, str("the thesis maps every component to 256 levels (--quant-noise 0), not --quant-noise ", o.quant_noise));
+    need(o.pca.max_rmse < 0, str("the thesis keeps C components per group (no --max-rmse), not --max-rmse ", o.pca.max_rmse));
+}
+
+}  // namespace
+
 nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& o,
                                   uint64_t input_stored_bytes, Report* report, const BtfSource* reference) {
     const auto t_start = Clock::now();
+    const bool thesis_codec = o.codec == Codec::kThesis;
+    if (thesis_codec) check_thesis_options(o);
     const uint64_t rss_before = current_rss_bytes();
     const BtfShape& shape = source.shape();
     if (reference) {
@@ -270,7 +300,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     // A bar with an ETA on a terminal, where it stands for the per-group lines (those go to -v);
     // off a terminal (logs, CI) each group still writes its line.
     Progress bar("[btf-pca] fit view groups",
-                 static_cast<int64_t>(view_groups(shape.views, o.pca.view_group_size).size()));
+                 static_cast<int64_t>(view_groups(shape.views, o.pca.view_group_size, o.pca.grouping).size()));
     const CompressStats stats = compress_btf(*src, pca_options, [&](GroupFit& fit) {
         const GroupPca& pca = fit.pca;
         const int C = pca.components();
@@ -289,8 +319,14 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         StoredImage meta;
         nlohmann::json gj = {{"views", pca.views}, {"columns", N}, {"method", rec.method},
                              {"weights_offset_bytes", weights_bin.size()}, {"components", nlohmann::json::array()}};
-        std::string bytes = encode_column(pca.mean.data(), shape.width, shape.height, o.encoding,
-                                          group_file(fit.index, -1, ext), meta, q.mean.data());
+        // The thesis' packing of the same model: what --codec thesis writes, and otherwise the
+        // comparison beside ours.
+        const ThesisGroup th = pack_thesis(pca, C);
+        sigma_overflows += th.sigma_overflows;
+        std::string bytes = thesis_codec ? encode_codes(th.mean_codes.data(), shape.width, shape.height, ThesisGroup::kMeanScale,
+                                                        0.0f, group_file(fit.index, -1, ext), meta, q.mean.data())
+                                         : encode_column(pca.mean.data(), shape.width, shape.height, o.encoding,
+                                                         group_file(fit.index, -1, ext), meta, q.mean.data());
         rec.mean_bytes = bytes.size();
         write_file(meta.file, bytes, "btf_pca_mean");
         gj["mean"] = {{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset}, {"bytes", bytes.size()}};
@@ -299,35 +335,43 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                                ? float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) / (double(C) * double(P))))
                                : 0.0f;
         for (int c = 0; c < C; ++c) {
-            bytes = encode_column(pca.basis.col(c).data(), shape.width, shape.height, o.encoding,
-                                  group_file(fit.index, c, ext), meta, q.basis.col(c).data(), step);
+            bytes = thesis_codec ? encode_codes(th.u_codes[size_t(c)].data(), shape.width, shape.height, th.basis_scale(c),
+                                                th.basis_offset(c), group_file(fit.index, c, ext), meta, q.basis.col(c).data())
+                                 : encode_column(pca.basis.col(c).data(), shape.width, shape.height, o.encoding,
+                                                 group_file(fit.index, c, ext), meta, q.basis.col(c).data(), step);
             rec.component_bytes.push_back(bytes.size());
             rec.energy.push_back(pca.component_energy(c));
             write_file(meta.file, bytes, "btf_pca_component");
             gj["components"].push_back({{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset},
                                         {"bytes", bytes.size()}, {"energy", pca.component_energy(c)}});
-            float v_scale = 1, v_offset = 0;
-            encode_weights_column(pca.weights.col(c).data(), N, o.weights_format, weights_bin, q.weights.col(c).data(),
-                                  v_scale, v_offset);
+            float v_scale = ThesisGroup::kWeightScale, v_offset = ThesisGroup::kWeightOffset;
+            if (thesis_codec)
+                append_weight_codes(th.v_codes[size_t(c)].data(), N, v_scale, v_offset, weights_bin, q.weights.col(c).data());
+            else
+                encode_weights_column(pca.weights.col(c).data(), N, o.weights_format, weights_bin, q.weights.col(c).data(),
+                                      v_scale, v_offset);
             if (o.weights_format == WeightsFormat::kUint8) {
                 gj["components"].back()["v_scale"] = v_scale;
                 gj["components"].back()["v_offset"] = v_offset;
             }
         }
+        if (thesis_codec)
+            gj["thesis"] = {{"factor_u", th.factor_u}, {"factor_v", th.factor_v}, {"sigma_digits", th.sigma_digits}};
         weight_values += uint64_t(N) * uint64_t(C);
-        // The thesis' packing of the same model, for the comparison.
-        int overflow = 0;
-        std::vector<std::vector<uint8_t>> u_codes;
-        const StoredGroup th = store_thesis(pca, C, &overflow, &u_codes);
-        sigma_overflows += overflow;
+        // The bytes of the thesis' files for the comparison (a --codec thesis run wrote them).
         for (int c = 0; c < C; ++c) {
-            image::Image img(shape.width, shape.height, 1, image::ColorSpace::kData);
-            for (int64_t p = 0; p < P; ++p) img.pixels[static_cast<size_t>(p)] = u_codes[c][static_cast<size_t>(p)] / 255.0f;
-            image::WriteOptions wo;
-            wo.encode_srgb = false;
-            thesis_u_bytes += image::encode_image("u.png", img, wo).size();
+            if (thesis_codec) {
+                thesis_u_bytes += rec.component_bytes[size_t(c)];
+                continue;
+            }
+            StoredImage unused;
+            std::vector<float> values(static_cast<size_t>(P));
+            thesis_u_bytes += encode_codes(th.u_codes[size_t(c)].data(), shape.width, shape.height, th.basis_scale(c),
+                                           th.basis_offset(c), "u.png", unused, values.data())
+                                  .size();
         }
         thesis_v_bytes += uint64_t(N) * C + 2 * uint64_t(C);  // V as 8-bit texels, Sigma in two channels
+        const StoredGroup thd = th.decoded();
         store_s += seconds_since(t0);
 
         // Errors of the stored model, one block of the group's columns at a time: the whole
@@ -390,7 +434,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                             prefix(ch, 0) = q.mean[p];
                             for (int c = 0; c < C; ++c)
                                 prefix(ch, c + 1) = prefix(ch, c) + double(q.basis(p, c)) * q.weights(j + ch, c);
-                            th3[ch] = th.mean[p] + double(th.basis.row(p).dot(th.weights.row(j + ch)));
+                            th3[ch] = thd.mean[p] + double(thd.basis.row(p).dot(thd.weights.row(j + ch)));
                         }
                         const Eigen::Vector3d truth_lin = to_linear(truth, space);
                         add_color(s[0], truth_lin, to_linear(th3, space));
@@ -463,13 +507,17 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     std::vector<std::pair<int, int>> stream;
     for (size_t g = 0; g < groups.size(); ++g)
         for (size_t c = 0; c < groups[g].energy.size(); ++c) stream.emplace_back(int(g), int(c));
-    std::stable_sort(stream.begin(), stream.end(), [&](const auto& x, const auto& y) {
-        return groups[size_t(x.first)].energy[size_t(x.second)] > groups[size_t(y.first)].energy[size_t(y.second)];
-    });
+    if (thesis_codec)  // the thesis: component 0 of every group, then component 1, ...
+        std::stable_sort(stream.begin(), stream.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+    else
+        std::stable_sort(stream.begin(), stream.end(), [&](const auto& x, const auto& y) {
+            return groups[size_t(x.first)].energy[size_t(x.second)] > groups[size_t(y.first)].energy[size_t(y.second)];
+        });
 
     nlohmann::json manifest = {{"format", "inlight-btf-pca"}, {"version", 1}, {"width", shape.width},
                                {"height", shape.height}, {"color_space", manifest_color_space(o.fit_space)},
-                               {"view_group_size", o.pca.view_group_size}, {"component_format", to_string(o.encoding)},
+                               {"codec", to_string(o.codec)}, {"view_group_size", o.pca.view_group_size},
+                               {"view_grouping", to_string(o.pca.grouping)}, {"component_format", to_string(o.encoding)},
                                {"weights", {{"file", "weights.bin"}, {"dtype", weights_dtype(o.weights_format)}, {"layout", "per group N x C column-major"}}},
                                {"lights", nlohmann::json::array()}, {"views", nlohmann::json::array()},
                                {"groups", nlohmann::json::array()}, {"stream", nlohmann::json::array()}};
@@ -530,7 +578,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     nlohmann::json m;
     m["btf"] = {{"width", shape.width}, {"height", shape.height}, {"lights", shape.n_lights()},
                 {"views", shape.n_views()}, {"samples", samples}};
-    m["pca"] = {{"view_group_size", o.pca.view_group_size}, {"groups", stats.groups},
+    m["pca"] = {{"codec", to_string(o.codec)}, {"view_group_size", o.pca.view_group_size},
+                {"view_grouping", to_string(o.pca.grouping)}, {"groups", stats.groups},
                 {"components_max", o.pca.components}, {"max_rmse", o.pca.max_rmse},
                 {"components_total", stats.components}, {"components_per_group", per_group},
                 {"methods", methods}, {"component_format", to_string(o.encoding)},
@@ -666,6 +715,7 @@ void print_summary(const nlohmann::json& m) {
 }  // namespace
 
 void run_pca(const PcaRunOptions& o, Report& report) {
+    if (o.codec == Codec::kThesis) check_thesis_options(o);  // before any work
     std::error_code ec;
     const stdfs::path in = stdfs::weakly_canonical(o.input, ec), out = stdfs::weakly_canonical(o.output, ec);
     if (fs::same_file(o.input, o.output))

@@ -23,7 +23,30 @@
 
 namespace inlight::btf {
 
+/// What a run writes: this project's codec, or the BTF thesis' method as the baseline every
+/// comparison shows beside it.
+enum class Codec {
+    /// Every option as given: groups of k neighbouring views, components on their own range,
+    /// streamed by the energy they remove across groups.
+    kInlight,
+    /// The thesis' method as it describes it (sections 4.3 and 6.1): groups of k consecutive
+    /// views (ViewGrouping::kConsecutive), the PCA of the images' 8-bit sRGB values / 255
+    /// (FitSpace::kSrgb, least squares), C components per group, its packing (btf/quantize.h,
+    /// pack_thesis: U and V as f(x) = (x + 1) / 2 after a power-of-ten factor per matrix, Sigma
+    /// as four digits, the mean as an 8-bit image), V in weights.bin as uint8, and the stream
+    /// component by component, each covering every group ("each principal component C_i ...
+    /// covers all the angular domain"). The files are the folder format of btf/compressed.h
+    /// (scale and offset express the packing exactly), so every decoder, table and shader reads
+    /// them. Needs fit_space kSrgb, grouping kConsecutive, weights_format kUint8, encoding kPng8,
+    /// quant_noise 0, least squares and no error budget (UsageError naming what differs).
+    kThesis,
+};
+std::string to_string(Codec c);  ///< "inlight", "thesis"
+/// Inverse of to_string; throws UsageError naming the value otherwise.
+Codec codec_from_string(const std::string& name);
+
 struct PcaRunOptions {
+    Codec codec = Codec::kInlight;
     std::string input;   ///< BTF folder or zip file (FolderBtf::open)
     std::string output;  ///< output folder (created; files as in btf/compressed.h)
     OpenOptions open;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -314,6 +316,128 @@ TEST(CompressToFolder, SrgbFitSpaceReproducesDataOfRankOneInEncodedValues) {
 
     EXPECT_EQ(fit_space_from_string("srgb"), FitSpace::kSrgb);
     EXPECT_NE(testing::error_of([] { fit_space_from_string("log"); }).find("log"), std::string::npos);
+}
+
+// --codec thesis writes the thesis' method (sections 4.3 and 6.1), checked against an
+// independent fit: Eigen's BDCSVD in double of each group's matrix of sRGB-encoded values
+// (k consecutive views, centred per pixel). Its files hold the SVD's U, Sigma and V through the
+// thesis' packing: one power-of-ten factor per matrix, the largest keeping [-1, 1]; Sigma as
+// round(255 sigma / (factor_u factor_v)); U Sigma decoded within the packing's own rounding; V's
+// codes f(factor_v v) in weights.bin; the stream component by component across groups; and the
+// folder decodes to the error the run reports.
+TEST(CompressToFolder, ThesisCodecStoresTheSvdOfConsecutiveViewsInTheThesisPacking) {
+    // Our Gram fit in double against BDCSVD: singular vectors agree to ~1e-6 relative here
+    // (distinct singular values of a 280 x 48 matrix); a value on a rounding boundary may take
+    // the neighbouring code, so codes and digits agree within one and values within half a step
+    // of the packing plus this.
+    constexpr double kFitAgreement = 1e-4;
+    const AnalyticBtf btf(small_btf());
+    PcaRunOptions o = run_options("btf_pca_thesis_codec", 2, 3);
+    o.codec = Codec::kThesis;
+    o.fit_space = FitSpace::kSrgb;
+    o.weights_format = WeightsFormat::kUint8;
+    o.pca.grouping = ViewGrouping::kConsecutive;
+    const nlohmann::json m = compress_to_folder(btf, o, 0);
+    EXPECT_EQ(m["pca"]["codec"], "thesis");
+    const auto dec = CompressedBtf::open(o.output);
+    const nlohmann::json& man = dec->manifest();
+    EXPECT_EQ(man["codec"], "thesis");
+    EXPECT_EQ(man["view_grouping"], "consecutive");
+    const std::vector<std::vector<int>> want_groups = {{0, 1}, {2, 3}, {4}};
+    ASSERT_EQ(man["groups"].size(), want_groups.size());
+    // The stream: component 0 of groups 0, 1, 2, then component 1 of each, ...
+    for (size_t i = 0; i < man["stream"].size(); ++i) {
+        EXPECT_EQ(man["stream"][i][0], int(i % 3)) << i;
+        EXPECT_EQ(man["stream"][i][1], int(i / 3)) << i;
+    }
+    const double rmse = m["error"]["rmse_linear"];  // in sRGB-encoded units: compare encoded
+    {
+        double sse = 0;
+        const BtfShape& sh = btf.shape();
+        for (int v = 0; v < sh.n_views(); ++v)
+            for (int l = 0; l < sh.n_lights(); ++l) {
+                const image::Image x = dec->read_image(l, v), y = btf.read_image(l, v);
+                for (size_t i = 0; i < x.pixels.size(); ++i)
+                    sse += std::pow(double(image::srgb_encode(x.pixels[i])) - image::srgb_encode(y.pixels[i]), 2);
+            }
+        // The decoder clamps to [0, 1] before decoding, which can only lower the error.
+        EXPECT_LE(std::sqrt(sse / sh.sample_count()), rmse * (1 + kRmseRelTol));
+        EXPECT_GT(std::sqrt(sse / sh.sample_count()), 0.5 * rmse);
+    }
+    const std::string weights = fs::read_file(o.output + "/weights.bin");
+    const int P = 20 * 14, n_lights = 8;
+    for (size_t g = 0; g < want_groups.size(); ++g) {
+        SCOPED_TRACE("group " + std::to_string(g));
+        const nlohmann::json& gj = man["groups"][g];
+        ASSERT_EQ(gj["views"].get<std::vector<int>>(), want_groups[g]);
+        const int N = 3 * n_lights * int(want_groups[g].size());
+        Eigen::MatrixXd a(P, N);
+        for (size_t vi = 0; vi < want_groups[g].size(); ++vi)
+            for (int l = 0; l < n_lights; ++l) {
+                const image::Image img = btf.read_image(l, want_groups[g][vi]);
+                for (int p = 0; p < P; ++p)
+                    for (int ch = 0; ch < 3; ++ch)
+                        a(p, (int(vi) * n_lights + l) * 3 + ch) = image::srgb_encode(img.pixels[size_t(p) * 3 + size_t(ch)]);
+            }
+        const Eigen::VectorXd mean = a.rowwise().mean();
+        a.colwise() -= mean;
+        const Eigen::BDCSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+        const int C = 3;
+        const Eigen::MatrixXd u = svd.matrixU().leftCols(C), v = svd.matrixV().leftCols(C);
+        auto power_of_ten = [](double max_abs) {  // the largest 10^n (n >= 0) with max_abs 10^n <= 1
+            double f = 1;
+            while (max_abs * f * 10 <= 1) f *= 10;
+            return f;
+        };
+        const double fu = power_of_ten(u.cwiseAbs().maxCoeff()), fv = power_of_ten(v.cwiseAbs().maxCoeff());
+        EXPECT_EQ(gj["thesis"]["factor_u"].get<double>(), fu);
+        EXPECT_EQ(gj["thesis"]["factor_v"].get<double>(), fv);
+        // The mean: an 8-bit image.
+        for (int p = 0; p < P; ++p) ASSERT_NEAR(dec->group_mean(int(g))[p], mean[p], 0.5 / 255 + kFitAgreement) << p;
+        const Eigen::MatrixXf& basis = dec->group_basis(int(g));
+        const uint64_t w0 = gj["weights_offset_bytes"];
+        for (int c = 0; c < C; ++c) {
+            SCOPED_TRACE("component " + std::to_string(c));
+            const double sigma = svd.singularValues()[c];
+            const int digits = gj["thesis"]["sigma_digits"][size_t(c)];
+            EXPECT_NEAR(digits, 255 * sigma / (fu * fv), 0.5 + kFitAgreement * digits);
+            // The sign of a singular pair is arbitrary: take the fit's.
+            const double sign = basis.col(c).cast<double>().dot(u.col(c)) < 0 ? -1 : 1;
+            // U Sigma as decoded = f^-1(code) (digits / 255) with f^-1(code) within half a code
+            // step (1 / 255) of factor_u u: within (1 / 255) (digits / 255) + |factor_u u| (0.5 /
+            // 255) of factor_u u sigma / (factor_u factor_v), plus the fits' disagreement.
+            for (int p = 0; p < P; ++p) {
+                const double want = sign * u(p, c) * sigma / fv;
+                const double bound = (1.0 / 255) * (digits / 255.0) + std::abs(fu * u(p, c)) * (0.5 / 255) +
+                                     kFitAgreement * std::abs(sigma / fv) / 255;
+                ASSERT_NEAR(basis(p, c), want, bound) << p;
+            }
+            // V's codes: round(255 (factor_v v + 1) / 2), within one code.
+            for (int j = 0; j < N; ++j) {
+                const int code = uint8_t(weights[size_t(w0) + size_t(c) * size_t(N) + size_t(j)]);
+                ASSERT_NEAR(code, 255 * (fv * sign * v(j, c) + 1) / 2, 0.5 + 255 * kFitAgreement) << j;
+            }
+            EXPECT_FLOAT_EQ(gj["components"][size_t(c)]["v_scale"].get<float>(), 2.0f / 255);
+            EXPECT_FLOAT_EQ(gj["components"][size_t(c)]["v_offset"].get<float>(), -1.0f);
+        }
+    }
+    // Its error is the thesis_packing figure of the same model.
+    EXPECT_NEAR(m["error"]["mae_lab"].get<double>(), m["thesis_packing"]["mae_lab"].get<double>(),
+                kRmseRelTol * m["error"]["mae_lab"].get<double>());
+    // What differs from the method is named, not run.
+    for (auto bad : std::vector<std::function<void(PcaRunOptions&)>>{
+             [](PcaRunOptions& x) { x.fit_space = FitSpace::kLab; }, [](PcaRunOptions& x) { x.pca.l1_iterations = 4; },
+             [](PcaRunOptions& x) { x.pca.grouping = ViewGrouping::kNeighbours; },
+             [](PcaRunOptions& x) { x.weights_format = WeightsFormat::kFloat32; },
+             [](PcaRunOptions& x) { x.encoding = ComponentEncoding::kExrHalf; },
+             [](PcaRunOptions& x) { x.quant_noise = 0.1; }, [](PcaRunOptions& x) { x.pca.max_rmse = 0.01; }}) {
+        PcaRunOptions x = o;
+        x.output = testing::temp_dir("btf_pca_thesis_bad");
+        bad(x);
+        EXPECT_NE(testing::error_of([&] { compress_to_folder(btf, x, 0); }).find("--codec thesis: "), std::string::npos);
+    }
+    EXPECT_EQ(codec_from_string("thesis"), Codec::kThesis);
+    EXPECT_NE(testing::error_of([] { codec_from_string("jpeg"); }).find("jpeg"), std::string::npos);
 }
 
 // table_equal_bytes: each row is the longest prefix of the stream within the fixed-C row's

@@ -48,38 +48,53 @@ double thesis_factor(double max_abs) {
     return std::max(1.0, std::pow(10.0, std::floor(-std::log10(max_abs))));
 }
 
-StoredGroup store_thesis(const GroupPca& pca, int c, int* sigma_overflows,
-                         std::vector<std::vector<uint8_t>>* u_codes) {
+ThesisGroup pack_thesis(const GroupPca& pca, int c) {
     INLIGHT_CHECK(c >= 0 && c <= pca.components()) << c;
-    StoredGroup s;
-    int overflows = 0;
-    // The mean as an 8-bit image of the data's codes.
-    s.mean = pca.mean.unaryExpr([](float v) { return std::clamp(std::round(v * 255.0f), 0.0f, 255.0f) / 255.0f; });
-    s.basis.resize(pca.pixels, c);
-    s.weights.resize(pca.columns, c);
-    auto code8 = [](double x) { return std::clamp(std::round((x + 1.0) * 0.5 * 255.0), 0.0, 255.0); };
-    auto to8 = [&](double x) { return code8(x) / 255.0 * 2.0 - 1.0; };  // f(x) = (x + 1) / 2
-    if (u_codes) u_codes->assign(static_cast<size_t>(c), std::vector<uint8_t>(static_cast<size_t>(pca.pixels)));
+    ThesisGroup t;
+    const int64_t P = pca.pixels, N = pca.columns;
+    t.mean_codes.resize(size_t(P));
+    for (int64_t p = 0; p < P; ++p)
+        t.mean_codes[size_t(p)] = static_cast<uint8_t>(std::clamp(std::lround(double(pca.mean[p]) * 255.0), 0L, 255L));
+    // U = basis / sigma per column (the basis is U Sigma), V = the weights.
+    std::vector<double> sigma(size_t(c), 0.0);
+    double max_u = 0, max_v = 0;
     for (int i = 0; i < c; ++i) {
-        const double sigma = pca.basis.col(i).cast<double>().norm();
-        const Eigen::VectorXd u = sigma > 0 ? Eigen::VectorXd(pca.basis.col(i).cast<double>() / sigma)
-                                            : Eigen::VectorXd::Zero(pca.pixels);
-        const Eigen::VectorXd v = pca.weights.col(i).cast<double>();
-        const double fu = thesis_factor(u.cwiseAbs().maxCoeff());
-        const double fv = thesis_factor(v.cwiseAbs().maxCoeff());
-        double digits = std::round(sigma / (fu * fv) * 255.0);  // a4a3a2a1 in 1/255 units
-        if (digits > 9999) {
-            ++overflows;
-            digits = 9999;
-        }
-        const double stored_sigma = digits / 255.0;
-        for (int p = 0; p < pca.pixels; ++p) {
-            s.basis(p, i) = static_cast<float>(to8(fu * u[p]) * stored_sigma);
-            if (u_codes) (*u_codes)[static_cast<size_t>(i)][static_cast<size_t>(p)] = static_cast<uint8_t>(code8(fu * u[p]));
-        }
-        for (int j = 0; j < pca.columns; ++j) s.weights(j, i) = static_cast<float>(to8(fv * v[j]));
+        sigma[size_t(i)] = pca.basis.col(i).cast<double>().norm();
+        if (sigma[size_t(i)] > 0) max_u = std::max(max_u, double(pca.basis.col(i).cwiseAbs().maxCoeff()) / sigma[size_t(i)]);
+        max_v = std::max(max_v, double(pca.weights.col(i).cwiseAbs().maxCoeff()));
     }
-    if (sigma_overflows) *sigma_overflows = overflows;
+    t.factor_u = thesis_factor(max_u);
+    t.factor_v = thesis_factor(max_v);
+    auto code8 = [](double x) {  // f(x) = (x + 1) / 2 on 8 bits
+        return static_cast<uint8_t>(std::clamp(std::round((x + 1.0) * 0.5 * 255.0), 0.0, 255.0));
+    };
+    for (int i = 0; i < c; ++i) {
+        const double s = sigma[size_t(i)];
+        double digits = std::round(s / (t.factor_u * t.factor_v) * 255.0);  // a4a3a2a1 in 1/255 units
+        if (digits > 9999) ++t.sigma_overflows, digits = 9999;
+        t.sigma_digits.push_back(static_cast<int>(digits));
+        std::vector<uint8_t> u(static_cast<size_t>(P)), v(static_cast<size_t>(N));
+        for (int64_t p = 0; p < P; ++p) u[size_t(p)] = code8(s > 0 ? t.factor_u * double(pca.basis(p, i)) / s : 0.0);
+        for (int64_t j = 0; j < N; ++j) v[size_t(j)] = code8(t.factor_v * double(pca.weights(j, i)));
+        t.u_codes.push_back(std::move(u));
+        t.v_codes.push_back(std::move(v));
+    }
+    return t;
+}
+
+StoredGroup ThesisGroup::decoded() const {
+    StoredGroup s;
+    const int64_t P = int64_t(mean_codes.size());
+    const int c = int(u_codes.size());
+    s.mean.resize(P);
+    for (int64_t p = 0; p < P; ++p) s.mean[p] = kMeanScale * mean_codes[size_t(p)];
+    s.basis.resize(P, c);
+    s.weights.resize(c > 0 ? int64_t(v_codes[0].size()) : 0, c);
+    for (int i = 0; i < c; ++i) {
+        const float scale = basis_scale(i), offset = basis_offset(i);
+        for (int64_t p = 0; p < P; ++p) s.basis(p, i) = offset + scale * u_codes[size_t(i)][size_t(p)];
+        for (int64_t j = 0; j < s.weights.rows(); ++j) s.weights(j, i) = kWeightOffset + kWeightScale * v_codes[size_t(i)][size_t(j)];
+    }
     return s;
 }
 

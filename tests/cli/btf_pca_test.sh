@@ -15,7 +15,7 @@ for want in "btf-pca compress wool_btf.zip -o out/wool -k 3 -c 8 --report wool.j
     expect_true "--help has the example '$want'" -- grep -qF -- "$want" "$WORK/stdout"
 done
 expect_exit 0 "compress --help" -- "$PCA" compress --help
-for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views --fit-space --weights-format --fit-norm --l1-iterations; do
+for opt in --view-group-size --components --max-rmse --method --format --light-directions --color-samples --max-memory-mib --stream-views --fit-space --weights-format --fit-norm --l1-iterations --codec; do
     grep -q -- "$opt" "$WORK/stdout" || fail "compress --help lacks $opt"
 done
 expect_true "compress --help has its example" -- grep -qF "btf-pca compress wool_btf.zip -o out/wool" "$WORK/stdout"
@@ -104,6 +104,27 @@ expect_exit 2 "--l1-iterations without --fit-norm l1" -- "$PCA" compress "$WORK/
 expect_stderr "applies only to --fit-norm l1" "says why"
 expect_exit 2 "--fit-norm l1 with groups out of core" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --fit-norm l1 --stream-views 1 "${DIRS[@]}"
 expect_stderr "--fit-norm l1" "names the option"
+
+# --codec thesis: the thesis' method as the baseline (lib/btf/pca_run.h). It implies its fit and
+# storage, groups consecutive views, streams component-major, and refuses what changes its method.
+expect_exit 0 "--codec thesis" -- "$PCA" compress "$WORK/btf" -o "$WORK/thesis" -k 2 -c 2 --codec thesis "${DIRS[@]}" --report "$WORK/th.json"
+expect_true "thesis manifest: codec, consecutive groups, srgb_encoded, uint8 V, component-major stream" -- jq -e '.codec == "thesis" and
+    .view_grouping == "consecutive" and .color_space == "srgb_encoded" and .weights.dtype == "uint8" and
+    ([.groups[].views] == [[0, 1], [2, 3], [4]]) and ([.stream[][1]] == [0, 0, 0, 1, 1, 1]) and
+    all(.groups[]; .thesis.sigma_digits | length == 2)' "$WORK/thesis/btf-pca.json"
+expect_true "thesis report: its fit (exact Gram, least squares) and codec" -- jq -e '.metrics.pca | .codec == "thesis" and
+    .fit_space == "srgb" and .fit_norm == "l2" and .weights_format == "uint8" and (.methods | keys == ["gram"])' "$WORK/th.json"
+expect_exit 0 "interpolate reads a thesis folder" -- "$PCA" interpolate "$WORK/thesis" --pairs "$WORK/pairs.txt" -o "$WORK/thesis-int"
+for bad in "--fit-space lab:--fit-space srgb" "--fit-norm l1:--fit-norm l2" "--weights-format float16:--weights-format uint8" \
+           "--format exr-float:--format png" "--quant-noise 0.1:--quant-noise 0" "--max-rmse 0.01:--max-rmse"; do
+    # shellcheck disable=SC2086  # the option and its value are two words
+    expect_exit 2 "--codec thesis ${bad%%:*}" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --codec thesis ${bad%%:*} "${DIRS[@]}"
+    expect_stderr "--codec thesis: " "names the codec"
+    expect_stderr "${bad#*:}" "says what the thesis needs"
+    expect_true "nothing written" -- test ! -e "$WORK/bad"
+done
+expect_exit 2 "--codec jpeg" -- "$PCA" compress "$WORK/btf" -o "$WORK/bad" --codec jpeg "${DIRS[@]}"
+expect_stderr "--codec" "names the option"
 
 # An error budget: a rank-4 BTF needs at most 4 components above the 8-bit noise.
 expect_exit 0 "error budget" -- "$PCA" compress "$WORK/btf" -o "$WORK/budget" -k 5 -c 16 --max-rmse 0.01 "${DIRS[@]}" --report "$WORK/b.json"
