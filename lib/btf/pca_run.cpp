@@ -370,7 +370,9 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                                            th.basis_offset(c), "u.png", unused, values.data())
                                   .size();
         }
-        thesis_v_bytes += uint64_t(N) * C + 2 * uint64_t(C);  // V as 8-bit texels, Sigma in two channels
+        // V as 8-bit texels; Sigma two decimal digits per 8-bit channel (at least two channels).
+        thesis_v_bytes += uint64_t(N) * C;
+        for (int64_t d : th.sigma_digits) thesis_v_bytes += std::max<uint64_t>(2, (std::to_string(d).size() + 1) / 2);
         const StoredGroup thd = th.decoded();
         store_s += seconds_since(t0);
 

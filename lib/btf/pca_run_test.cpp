@@ -112,6 +112,33 @@ TEST(CompressToFolder, FilesDecodeToTheReportedErrorAndStreamingCurve) {
     }
 }
 
+// A singular value whose digits need more than four is kept whole (the thesis: "adapt this
+// technique further"), not clamped, and counted.
+TEST(ThesisPacking, SigmaBeyondFourDigitsIsKeptAndCounted) {
+    GroupPca g;
+    g.pixels = 4;
+    g.columns = 2;
+    g.mean = Eigen::Vector4f(0.2f, 0.4f, 0.6f, 0.8f);
+    g.basis = Eigen::MatrixXf::Zero(4, 2);
+    g.basis(0, 0) = 1000;  // sigma 1000, u = (1, 0, 0, 0): factor_u = 1
+    g.basis(1, 1) = 0.5f;  // sigma 0.5, u = (0, 1, 0, 0)
+    g.weights = Eigen::MatrixXf::Identity(2, 2);  // factor_v = 1
+    const ThesisGroup t = pack_thesis(g, 2);
+    EXPECT_EQ(t.factor_u, 1.0);
+    EXPECT_EQ(t.factor_v, 1.0);
+    ASSERT_EQ(t.sigma_digits.size(), 2u);
+    EXPECT_EQ(t.sigma_digits[0], 255000);  // 255 x 1000: six digits
+    EXPECT_EQ(t.sigma_digits[1], 128);     // round(127.5)
+    EXPECT_EQ(t.sigma_overflows, 1);
+    const StoredGroup s = t.decoded();
+    EXPECT_FLOAT_EQ(s.basis(0, 0), 1000.0f);  // code 255: f^-1 = 1, times 255000 / 255
+    EXPECT_NEAR(s.basis(1, 1), 128.0 / 255, 1e-6);
+    EXPECT_NEAR(s.basis(2, 0), 1000.0 / 255, 1e-3);  // u = 0 sits on code 128 (f(0) = 127.5 rounds up): 1 / 255 x 1000
+    EXPECT_EQ(t.mean_codes, (std::vector<uint8_t>{51, 102, 153, 204}));
+    EXPECT_FLOAT_EQ(s.weights(0, 0), 1.0f);
+    EXPECT_NEAR(s.weights(1, 0), 1.0 / 255, 1e-7);  // 0 -> code 128 -> 2 x 128 / 255 - 1
+}
+
 // Our 8-bit storage against the thesis' packing on the same model: ours uses each component's
 // own range, so its error is smaller; the thesis' power-of-ten scaling leaves unit-norm U
 // columns on few of the 256 levels.
@@ -399,7 +426,7 @@ TEST(CompressToFolder, ThesisCodecStoresTheSvdOfConsecutiveViewsInTheThesisPacki
         for (int c = 0; c < C; ++c) {
             SCOPED_TRACE("component " + std::to_string(c));
             const double sigma = svd.singularValues()[c];
-            const int digits = gj["thesis"]["sigma_digits"][size_t(c)];
+            const int64_t digits = gj["thesis"]["sigma_digits"][size_t(c)];
             EXPECT_NEAR(digits, 255 * sigma / (fu * fv), 0.5 + kFitAgreement * digits);
             // The sign of a singular pair is arbitrary: take the fit's.
             const double sign = basis.col(c).cast<double>().dot(u.col(c)) < 0 ? -1 : 1;

@@ -70,9 +70,12 @@ ThesisGroup pack_thesis(const GroupPca& pca, int c) {
     };
     for (int i = 0; i < c; ++i) {
         const double s = sigma[size_t(i)];
-        double digits = std::round(s / (t.factor_u * t.factor_v) * 255.0);  // a4a3a2a1 in 1/255 units
-        if (digits > 9999) ++t.sigma_overflows, digits = 9999;
-        t.sigma_digits.push_back(static_cast<int>(digits));
+        // a4a3a2a1 in 1/255 units; more digits where four do not hold it (the thesis: "if the
+        // value of Sigma exceeds the four digit number, then it is possible to adapt this
+        // technique further in the similar manner"), counted.
+        const double digits = std::round(s / (t.factor_u * t.factor_v) * 255.0);
+        if (digits > 9999) ++t.sigma_overflows;
+        t.sigma_digits.push_back(static_cast<int64_t>(digits));
         std::vector<uint8_t> u(static_cast<size_t>(P)), v(static_cast<size_t>(N));
         for (int64_t p = 0; p < P; ++p) u[size_t(p)] = code8(s > 0 ? t.factor_u * double(pca.basis(p, i)) / s : 0.0);
         for (int64_t j = 0; j < N; ++j) v[size_t(j)] = code8(t.factor_v * double(pca.weights(j, i)));

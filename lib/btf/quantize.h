@@ -51,17 +51,19 @@ struct ThesisGroup {
     std::vector<uint8_t> mean_codes;            ///< P: the mean as an 8-bit image, round(255 m)
     std::vector<std::vector<uint8_t>> u_codes;  ///< per component, P codes round(255 f(factor_u u))
     std::vector<std::vector<uint8_t>> v_codes;  ///< per component, N codes round(255 f(factor_v v))
-    /// Per component a4a3a2a1 = round(255 sigma / (factor_u factor_v)), clamped to 9999.
-    std::vector<int> sigma_digits;
+    /// Per component a4a3a2a1 = round(255 sigma / (factor_u factor_v)): four decimal digits in
+    /// two 8-bit channels, and two more digits per further channel where four do not hold it
+    /// (the thesis' "adapt this technique further in the similar manner").
+    std::vector<int64_t> sigma_digits;
     double factor_u = 1, factor_v = 1;  ///< factor(U), factor(V)
-    int sigma_overflows = 0;            ///< digits above 9999 (clamped)
+    int sigma_overflows = 0;            ///< components whose digits need more than four (above 9999)
 
     /// The values a decoder reads, value = offset + scale * code: U Sigma's column c has
     /// scale 2 s / 255 and offset -s with s = sigma_digits[c] / 255 (so it is f^-1(code / 255) s:
     /// factor_u cancels against Sigma's division); V has scale 2 / 255 and offset -1 (factor_v
     /// stays in V, divided out of Sigma); the mean scale 1 / 255 and offset 0.
-    float basis_scale(int c) const { return float(2.0 * sigma_digits[size_t(c)] / (255.0 * 255.0)); }
-    float basis_offset(int c) const { return float(-sigma_digits[size_t(c)] / 255.0); }
+    float basis_scale(int c) const { return float(2.0 * double(sigma_digits[size_t(c)]) / (255.0 * 255.0)); }
+    float basis_offset(int c) const { return float(-double(sigma_digits[size_t(c)]) / 255.0); }
     static constexpr float kWeightScale = 2.0f / 255.0f, kWeightOffset = -1.0f, kMeanScale = 1.0f / 255.0f;
     /// The model a decoder of these codes computes with (the formulas above, in float).
     StoredGroup decoded() const;
