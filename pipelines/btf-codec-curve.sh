@@ -5,7 +5,9 @@
 # BTF: a BTF folder or Bonn zip; REFERENCE (optional): an independent capture of the same fabric
 # (another seed): every point is also measured against it, and the input against it is the
 # noise floor, the error no model of this capture can be told apart from.
-#  - thesis: `btf-pca compress --codec thesis`, one run per (k, C) in CURVE_KS x CURVE_CS;
+#  - thesis: `btf-pca compress --codec thesis`, one run per (k, C) in CURVE_KS x CURVE_CS, its
+#    bytes those of the thesis' own files (mean and U as 8-bit PNG, V and Sigma in one texture:
+#    metrics.thesis_packing.stored_bytes), without our manifest;
 #  - ours: one run per k with C = the largest of CURVE_CS and OURS_ARGS, whose rows are that model
 #    cut to each C (fixed C per group) and the longest stream prefix within each of those rows'
 #    bytes (C per group from one error budget: btf-pca's metrics.table_equal_bytes).
@@ -78,10 +80,13 @@ row='"\(.stored_bytes)\t\(.raw_8bit_to_stored)\t\(.mae_lab)\t\(.mae_rgb8)\t\(.rm
     printf 'codec\trule\tk\tC\tstored_bytes\traw_to_stored\tmae_lab\tmae_rgb8\trmse_rgb8\tde2000\tmae_lab_vs_ref\n'
     for k in "${KA[@]}"; do
         for c in "${CA[@]}"; do
-            # Its one table row is the run itself (all C components; its bytes are the folder's).
+            # Its one table row is the run itself (all C components), with the bytes of the
+            # thesis' own files (metrics.thesis_packing: mean and U as PNG, V and Sigma in one
+            # texture), not of our folder's manifest.
             run "thesis-k$k-c$c" --codec thesis -k "$k" -c "$c" --table-components "$c"
-            jq -r --arg k "$k" '.metrics.table[] | "thesis\tfixed\t\($k)\t\(.components)\t" + '"$row" \
-                "$OUT/runs/thesis-k$k-c$c.json"
+            jq -r --arg k "$k" '.metrics as $m | $m.table[] | .stored_bytes = $m.thesis_packing.stored_bytes
+                | .raw_8bit_to_stored = $m.bytes.raw_8bit / .stored_bytes
+                | "thesis\tfixed\t\($k)\t\(.components)\t" + '"$row" "$OUT/runs/thesis-k$k-c$c.json"
         done
         run "ours-k$k" -k "$k" -c "$CMAX" --table-components "$TABLE" "${OURS[@]}"
         jq -r --arg k "$k" '.metrics | (.table[] | "ours\tfixed\t\($k)\t\(.components)\t" + '"$row"'),

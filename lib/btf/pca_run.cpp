@@ -288,7 +288,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     std::vector<double> table_sse(table.size(), 0.0);
     std::vector<uint64_t> table_bytes(table.size(), 0), table_params(table.size(), 0);
     int sigma_overflows = 0;
-    uint64_t thesis_u_bytes = 0, thesis_v_bytes = 0;
+    uint64_t thesis_mean_bytes = 0, thesis_u_bytes = 0, thesis_v_bytes = 0;
     double store_s = 0, measure_s = 0;
     int measure_passes = 0;  // passes over the images of out-of-core groups to measure them
     std::map<std::string, int> methods;
@@ -358,20 +358,22 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         if (thesis_codec)
             gj["thesis"] = {{"factor_u", th.factor_u}, {"factor_v", th.factor_v}, {"sigma_digits", th.sigma_digits}};
         weight_values += uint64_t(N) * uint64_t(C);
-        // The bytes of the thesis' files for the comparison (a --codec thesis run wrote them).
-        for (int c = 0; c < C; ++c) {
-            if (thesis_codec) {
-                thesis_u_bytes += rec.component_bytes[size_t(c)];
-                continue;
-            }
+        // The bytes of the thesis' own files (a --codec thesis run wrote its mean and U): the
+        // mean and each component of U as 8-bit PNG, and V with Sigma in one shared texture: V's
+        // codes as a C x N grey PNG, Sigma two decimal digits per 8-bit channel (at least two).
+        auto png_bytes = [&](const uint8_t* codes, int w, int h) {
             StoredImage unused;
-            std::vector<float> values(static_cast<size_t>(P));
-            thesis_u_bytes += encode_codes(th.u_codes[size_t(c)].data(), shape.width, shape.height, th.basis_scale(c),
-                                           th.basis_offset(c), "u.png", unused, values.data())
-                                  .size();
+            std::vector<float> values(static_cast<size_t>(w) * static_cast<size_t>(h));
+            return uint64_t(encode_codes(codes, w, h, 1.0f, 0.0f, "t.png", unused, values.data()).size());
+        };
+        thesis_mean_bytes += thesis_codec ? rec.mean_bytes : png_bytes(th.mean_codes.data(), shape.width, shape.height);
+        for (int c = 0; c < C; ++c)
+            thesis_u_bytes += thesis_codec ? rec.component_bytes[size_t(c)] : png_bytes(th.u_codes[size_t(c)].data(), shape.width, shape.height);
+        if (C > 0) {
+            std::vector<uint8_t> v_image;
+            for (const auto& col : th.v_codes) v_image.insert(v_image.end(), col.begin(), col.end());
+            thesis_v_bytes += png_bytes(v_image.data(), int(N), C);
         }
-        // V as 8-bit texels; Sigma two decimal digits per 8-bit channel (at least two channels).
-        thesis_v_bytes += uint64_t(N) * C;
         for (int64_t d : th.sigma_digits) thesis_v_bytes += std::max<uint64_t>(2, (std::to_string(d).size() + 1) / 2);
         const StoredGroup thd = th.decoded();
         store_s += seconds_since(t0);
@@ -576,7 +578,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     const uint64_t raw8 = static_cast<uint64_t>(samples);
     const uint64_t params32 = uint64_t(4) * (uint64_t(P) * (stats.components + stats.groups) + weight_values);
     const uint64_t stored = manifest_text.size() + weights_bin.size() + means + components;
-    const uint64_t thesis_stored = means + thesis_u_bytes + thesis_v_bytes;
+    const uint64_t thesis_stored = thesis_mean_bytes + thesis_u_bytes + thesis_v_bytes;
     nlohmann::json m;
     m["btf"] = {{"width", shape.width}, {"height", shape.height}, {"lights", shape.n_lights()},
                 {"views", shape.n_views()}, {"samples", samples}};
@@ -616,7 +618,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                               {"raw_8bit_to_stored", double(raw8) / stored},
                               {"input_files_to_stored", input_stored_bytes ? double(input_stored_bytes) / stored : 0.0}};
     nlohmann::json th = thesis.to_json();
-    th.update({{"stored_bytes", thesis_stored}, {"u_png_bytes", thesis_u_bytes},
+    th.update({{"stored_bytes", thesis_stored}, {"mean_png_bytes", thesis_mean_bytes}, {"u_png_bytes", thesis_u_bytes},
                {"v_sigma_bytes", thesis_v_bytes}, {"sigma_overflows", sigma_overflows}});
     m["thesis_packing"] = th;
     m["packing_gain"] = {

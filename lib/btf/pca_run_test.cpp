@@ -21,6 +21,8 @@
 namespace inlight::btf {
 namespace {
 
+namespace stdfs = std::filesystem;
+
 /// The run sums squared errors in double over float32 residuals; the decoder recomputes them
 /// from float32 files in another order: both agree to float32 rounding of values <= 1
 /// (relative ~1e-6 of the RMSE, with margin).
@@ -448,6 +450,17 @@ TEST(CompressToFolder, ThesisCodecStoresTheSvdOfConsecutiveViewsInTheThesisPacki
             EXPECT_FLOAT_EQ(gj["components"][size_t(c)]["v_offset"].get<float>(), -1.0f);
         }
     }
+    // The thesis' own bytes: its mean and U files as written, V and Sigma beside them.
+    uint64_t mean_files = 0, u_files = 0;
+    for (const auto& gj : man["groups"]) {
+        mean_files += stdfs::file_size(o.output + "/" + gj["mean"]["file"].get<std::string>());
+        for (const auto& cj : gj["components"]) u_files += stdfs::file_size(o.output + "/" + cj["file"].get<std::string>());
+    }
+    const nlohmann::json& tp = m["thesis_packing"];
+    EXPECT_EQ(tp["mean_png_bytes"].get<uint64_t>(), mean_files);
+    EXPECT_EQ(tp["u_png_bytes"].get<uint64_t>(), u_files);
+    EXPECT_EQ(tp["stored_bytes"].get<uint64_t>(), mean_files + u_files + tp["v_sigma_bytes"].get<uint64_t>());
+    EXPECT_GE(tp["v_sigma_bytes"].get<uint64_t>(), 3 * 2 * 3u);  // at least Sigma's two channels per component
     // Its error is the thesis_packing figure of the same model.
     EXPECT_NEAR(m["error"]["mae_lab"].get<double>(), m["thesis_packing"]["mae_lab"].get<double>(),
                 kRmseRelTol * m["error"]["mae_lab"].get<double>());

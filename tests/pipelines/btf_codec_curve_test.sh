@@ -28,7 +28,8 @@ for kc in "1 1" "1 2" "5 1" "5 2"; do
     expect_true "thesis k=$k C=$c is a --codec thesis run of consecutive groups" -- jq -e \
         '.metrics.pca | .codec == "thesis" and .view_grouping == "consecutive"' "$R"
     expect_true "thesis k=$k C=$c: the line is the report's" -- jq -e --arg l "$line" '($l | split("\t")) as $f | .metrics as $m |
-        ($f[4] | tonumber) == $m.bytes.stored and ($f[6] | tonumber) == $m.error.mae_lab and
+        ($f[4] | tonumber) == $m.thesis_packing.stored_bytes and $m.thesis_packing.stored_bytes < $m.bytes.stored and
+        ($f[6] | tonumber) == $m.error.mae_lab and
         ($f[10] | tonumber) == $m.table[0].vs_reference.mae_lab' "$R"
 done
 expect_true "ours: runs with the default options (lab fit, uint8 V, --quant-noise 0.1), neighbour groups" -- jq -e \
