@@ -14,7 +14,7 @@ DEB_PACKAGES := build-essential cmake pkg-config git jq shellcheck ca-certificat
 	libcli11-dev nlohmann-json3-dev libtbb-dev libembree-dev \
 	libgtest-dev libgmock-dev googletest libbenchmark-dev \
 	glslang-tools libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri \
-	libtomlplusplus-dev libssl-dev liblcms2-dev libsqlite3-dev sqlite3 libzip-dev zip libqhull-dev libpng-dev \
+	libtomlplusplus-dev libssl-dev liblcms2-dev libsqlite3-dev sqlite3 libzip-dev zip libqhull-dev libpng-dev zlib1g-dev \
 	clang libclang-rt-14-dev gnuplot-nox snakemake slurm-wlm munge \
 	blender-data opencv-doc
 

@@ -47,12 +47,15 @@ int compress(int argc, char** argv) {
     std::string fit_space = "linear";
     app.add_option("--quant-noise", o.quant_noise, "png: quantise each group's components with one step "
                    "chosen so that rounding adds about this fraction of the group's residual error energy "
-                   "(small components then use few codes and fewer bytes); 0 = each on 256 levels")
+                   "(small components then use few codes and fewer bytes), and with --weights-format "
+                   "uint8-deflate V's columns likewise (as much again); 0 = each on 256 levels")
         ->check(app::finite_range_or(0, 10, 0))->capture_default_str();
     std::string weights_format = "float32";
-    app.add_option("--weights-format", weights_format, "How V (weights.bin) is stored: float32, float16, or "
-                   "uint8 with a scale and offset per component")
-        ->check(CLI::IsMember({"float32", "float16", "uint8"}))->capture_default_str();
+    app.add_option("--weights-format", weights_format, "How V (weights.bin) is stored: float32, float16, "
+                   "uint8 with a scale and offset per component, or uint8-deflate: those codes, each column a "
+                   "zlib stream, and with --quant-noise each column's step chosen as the components' (few "
+                   "codes, about 4x fewer bytes for V at --quant-noise 0.1)")
+        ->check(CLI::IsMember({"float32", "float16", "uint8", "uint8-deflate"}))->capture_default_str();
     app.add_option("--fit-space", fit_space, "Values the PCA fits: linear radiance (weighted sums of "
                    "images fold into the components), srgb-encoded values (the 8-bit codes / 255, "
                    "perceptually closer) or CIELAB (squared error = Delta E 1976 squared; "

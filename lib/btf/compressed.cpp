@@ -1,5 +1,7 @@
 #include "btf/compressed.h"
 
+#include <zlib.h>
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -51,6 +53,7 @@ constexpr EnumName<WeightsFormat> kWeightsFormatNames[] = {
     {WeightsFormat::kFloat32, "float32"},
     {WeightsFormat::kFloat16, "float16"},
     {WeightsFormat::kUint8, "uint8"},
+    {WeightsFormat::kUint8Deflate, "uint8-deflate"},
 };
 
 std::string to_string(WeightsFormat f) { return enum_to_string(kWeightsFormatNames, f); }
@@ -70,6 +73,7 @@ constexpr WeightsLayout kWeightsLayouts[] = {
     {WeightsFormat::kFloat32, 4, "float32_le"},
     {WeightsFormat::kFloat16, 2, "float16_le"},
     {WeightsFormat::kUint8, 1, "uint8"},
+    {WeightsFormat::kUint8Deflate, 1, "uint8_deflate"},
 };
 const WeightsLayout& layout_of(WeightsFormat f) {
     for (const auto& l : kWeightsLayouts)
@@ -82,15 +86,27 @@ int bytes_per_weight(WeightsFormat f) { return layout_of(f).bytes; }
 
 std::string weights_dtype(WeightsFormat f) { return layout_of(f).dtype; }
 
-void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std::string& out, float* decoded,
-                           float& scale, float& offset) {
+uint64_t encode_weights_column(const float* values, int64_t n, WeightsFormat f, std::string& out, float* decoded,
+                               float& scale, float& offset, float min_step) {
+    const size_t before = out.size();
     scale = 1;
     offset = 0;
-    if (f == WeightsFormat::kUint8) {
-        const Quantized8 q = quantize8(values, n);
+    if (is_uint8(f)) {
+        const Quantized8 q = quantize8(values, n, min_step);
         scale = q.scale;
         offset = q.offset;
-        append_weight_codes(q.codes.data(), n, scale, offset, out, decoded);
+        if (f == WeightsFormat::kUint8) {
+            append_weight_codes(q.codes.data(), n, scale, offset, out, decoded);
+        } else {
+            std::string raw;
+            append_weight_codes(q.codes.data(), n, scale, offset, raw, decoded);
+            uLongf size = compressBound(uLong(raw.size()));
+            std::string z(size, '\0');
+            if (compress2(reinterpret_cast<Bytef*>(z.data()), &size, reinterpret_cast<const Bytef*>(raw.data()),
+                          uLong(raw.size()), Z_BEST_COMPRESSION) != Z_OK)
+                throw Error("weights: zlib compress2 failed");
+            out.append(z.data(), size);
+        }
     } else if (f == WeightsFormat::kFloat16) {
         for (int64_t i = 0; i < n; ++i) {
             const Eigen::half h(values[i]);
@@ -103,6 +119,7 @@ void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std:
         out.append(reinterpret_cast<const char*>(values), size_t(n) * sizeof(float));
         std::copy(values, values + n, decoded);
     }
+    return out.size() - before;
 }
 
 void append_weight_codes(const uint8_t* codes, int64_t n, float scale, float offset, std::string& out,
@@ -208,7 +225,7 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
         for (const auto& l : kWeightsLayouts)
             if (dtype == l.dtype) layout = &l;
         if (!layout)
-            throw Error(str(manifest_path, ": unknown weights dtype '", dtype, "' (float32_le, float16_le or uint8)"));
+            throw Error(str(manifest_path, ": unknown weights dtype '", dtype, "' (float32_le, float16_le, uint8 or uint8_deflate)"));
         const WeightsFormat wf = layout->format;
         const uint64_t bpw = uint64_t(bytes_per_weight(wf));
         const std::string weights = fs::read_file(weights_path);
@@ -237,17 +254,36 @@ std::unique_ptr<CompressedBtf> CompressedBtf::open(const std::string& dir) {
             const uint64_t offset = static_cast<uint64_t>(integer(
                 gj.at("weights_offset_bytes"), 0, int64_t(weights.size()), manifest_path + ": weights_offset_bytes"));
             const uint64_t room = weights.size() - offset;
-            if (c > 0 && uint64_t(n) > room / bpw / uint64_t(c))
+            // uint8_deflate: each column's stream, inflated to exactly n codes (checked).
+            std::string inflated;
+            if (wf == WeightsFormat::kUint8Deflate) {
+                uint64_t at = offset;
+                for (int i = 0; i < c; ++i) {
+                    const std::string where = str(manifest_path, ": group ", gi, " component ", i, ": v_bytes");
+                    const uint64_t zb = uint64_t(integer(comps[static_cast<size_t>(i)].at("v_bytes"), 1,
+                                                         int64_t(weights.size() - at), where));
+                    const size_t before = inflated.size();
+                    inflated.resize(before + size_t(n));
+                    uLongf got = uLongf(n);
+                    if (uncompress(reinterpret_cast<Bytef*>(inflated.data() + before), &got,
+                                   reinterpret_cast<const Bytef*>(weights.data() + at), uLong(zb)) != Z_OK ||
+                        got != uLongf(n))
+                        throw Error(str(weights_path, ": group ", gi, " component ", i, ": bytes ", at, "..", at + zb,
+                                        " are not a zlib stream of ", n, " codes"));
+                    at += zb;
+                }
+            } else if (c > 0 && uint64_t(n) > room / bpw / uint64_t(c)) {
                 throw Error(str(weights_path, ": ", weights.size(), " bytes, group ", gi, " needs ", n, " x ", c, " ",
                                 dtype, " values from byte ", offset));
+            }
             g.mean = read_column(dir, gj.at("mean"), s);
             g.basis.resize(s.pixel_count(), c);
             for (int i = 0; i < c; ++i) g.basis.col(i) = read_column(dir, comps[static_cast<size_t>(i)], s);
             g.weights.resize(n, c);
-            const char* w = weights.data() + offset;
+            const char* w = wf == WeightsFormat::kUint8Deflate ? inflated.data() : weights.data() + offset;
             for (int i = 0; i < c; ++i) {
                 float scale = 1, off = 0;
-                if (wf == WeightsFormat::kUint8) {
+                if (is_uint8(wf)) {
                     const auto& cj = comps[static_cast<size_t>(i)];
                     scale = cj.at("v_scale").get<float>();
                     off = cj.at("v_offset").get<float>();

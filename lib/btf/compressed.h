@@ -18,7 +18,8 @@
 //   weights.bin   per group its V (N x C, column-major), N = 3 * n_lights * views with column =
 //                 (view_in_group * n_lights + light) * 3 + channel; "weights"."dtype" says how:
 //                 float32_le (default), float16_le, or uint8 with value = v_offset + v_scale *
-//                 code per component (its manifest entry's "v_scale", "v_offset").
+//                 code per component (its manifest entry's "v_scale", "v_offset"); uint8_deflate:
+//                 those codes, each column one zlib stream of its entry's "v_bytes".
 //   g###-mean.png, g###-c##.png  one grey image (width x height) per column of L = [m | U Sigma]:
 //                 8-bit codes with value = offset + scale * code, or half/float EXR (scale 1,
 //                 offset 0) with --format exr-half / exr-float.
@@ -70,19 +71,24 @@ FitSpace fit_space_from_string(const std::string& name);
 std::string manifest_color_space(FitSpace f);
 
 /// How V is stored in weights.bin (WeightsFormat::kUint8: each column's own offset and scale, as
-/// the components' images).
-enum class WeightsFormat { kFloat32, kFloat16, kUint8 };
-std::string to_string(WeightsFormat f);  ///< "float32", "float16", "uint8"
+/// the components' images; kUint8Deflate: the same codes, each column one zlib stream (RFC 1950)
+/// of "v_bytes" bytes, the columns of a group one after another from its weights_offset_bytes).
+enum class WeightsFormat { kFloat32, kFloat16, kUint8, kUint8Deflate };
+std::string to_string(WeightsFormat f);  ///< "float32", "float16", "uint8", "uint8-deflate"
 /// Inverse of to_string; throws UsageError naming the value otherwise.
 WeightsFormat weights_format_from_string(const std::string& name);
-int bytes_per_weight(WeightsFormat f);          ///< 4, 2, 1
-std::string weights_dtype(WeightsFormat f);     ///< the manifest's dtype: float32_le, float16_le, uint8
+int bytes_per_weight(WeightsFormat f);          ///< decoded: 4, 2, 1, 1
+/// The manifest's dtype: float32_le, float16_le, uint8, uint8_deflate.
+std::string weights_dtype(WeightsFormat f);
+/// True for the 8-bit formats (a scale and offset per column).
+inline bool is_uint8(WeightsFormat f) { return f == WeightsFormat::kUint8 || f == WeightsFormat::kUint8Deflate; }
 
 /// Appends one column of V (n finite values) to `out` in format `f`, writes the values a decoder
 /// will read to `decoded` and the column's scale and offset (value = offset + scale * code;
-/// 1 and 0 unless kUint8) to `scale` and `offset`.
-void encode_weights_column(const float* values, int64_t n, WeightsFormat f, std::string& out, float* decoded,
-                           float& scale, float& offset);
+/// 1 and 0 unless 8-bit) to `scale` and `offset`. 8-bit: codes of step range / 255, or
+/// `min_step` when larger (quantize8). Returns the bytes appended.
+uint64_t encode_weights_column(const float* values, int64_t n, WeightsFormat f, std::string& out, float* decoded,
+                               float& scale, float& offset, float min_step = 0);
 
 /// One stored column of L.
 struct StoredImage {

@@ -108,6 +108,7 @@ struct GroupRecord {
     std::vector<double> sse;     // stored model, after 0..C components
     std::vector<double> energy;  // unquantised energy of each component
     std::vector<uint64_t> component_bytes;
+    std::vector<uint64_t> v_bytes;  // each component's V column in weights.bin
     uint64_t mean_bytes = 0;
     double sae = 0, max_abs = 0;
     nlohmann::json manifest;
@@ -183,7 +184,7 @@ MemoryPlan plan_memory(const BtfShape& shape, const PcaRunOptions& o, bool refer
 /// manifest with each group's later components and their stream entries dropped and the weights
 /// offsets recomputed (the same text, the fit being the same).
 uint64_t cut_manifest_bytes(const nlohmann::json& full, const std::vector<int>& per_group,
-                            const std::vector<GroupRecord>& groups, uint64_t bytes_per_weight) {
+                            const std::vector<GroupRecord>& groups) {
     nlohmann::json m = full;
     uint64_t offset = 0;
     for (size_t g = 0; g < groups.size(); ++g) {
@@ -191,7 +192,7 @@ uint64_t cut_manifest_bytes(const nlohmann::json& full, const std::vector<int>& 
         nlohmann::json& comps = gj["components"];
         comps.erase(comps.begin() + per_group[g], comps.end());
         gj["weights_offset_bytes"] = offset;
-        offset += uint64_t(groups[g].columns) * uint64_t(per_group[g]) * bytes_per_weight;
+        for (int c = 0; c < per_group[g]; ++c) offset += groups[g].v_bytes[size_t(c)];
     }
     nlohmann::json stream = nlohmann::json::array();
     for (const auto& e : m["stream"])
@@ -281,7 +282,6 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     std::vector<GroupRecord> groups;
     std::string weights_bin;
     uint64_t weight_values = 0;
-    const uint64_t bpw = uint64_t(bytes_per_weight(o.weights_format));
     ColorSums ours, thesis, ref_input;
     const std::vector<int>& table = o.table_components;
     std::vector<ColorSums> table_sums(table.size()), table_ref(table.size());
@@ -345,15 +345,28 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             gj["components"].push_back({{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset},
                                         {"bytes", bytes.size()}, {"energy", pca.component_energy(c)}});
             float v_scale = ThesisGroup::kWeightScale, v_offset = ThesisGroup::kWeightOffset;
-            if (thesis_codec)
+            const size_t v_start = weights_bin.size();
+            if (thesis_codec) {
                 append_weight_codes(th.v_codes[size_t(c)].data(), N, v_scale, v_offset, weights_bin, q.weights.col(c).data());
-            else
+            } else {
+                // V's step with --quant-noise (entropy-coded V only, where fewer codes cost fewer
+                // bytes): rounding V's column by a step d adds about |b|^2 N d^2 / 12 to the
+                // error, |b| the norm of the component's image, so d^2 = 12 F E / (C N |b|^2)
+                // adds F E over the group's C columns, as the components' step does.
+                const double b2 = pca.basis.col(c).cast<double>().squaredNorm();
+                const float v_step = o.weights_format == WeightsFormat::kUint8Deflate && o.quant_noise > 0 && b2 > 0
+                                         ? float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) /
+                                                           (double(C) * double(N) * b2)))
+                                         : 0.0f;
                 encode_weights_column(pca.weights.col(c).data(), N, o.weights_format, weights_bin, q.weights.col(c).data(),
-                                      v_scale, v_offset);
-            if (o.weights_format == WeightsFormat::kUint8) {
+                                      v_scale, v_offset, v_step);
+            }
+            rec.v_bytes.push_back(weights_bin.size() - v_start);
+            if (is_uint8(o.weights_format)) {
                 gj["components"].back()["v_scale"] = v_scale;
                 gj["components"].back()["v_offset"] = v_offset;
             }
+            if (o.weights_format == WeightsFormat::kUint8Deflate) gj["components"].back()["v_bytes"] = rec.v_bytes.back();
         }
         if (thesis_codec)
             gj["thesis"] = {{"factor_u", th.factor_u}, {"factor_v", th.factor_v}, {"sigma_digits", th.sigma_digits}};
@@ -492,8 +505,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             table_sums[i] += rec.color[size_t(c)];
             if (reference) table_ref[i] += rec.color_ref[size_t(c)];
             table_sse[i] += rec.sse[size_t(c)];
-            table_bytes[i] += rec.mean_bytes + uint64_t(N) * uint64_t(c) * bpw;
-            for (int x = 0; x < c; ++x) table_bytes[i] += rec.component_bytes[size_t(x)];
+            table_bytes[i] += rec.mean_bytes;
+            for (int x = 0; x < c; ++x) table_bytes[i] += rec.component_bytes[size_t(x)] + rec.v_bytes[size_t(x)];
             table_params[i] += uint64_t(4) * (uint64_t(P) * (c + 1) + uint64_t(N) * c);
         }
         measure_s += seconds_since(t0);
@@ -630,7 +643,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     for (size_t i = 0; i < table.size(); ++i) {
         std::vector<int> per;
         for (const auto& g : groups) per.push_back(std::min(table[i], int(g.energy.size())));
-        const uint64_t manifest_i = cut_manifest_bytes(manifest, per, groups, bpw);
+        const uint64_t manifest_i = cut_manifest_bytes(manifest, per, groups);
         const uint64_t b = table_bytes[i] + manifest_i;
         nlohmann::json row = table_sums[i].to_json();
         row.update({{"components", table[i]}, {"rmse_linear", std::sqrt(table_sse[i] / samples)}, {"manifest_bytes", manifest_i},
@@ -650,7 +663,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         for (const auto& g : groups) b += g.mean_bytes;
         for (const auto& [g, c] : stream) {
             const GroupRecord& r = groups[size_t(g)];
-            const uint64_t cost = r.component_bytes[size_t(c)] + uint64_t(r.columns) * bpw;
+            const uint64_t cost = r.component_bytes[size_t(c)] + r.v_bytes[size_t(c)];
             if (b + cost > table_bytes[i]) break;
             b += cost;
             per[size_t(g)] = std::max(per[size_t(g)], c + 1);
@@ -667,7 +680,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             params += uint64_t(4) * (uint64_t(P) * (c + 1) + uint64_t(groups[g].columns) * c);
             total += per[g];
         }
-        const uint64_t manifest_i = cut_manifest_bytes(manifest, per, groups, bpw);
+        const uint64_t manifest_i = cut_manifest_bytes(manifest, per, groups);
         b += manifest_i;
         nlohmann::json row = cs.to_json();
         row.update({{"components", table[i]}, {"byte_budget", table_bytes[i]}, {"manifest_bytes", manifest_i},

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstdint>
@@ -560,6 +561,112 @@ TEST(CompressToFolder, WeightsFormatsDecodeToTheReportedErrorWithinTheirStep) {
     }
     EXPECT_EQ(weights_format_from_string("uint8"), WeightsFormat::kUint8);
     EXPECT_NE(testing::error_of([] { weights_format_from_string("int4"); }).find("int4"), std::string::npos);
+}
+
+// uint8-deflate: weights.bin holds, per column, a zlib stream of exactly the uint8 format's codes
+// (inflated here by zlib itself), so the model and its error are the uint8 run's. With
+// --quant-noise F, V's columns are rounded on coarser steps: the components' images are
+// orthogonal and orthogonal to the residual (the Gram PCA), so the error energy rises by exactly
+// sum_c |b_c|^2 |dV_c|^2 <= sum_c |b_c|^2 N (v_scale_c / 2)^2, and the coarser codes deflate to
+// fewer bytes.
+TEST(CompressToFolder, Uint8DeflateStoresTheUint8CodesAndQuantNoiseCoarsensV) {
+    // Energies are sums over 20 x 14 x 8 x 5 x 3 values <= 1 in double of float32 residuals:
+    // relative 1e-5 covers their rounding (the bound itself is exact).
+    constexpr double kEnergyRelTol = 1e-5;
+    const AnalyticBtf btf(small_btf());
+    auto run = [&](const std::string& name, WeightsFormat f, double quant_noise) {
+        PcaRunOptions o = run_options(name, 2, 3);
+        o.encoding = ComponentEncoding::kExrFloat;  // only V's storage differs
+        o.weights_format = f;
+        o.quant_noise = quant_noise;
+        return std::make_pair(o.output, compress_to_folder(btf, o, 0));
+    };
+    // Every column of a uint8_deflate folder, inflated by zlib: codes in file order.
+    auto inflate_all = [](const std::string& dir) {
+        const auto d = CompressedBtf::open(dir);
+        const std::string bin = fs::read_file(dir + "/weights.bin");
+        std::vector<std::string> cols;
+        size_t at = 0;
+        for (const auto& g : d->manifest()["groups"]) {
+            EXPECT_EQ(g["weights_offset_bytes"].get<size_t>(), at);
+            for (const auto& c : g["components"]) {
+                const size_t n = g["columns"], zb = c["v_bytes"];
+                std::string col(n, '\0');
+                uLongf got = uLongf(n);
+                EXPECT_EQ(uncompress(reinterpret_cast<Bytef*>(col.data()), &got, reinterpret_cast<const Bytef*>(bin.data() + at), uLong(zb)), Z_OK);
+                EXPECT_EQ(got, uLongf(n));
+                cols.push_back(col);
+                at += zb;
+            }
+        }
+        EXPECT_EQ(at, bin.size());
+        return cols;
+    };
+    const auto [raw_dir, raw] = run("btf_pca_v_uint8", WeightsFormat::kUint8, 0);
+    const auto [z_dir, z] = run("btf_pca_v_deflate", WeightsFormat::kUint8Deflate, 0);
+    const auto dec = CompressedBtf::open(z_dir);
+    EXPECT_EQ(dec->manifest()["weights"]["dtype"], "uint8_deflate");
+    std::string codes;
+    for (const auto& col : inflate_all(z_dir)) codes += col;
+    EXPECT_EQ(codes, fs::read_file(raw_dir + "/weights.bin"));
+    EXPECT_EQ(z["error"]["rmse_linear"].get<double>(), raw["error"]["rmse_linear"].get<double>());
+    const double rmse = z["error"]["rmse_linear"];
+    EXPECT_NEAR(rmse_between(*dec, btf, [&](int l, int v) { return dec->read_image(l, v); }), rmse, kRmseRelTol * rmse);
+
+    const double F = 0.5;
+    const auto [q_dir, q] = run("btf_pca_v_deflate_noise", WeightsFormat::kUint8Deflate, F);
+    const auto qdec = CompressedBtf::open(q_dir);
+    const double samples = btf.shape().sample_count();
+    const double unquantised = std::pow(q["error"]["rmse_linear_unquantised"].get<double>(), 2) * samples;
+    const double added = std::pow(q["error"]["rmse_linear"].get<double>(), 2) * samples - unquantised;
+    double bound = 0;
+    for (const auto& g : qdec->manifest()["groups"])
+        for (const auto& c : g["components"]) {
+            const double step = c["v_scale"];
+            bound += c["energy"].get<double>() * g["columns"].get<double>() * step * step / 4;
+        }
+    EXPECT_GT(added, 0.0);
+    EXPECT_LE(added, bound * (1 + kEnergyRelTol) + kEnergyRelTol * unquantised);
+    // Some column's step exceeds its range / 255: its codes stop short of 255.
+    int coarse = 0;
+    for (const auto& col : inflate_all(q_dir)) coarse += *std::max_element(col.begin(), col.end(), [](char a, char b) { return uint8_t(a) < uint8_t(b); }) != char(255);
+    EXPECT_GT(coarse, 0);
+    EXPECT_LT(q["bytes"]["weights"].get<uint64_t>(), z["bytes"]["weights"].get<uint64_t>());
+    // The step: with one group (k = 5) E is the run's unquantised residual energy, and each
+    // column's step is max(its range / 255, sqrt(12 F E / (C N |b_c|^2))).
+    PcaRunOptions one = run_options("btf_pca_v_deflate_one_group", 5, 3);
+    one.encoding = ComponentEncoding::kExrFloat;
+    one.weights_format = WeightsFormat::kUint8Deflate;
+    one.quant_noise = F;
+    const nlohmann::json m1 = compress_to_folder(btf, one, 0);
+    const double e1 = std::pow(m1["error"]["rmse_linear_unquantised"].get<double>(), 2) * samples;
+    const nlohmann::json g1 = CompressedBtf::open(one.output)->manifest()["groups"][0];
+    const auto cols1 = inflate_all(one.output);
+    for (size_t c = 0; c < 3; ++c) {
+        const double n = g1["columns"], b2 = g1["components"][c]["energy"], step = g1["components"][c]["v_scale"];
+        const double want = std::sqrt(12 * F * e1 / (3 * n * b2));
+        const bool short_of_255 = *std::max_element(cols1[c].begin(), cols1[c].end(), [](char a, char b) { return uint8_t(a) < uint8_t(b); }) != char(255);
+        // float32 step against the double formula (E and |b|^2 from float sums): 1e-4 relative
+        EXPECT_GE(step, want * (1 - 1e-4)) << c;
+        if (short_of_255) {
+            EXPECT_NEAR(step, want, 1e-4 * want) << c;
+        }
+    }
+    EXPECT_EQ(weights_format_from_string("uint8-deflate"), WeightsFormat::kUint8Deflate);
+}
+
+// A uint8_deflate column that is not a zlib stream of its codes is an Error naming weights.bin.
+TEST(CompressedBtf, Uint8DeflateColumnsAreChecked) {
+    const AnalyticBtf btf(small_btf());
+    PcaRunOptions o = run_options("btf_pca_v_deflate_bad", 2, 2);
+    o.weights_format = WeightsFormat::kUint8Deflate;
+    compress_to_folder(btf, o, 0);
+    std::string bin = fs::read_file(o.output + "/weights.bin");
+    bin[bin.size() / 2] = char(bin[bin.size() / 2] ^ 0x5a);
+    fs::write_text_atomic(o.output + "/weights.bin", bin);
+    EXPECT_NE(testing::error_of([&] { CompressedBtf::open(o.output); }).find("weights.bin: group "), std::string::npos);
+    fs::write_text_atomic(o.output + "/weights.bin", bin.substr(0, 10));
+    EXPECT_NE(testing::error_of([&] { CompressedBtf::open(o.output); }).find("v_bytes"), std::string::npos);
 }
 
 TEST(Quantize8, MinStepLeavesSmallColumnsOnFewerCodes) {
