@@ -114,6 +114,10 @@ struct GroupRecord {
     nlohmann::json manifest;
 };
 
+/// btf-pca.json on one line: the app downloads it, and at 64 x 64 px the indented text was
+/// 13% of a k = 3, C = 8 folder (compact: 31% fewer bytes). `jq .` shows it indented.
+constexpr int kManifestIndent = -1;
+
 std::string group_file(int g, int c, const std::string& ext) {
     char buf[64];
     if (c < 0) std::snprintf(buf, sizeof buf, "g%03d-mean.%s", g, ext.c_str());
@@ -198,7 +202,7 @@ uint64_t cut_manifest_bytes(const nlohmann::json& full, const std::vector<int>& 
     for (const auto& e : m["stream"])
         if (e[1].get<int>() < per_group[e[0].get<size_t>()]) stream.push_back(e);
     m["stream"] = stream;
-    return m.dump(1).size() + 1;
+    return m.dump(kManifestIndent).size() + 1;
 }
 
 }  // namespace
@@ -543,7 +547,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
     for (const auto& d : shape.views) manifest["views"].push_back({d.theta_deg, d.phi_deg});
     for (const auto& g : groups) manifest["groups"].push_back(g.manifest);
     for (const auto& [g, c] : stream) manifest["stream"].push_back({g, c});
-    const std::string manifest_text = dump_finite(manifest, 1, "btf-pca.json");
+    const std::string manifest_text = dump_finite(manifest, kManifestIndent, "btf-pca.json");
     write_file("weights.bin", weights_bin, "btf_pca_weights");
     write_file("btf-pca.json", manifest_text, "btf_pca_manifest");
 
