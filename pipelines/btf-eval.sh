@@ -16,6 +16,9 @@
 #   BTF_PCA_ARGS="" (extra btf-pca options for every run, e.g. "--fit-space srgb"; a run is
 #   reused only with the same options), BTF_EVAL_CAPTURES=OUT (where the captures are: several
 #   OUTs with other BTF_PCA_ARGS can share one set of captures)
+# Per woven fabric, NAME/curve/: the thesis' method (btf-pca --codec thesis) and ours on the same
+# capture for the same k and C = 1..32, MAE Lab against the ratio (pipelines/btf-codec-curve.sh:
+# curve.tsv, fronts.tsv, compare.md, curve.svg).
 # Beside each table.md, table-equal-bytes.md: for each (k, C) row the longest prefix of btf-pca's
 # stream (components by energy across groups: C chosen per group by one global budget) within
 # that row's bytes (btf-pca's metrics.table_equal_bytes).
@@ -167,6 +170,10 @@ if [[ " $SETS " == *" woven "* ]]; then
             ref="$CAPTURES/$name/capture-seed2"
         fi
         table "$name" "$CAPTURES/$name/capture" "$ref"
+        # The thesis' method run on the same capture beside ours (pipelines/btf-codec-curve.sh):
+        # its curve, ours, and where ours stands at each thesis point.
+        CURVE_KS="$KS" "$HERE/btf-codec-curve.sh" "$OUT/$name/curve" "$CAPTURES/$name/capture" ${ref:+"$ref"} >/dev/null
+        say "$name: $OUT/$name/curve/compare.md"
     done
     # shellcheck disable=SC2086  # FABRICS is a list of names
     thesis $FABRICS
