@@ -338,7 +338,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                                                          group_file(fit.index, -1, ext), meta, q.mean.data(), mean_step);
         rec.mean_bytes = bytes.size();
         write_file(meta.file, bytes, "btf_pca_mean");
-        gj["mean"] = {{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset}, {"bytes", bytes.size()}};
+        gj["mean"] = {{"file", meta.file}, {"scale", json_float(meta.scale)}, {"offset", json_float(meta.offset)}, {"bytes", bytes.size()}};
         // One quantisation step for the group's components (PcaRunOptions::quant_noise).
         const float step = o.quant_noise > 0 && C > 0
                                ? float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) / (double(C) * double(P))))
@@ -351,8 +351,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             rec.component_bytes.push_back(bytes.size());
             rec.energy.push_back(pca.component_energy(c));
             write_file(meta.file, bytes, "btf_pca_component");
-            gj["components"].push_back({{"file", meta.file}, {"scale", meta.scale}, {"offset", meta.offset},
-                                        {"bytes", bytes.size()}, {"energy", pca.component_energy(c)}});
+            gj["components"].push_back({{"file", meta.file}, {"scale", json_float(meta.scale)}, {"offset", json_float(meta.offset)},
+                                        {"bytes", bytes.size()}, {"energy", json_float(float(pca.component_energy(c)))}});
             float v_scale = ThesisGroup::kWeightScale, v_offset = ThesisGroup::kWeightOffset;
             const size_t v_start = weights_bin.size();
             if (thesis_codec) {
@@ -372,8 +372,8 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             }
             rec.v_bytes.push_back(weights_bin.size() - v_start);
             if (is_uint8(o.weights_format)) {
-                gj["components"].back()["v_scale"] = v_scale;
-                gj["components"].back()["v_offset"] = v_offset;
+                gj["components"].back()["v_scale"] = json_float(v_scale);
+                gj["components"].back()["v_offset"] = json_float(v_offset);
             }
             if (o.weights_format == WeightsFormat::kUint8Deflate) gj["components"].back()["v_bytes"] = rec.v_bytes.back();
         }

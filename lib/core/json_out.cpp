@@ -1,6 +1,8 @@
 #include "core/json_out.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "core/error.h"
 
@@ -45,6 +47,18 @@ std::string first_non_finite(const nlohmann::json& j) {
     std::string pointer;
     if (!find_non_finite(j, pointer)) return "";
     return pointer.empty() ? "/" : pointer;
+}
+
+double json_float(float f) {
+    if (!std::isfinite(f)) return double(f);
+    char buf[32];
+    for (int digits = 1; digits < 9; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, double(f));
+        const double d = std::strtod(buf, nullptr);
+        if (static_cast<float>(d) == f) return d;
+    }
+    std::snprintf(buf, sizeof buf, "%.9g", double(f));  // 9 digits always read back as f
+    return std::strtod(buf, nullptr);
 }
 
 std::string dump_finite(const nlohmann::json& j, int indent, const std::string& path) {

@@ -13,6 +13,13 @@ namespace inlight {
 /// Inf number in `j` ("/coefficients/0/2"), "/" for `j` itself, or "" if every number is finite.
 std::string first_non_finite(const nlohmann::json& j);
 
+/// A float as a JSON number in its shortest decimal form: the double of the fewest significant
+/// digits (at most 9) that reads back as exactly `f` (get<float>() of it is `f`). nlohmann
+/// writes a float widened to double with 17 digits ("0.00047978584188967943"); this writes
+/// "0.00047978584" (nlohmann's Grisu2 may still add digits to a rare double). Non-finite values
+/// pass through (dump_finite refuses them).
+double json_float(float f);
+
 /// j.dump(indent) + "\n", after checking that every number in it is finite. Throws Error
 /// "<path>: result holds a non-finite number at <pointer> (...)" otherwise; `path` names the
 /// output for the message.

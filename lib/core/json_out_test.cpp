@@ -7,6 +7,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
 #include "core/error.h"
 
 namespace inlight {
@@ -50,6 +55,31 @@ TEST(JsonOut, DumpFiniteRefusesAndNamesTheOutput) {
     }
     j["gain"] = 2.0;
     EXPECT_EQ(dump_finite(j, -1, "x"), "{\"gain\":2.0}\n");
+}
+
+// json_float: the shortest decimal that reads back as the same float, for every float of a
+// sweep over 80 binary orders of magnitude (both signs, subnormals, extremes), through nlohmann.
+TEST(JsonOut, JsonFloatIsTheShortestDecimalThatReadsBackExactly) {
+    EXPECT_EQ(nlohmann::json(json_float(0.1f)).dump(), "0.1");
+    EXPECT_EQ(nlohmann::json(json_float(0.00047978584f)).dump(), "0.00047978584");
+    EXPECT_EQ(nlohmann::json(json_float(2.0f / 255)).dump(), "0.007843138");
+    EXPECT_EQ(nlohmann::json(json_float(-1.0f)).dump(), "-1.0");
+    uint32_t bits = 0x00000001u;  // the least subnormal, then a stride over every exponent
+    for (int i = 0; i < 50000; ++i, bits += 0x13c6du) {
+        float x;
+        std::memcpy(&x, &bits, sizeof x);
+        for (float f : {x, -x}) {
+            if (!std::isfinite(f)) continue;
+            const nlohmann::json j = nlohmann::json::parse(nlohmann::json(json_float(f)).dump());
+            ASSERT_EQ(j.get<float>(), f) << bits;
+            // The double is a decimal of at most 9 significant digits.
+            const double d = json_float(f);
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.9g", d);
+            ASSERT_EQ(std::strtod(buf, nullptr), d) << buf;
+        }
+    }
+    EXPECT_TRUE(std::isnan(json_float(kNan)));
 }
 
 }  // namespace
