@@ -12,7 +12,9 @@
 #    cut to each C (fixed C per group) and the longest stream prefix within each of those rows'
 #    bytes (C per group from one error budget: btf-pca's metrics.table_equal_bytes).
 # Environment: CURVE_KS="1 3 9 27 81", CURVE_CS="1 2 4 8 16 32",
-#   OURS_ARGS="--fit-space lab --weights-format uint8 --quant-noise 0.1" (btf-pca options),
+#   OURS_ARGS="--fit-space lab --weights-format uint8-deflate --quant-noise 0.05" (btf-pca
+#   options: the fit in the metric, V deflated, every stored matrix rounded to add about 5% of
+#   the residual energy; docs/btf-table71.md),
 #   CURVE_COLOR_SAMPLES=262144 (colour triples per figure), RATIO_MIN=10, RATIO_MAX=200,
 #   CURVE_BTF_ARGS="" (btf-pca options of both codecs' runs, e.g. direction files).
 # Writes under OUT: runs/ (every run's folder and report), curve.tsv (one line per point),
@@ -30,7 +32,7 @@ BTF=$2
 REF=${3:-}
 KS=${CURVE_KS:-1 3 9 27 81}
 CS=${CURVE_CS:-1 2 4 8 16 32}
-read -r -a OURS <<<"${OURS_ARGS:---fit-space lab --weights-format uint8 --quant-noise 0.1}"
+read -r -a OURS <<<"${OURS_ARGS:---fit-space lab --weights-format uint8-deflate --quant-noise 0.05}"
 read -r -a BTF_ARGS <<<"${CURVE_BTF_ARGS:-}"
 SAMPLES=${CURVE_COLOR_SAMPLES:-262144}
 RMIN=${RATIO_MIN:-10}

@@ -32,8 +32,8 @@ for kc in "1 1" "1 2" "5 1" "5 2"; do
         ($f[6] | tonumber) == $m.error.mae_lab and
         ($f[10] | tonumber) == $m.table[0].vs_reference.mae_lab' "$R"
 done
-expect_true "ours: runs with the default options (lab fit, uint8 V, --quant-noise 0.1), neighbour groups" -- jq -e \
-    '.metrics.pca | .codec == "inlight" and .fit_space == "lab" and .weights_format == "uint8" and .quant_noise == 0.1 and .view_grouping == "neighbours"' \
+expect_true "ours: runs with the default options (lab fit, deflated uint8 V, --quant-noise 0.05), neighbour groups" -- jq -e \
+    '.metrics.pca | .codec == "inlight" and .fit_space == "lab" and .weights_format == "uint8-deflate" and .quant_noise == 0.05 and .view_grouping == "neighbours"' \
     "$WORK/c/runs/ours-k1.json"
 # The fronts: down each codec's list the ratio falls and the error falls; no point of the curve
 # has a ratio at least a front point's and less error than it (nothing left out).
