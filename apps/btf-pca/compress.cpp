@@ -47,8 +47,8 @@ int compress(int argc, char** argv) {
     std::string fit_space = "linear";
     app.add_option("--quant-noise", o.quant_noise, "png: quantise each group's components with one step "
                    "chosen so that rounding adds about this fraction of the group's residual error energy "
-                   "(small components then use few codes and fewer bytes), its mean image likewise, and with "
-                   "--weights-format uint8-deflate V's columns; each adds about this fraction; 0 = each on 256 levels")
+                   "(small components then use few codes and fewer bytes), and with --weights-format "
+                   "uint8-deflate V's columns likewise (as much again); 0 = each on 256 levels")
         ->check(app::finite_range_or(0, 10, 0))->capture_default_str();
     std::string weights_format = "float32";
     app.add_option("--weights-format", weights_format, "How V (weights.bin) is stored: float32, float16, "

@@ -327,15 +327,10 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         // comparison beside ours.
         const ThesisGroup th = pack_thesis(pca, C);
         sigma_overflows += th.sigma_overflows;
-        // The mean's step with --quant-noise: it enters all N columns, so rounding it by d adds
-        // about P N d^2 / 12; d^2 = 12 F E / (P N) adds F E, as the components' step does.
-        const float mean_step = o.quant_noise > 0 ? float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) /
-                                                                    (double(P) * double(N))))
-                                                  : 0.0f;
         std::string bytes = thesis_codec ? encode_codes(th.mean_codes.data(), shape.width, shape.height, ThesisGroup::kMeanScale,
                                                         0.0f, group_file(fit.index, -1, ext), meta, q.mean.data())
                                          : encode_column(pca.mean.data(), shape.width, shape.height, o.encoding,
-                                                         group_file(fit.index, -1, ext), meta, q.mean.data(), mean_step);
+                                                         group_file(fit.index, -1, ext), meta, q.mean.data());
         rec.mean_bytes = bytes.size();
         write_file(meta.file, bytes, "btf_pca_mean");
         gj["mean"] = {{"file", meta.file}, {"scale", json_float(meta.scale)}, {"offset", json_float(meta.offset)}, {"bytes", bytes.size()}};

@@ -62,8 +62,7 @@ struct PcaRunOptions {
     /// after its C components, so the rounding of its C columns (P values each, a V column of
     /// unit norm) adds about F E to the error; a column whose range / 255 is larger keeps that.
     /// Small components then use few codes, which PNG stores in fewer bytes. 0 = off (every
-    /// column on 256 levels). The mean image likewise with d^2 = 12 F E / (P N) (it enters all N
-    /// columns; since 2026-11-29, before which it kept its range / 255). With weights_format
+    /// column on 256 levels). The mean image keeps its own range / 255. With weights_format
     /// kUint8Deflate, V's column c is rounded likewise with d^2 = 12 F E / (C N |b_c|^2), |b_c|
     /// the norm of its component image (adding about F E again), and deflate stores the few
     /// codes in few bytes.
