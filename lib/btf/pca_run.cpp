@@ -334,10 +334,14 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         rec.mean_bytes = bytes.size();
         write_file(meta.file, bytes, "btf_pca_mean");
         gj["mean"] = {{"file", meta.file}, {"scale", json_float(meta.scale)}, {"offset", json_float(meta.offset)}, {"bytes", bytes.size()}};
-        // One quantisation step for the group's components (PcaRunOptions::quant_noise).
-        const float step = o.quant_noise > 0 && C > 0
-                               ? float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) / (double(C) * double(P))))
-                               : 0.0f;
+        // PcaRunOptions::quant_noise: rounding `values` values (weighted by their image's
+        // squared norm, for V) on a step d adds about values d^2 / 12, so d^2 = 12 F E / values
+        // adds F E, E the group's residual energy.
+        auto noise_step = [&](double values) {
+            return float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) / values));
+        };
+        // One quantisation step for the group's components: their C P values.
+        const float step = o.quant_noise > 0 && C > 0 ? noise_step(double(C) * double(P)) : 0.0f;
         for (int c = 0; c < C; ++c) {
             bytes = thesis_codec ? encode_codes(th.u_codes[size_t(c)].data(), shape.width, shape.height, th.basis_scale(c),
                                                 th.basis_offset(c), group_file(fit.index, c, ext), meta, q.basis.col(c).data())
@@ -359,8 +363,7 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                 // adds F E over the group's C columns, as the components' step does.
                 const double b2 = pca.basis.col(c).cast<double>().squaredNorm();
                 const float v_step = o.weights_format == WeightsFormat::kUint8Deflate && o.quant_noise > 0 && b2 > 0
-                                         ? float(std::sqrt(12.0 * o.quant_noise * std::max(pca.residual_energy.back(), 0.0) /
-                                                           (double(C) * double(N) * b2)))
+                                         ? noise_step(double(C) * double(N) * b2)
                                          : 0.0f;
                 encode_weights_column(pca.weights.col(c).data(), N, o.weights_format, weights_bin, q.weights.col(c).data(),
                                       v_scale, v_offset, v_step);
