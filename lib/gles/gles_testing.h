@@ -1,10 +1,12 @@
 // gles/gles_testing.h: the tables, materials and variants the gles tests share.
 #pragma once
 
+#include <array>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -61,5 +63,45 @@ inline int run_glslang(const std::string& path, std::string* log) {
     *log = std::string(std::istreambuf_iterator<char>(in), {});
     return rc;
 }
+
+/// Shader sources to check with glslangValidator, compiled in one run of it (a process per
+/// file made the validator test take a minute on the 2-core machine). A source whose stage and
+/// bytes equal an earlier one's is compiled once: the same bytes give the same verdict.
+class GlslangBatch {
+  public:
+    explicit GlslangBatch(std::string dir) : dir_(std::move(dir)) {}
+
+    /// Queues `bytes` as the stage named by `name`'s extension (.vert or .frag).
+    void add(const std::string& name, const std::string& bytes) {
+        const std::string stage = name.substr(name.rfind('.'));
+        if (!seen_.insert(stage + '\n' + bytes).second) return;
+        const std::string path = dir_ + "/" + name;
+        std::ofstream(path) << bytes;
+        paths_.push_back(path);
+        sources_.push_back(bytes);
+    }
+    size_t unique_sources() const { return paths_.size(); }
+
+    /// Compiles every queued source; returns (path, log, source) of each one that fails. A
+    /// failed batch is rerun file by file, so each failure names its own source.
+    std::vector<std::array<std::string, 3>> failures() const {
+        std::vector<std::array<std::string, 3>> out;
+        if (paths_.empty()) return out;
+        std::string cmd = "glslangValidator";
+        for (const std::string& p : paths_) cmd += " '" + p + "'";
+        if (std::system((cmd + " > '" + dir_ + "/batch.log' 2>&1").c_str()) == 0) return out;
+        for (size_t i = 0; i < paths_.size(); ++i) {
+            std::string log;
+            if (run_glslang(paths_[i], &log) != 0) out.push_back({paths_[i], log, sources_[i]});
+        }
+        if (out.empty()) out.push_back({dir_ + "/batch.log", "the batch failed, no file alone did", ""});
+        return out;
+    }
+
+  private:
+    std::string dir_;
+    std::set<std::string> seen_;
+    std::vector<std::string> paths_, sources_;
+};
 
 }  // namespace inlight::gles::testing
