@@ -65,7 +65,11 @@ if ! flock -n -x 7; then
 fi
 exec 7>&-
 common=(-s "$HERE/bake-catalog.smk" --directory "$OUT" --config "catalog=$CATALOG" "bin=$BIN")
-snakemake "${common[@]}" --unlock -q >/dev/null 2>&1 || true
+# A killed run leaves Snakemake's lock behind (flock above says no run of ours holds it). Only then
+# is --unlock worth its Snakemake start-up.
+if [ -n "$(ls -A "$OUT/.snakemake/locks" 2>/dev/null)" ]; then
+    snakemake "${common[@]}" --unlock -q >/dev/null 2>&1 || true
+fi
 
 args=("${common[@]}" --rerun-incomplete --jobs "$JOBS")
 if [ "$SLURM" -eq 1 ]; then

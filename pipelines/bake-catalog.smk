@@ -230,7 +230,11 @@ DECOMPOSE_ENV = sorted(ENVS)[0] if ENVS else None
 # One convergence study of the truth (error against spp), on the first fabric and environment.
 FIRST = f"validate/pairs/{FABRICS[0]}/{sorted(ENVS)[0]}/convergence.json" if FABRICS and ENVS else None
 
-localrules: all
+# index and report are bookkeeping over what the other jobs wrote (a SQLite index, an HTML page):
+# under --cores a `run:` rule that is not local is run by a second Snakemake process, whose
+# start-up (~1.5 s, more under load) cost more than the rule; under --slurm they run on the
+# submitting node rather than waiting in the queue.
+localrules: all, index, report
 
 rule all:
     input:

@@ -16,10 +16,14 @@ pass() { echo "ok: $*"; PASSES=$((PASSES + 1)); }
 expect_exit() {
     local want=$1 what=$2
     shift 3
+    local t0=$EPOCHREALTIME
     "$@" >"$WORK/stdout" 2>"$WORK/stderr"
     local got=$?
-    if [ "$got" -eq "$want" ]; then pass "$what (exit $got)"; else
-        fail "$what: exit $got, expected $want"; sed 's/^/    /' "$WORK/stderr" | head -20; fi
+    # The step's wall time, so a slow test's log shows where its minutes go.
+    local s
+    s=$(awk -v a="$t0" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }')
+    if [ "$got" -eq "$want" ]; then pass "$what (exit $got, $s s)"; else
+        fail "$what: exit $got, expected $want ($s s)"; sed 's/^/    /' "$WORK/stderr" | head -20; fi
 }
 
 expect_stderr() {  # expect_stderr PATTERN DESCRIPTION
