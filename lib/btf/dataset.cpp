@@ -219,7 +219,9 @@ void FolderBtf::build(const OpenOptions& options) {
     } else {
         for (const auto& e : stdfs::recursive_directory_iterator(ix.root)) {
             if (!e.is_regular_file()) continue;
-            names.emplace_back(stdfs::relative(e.path(), ix.root).generic_string(),
+            // Lexical: the iterator yields root/...; relative() would resolve every component of
+            // both paths (13 readlinks per image) and name a symlinked image by its target.
+            names.emplace_back(e.path().lexically_relative(ix.root).generic_string(),
                                static_cast<uint64_t>(e.file_size()));
         }
     }

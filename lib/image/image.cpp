@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "core/check.h"
 #include "core/enum_names.h"
@@ -264,9 +265,23 @@ Image read_from(const std::string& path, const ReadOptions& options,
     }
 
     Image img(spec.width, spec.height, spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, img.pixels.data())) {
-        throw Error(str(path, ": cannot read pixels: ", clean(in->geterror())));
+    // Read the stored type, then convert: asked for another type, OIIO 2.4's read_scanlines
+    // allocates a 64 MiB staging buffer whatever the image's size (an mmap and munmap per file,
+    // which made a BTF of 6561 small images spend most of its time in the kernel). The
+    // conversion is OIIO's own, as inside read_image. Files with a type per channel are read
+    // as float directly.
+    bool read = false;
+    if (spec.channelformats.empty() && spec.format != OIIO::TypeFloat) {
+        std::vector<unsigned char> stored(static_cast<size_t>(samples) * spec.format.size());
+        read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUnknown, stored.data()) &&
+               OIIO::convert_image(spec.nchannels, spec.width, spec.height, 1, stored.data(),
+                                   spec.format, OIIO::AutoStride, OIIO::AutoStride,
+                                   OIIO::AutoStride, img.pixels.data(), OIIO::TypeFloat,
+                                   OIIO::AutoStride, OIIO::AutoStride, OIIO::AutoStride);
+    } else {
+        read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, img.pixels.data());
     }
+    if (!read) throw Error(str(path, ": cannot read pixels: ", clean(in->geterror())));
 
     // What the file says about itself (only files this module wrote carry the inlight keys).
     const std::string stored_cs = inlight_value(spec, "inlight:color_space");
