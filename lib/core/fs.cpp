@@ -193,11 +193,24 @@ OutputTransaction::~OutputTransaction() {
 OutputTransaction* OutputTransaction::current() { return g_current.load(); }
 
 const OutputTransaction::Entry* OutputTransaction::find_same(const std::vector<Entry>& list,
-                                                             const std::string& path) const {
+                                                             const std::string& path,
+                                                             const std::string& key) const {
+    struct stat sp {};
+    int have_path = -1;  // stat'ed once, when an entry's key differs
     for (const Entry& e : list) {
-        if (same_file(e.path, path)) return &e;
+        if (e.key == key) return &e;
+        if (have_path < 0) have_path = ::stat(path.c_str(), &sp) == 0 ? 1 : 0;
+        struct stat se {};
+        if (have_path == 1 && ::stat(e.path.c_str(), &se) == 0 && se.st_dev == sp.st_dev &&
+            se.st_ino == sp.st_ino)
+            return &e;
     }
     return nullptr;
+}
+
+const OutputTransaction::Entry* OutputTransaction::find_same(const std::vector<Entry>& list,
+                                                             const std::string& path) const {
+    return list.empty() ? nullptr : find_same(list, path, resolved(path).string());
 }
 
 void OutputTransaction::add_input(const std::string& path, const std::string& what) {
@@ -215,7 +228,7 @@ void OutputTransaction::add_input(const std::string& path, const std::string& wh
                                  ": the run would overwrite its input"));
         }
     }
-    if (!find_same(m_inputs, path)) m_inputs.push_back({path, what});
+    if (!find_same(m_inputs, path)) m_inputs.push_back({path, what, resolved(path).string()});
 }
 
 void OutputTransaction::add_output(const std::string& path, const std::string& what) {
@@ -247,7 +260,7 @@ void OutputTransaction::add_output(const std::string& path, const std::string& w
         }
         if (p == p.parent_path()) break;
     }
-    m_outputs.push_back({path, what});
+    m_outputs.push_back({path, what, resolved(path).string()});
 }
 
 void OutputTransaction::reserve(const std::string& path, const std::string& what) {
@@ -265,15 +278,15 @@ bool OutputTransaction::is_input(const std::string& path) const {
 std::string OutputTransaction::stage(const std::string& path) {
     std::lock_guard<std::mutex> lock(m_mutex);
     INLIGHT_CHECK(!m_done) << "staging after commit or rollback: " << path;
-    if (const Entry* i = find_same(m_inputs, path)) {
+    const std::string key = resolved(path).string();
+    if (const Entry* i = find_same(m_inputs, path, key)) {
         throw UsageError(str("output '", path, "' is the input ", shown(i->path, i->what),
                              ": the run would overwrite its input"));
     }
-    if (const Entry* r = find_same(m_reserved, path)) {
+    if (const Entry* r = find_same(m_reserved, path, key)) {
         m_reserved_clash = "it is also an output of the run";
         throw UsageError(str("output '", path, "' is the file of ", shown(r->path, r->what)));
     }
-    const std::string key = resolved(path).string();
     struct stat st {};
     const bool exists = ::stat(path.c_str(), &st) == 0;
     const std::pair<uint64_t, uint64_t> inode(st.st_dev, st.st_ino);

@@ -121,10 +121,16 @@ class OutputTransaction {
   private:
     struct Entry {
         std::string path, what;  ///< as given, and the option or role that named it
+        std::string key;         ///< the path resolved when it was added (same_file's first test)
     };
     struct Staged {
         std::string path, tmp;
     };
+    /// The entry naming the same file as `path` (resolved to `key`), as fs::same_file decides:
+    /// the same resolved path, or the same (device, inode). Entries keep their resolved path, so
+    /// a run staging thousands of outputs resolves each new one once, not every entry again.
+    const Entry* find_same(const std::vector<Entry>& list, const std::string& path,
+                           const std::string& key) const;
     const Entry* find_same(const std::vector<Entry>& list, const std::string& path) const;
 
     mutable std::mutex m_mutex;
