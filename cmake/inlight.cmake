@@ -20,6 +20,34 @@ set(INLIGHT_TEST_ENV
     "INLIGHT_SOURCE_DIR=${CMAKE_SOURCE_DIR}"
     "INLIGHT_BIN=${CMAKE_BINARY_DIR}/bin")
 
+# inlight_add_gtest_suites(name): a ctest test "<name>.<Suite>" (label unit) per GoogleTest suite
+# of inlight_<name>_test, run by tests/gtest_suite.sh: one process per suite rather than per test
+# (gtest_discover_tests), since each start of a test binary costs ~0.6 s of library loading. The
+# suites are listed after each build (cmake/gtest_suites.cmake); ctest reads that list.
+function(inlight_add_gtest_suites name)
+    set(target inlight_${name}_test)
+    set(list_file ${CMAKE_CURRENT_BINARY_DIR}/${target}_suites.txt)
+    set(include_file ${CMAKE_CURRENT_BINARY_DIR}/${target}_suites.cmake)
+    add_custom_command(TARGET ${target} POST_BUILD
+        COMMAND ${CMAKE_COMMAND} -D TEST_EXECUTABLE=$<TARGET_FILE:${target}> -D OUTPUT=${list_file}
+                -P ${PROJECT_SOURCE_DIR}/cmake/gtest_suites.cmake
+        VERBATIM)
+    file(WRITE ${include_file} "
+if(EXISTS [==[${list_file}]==])
+    file(STRINGS [==[${list_file}]==] suites)
+    foreach(suite IN LISTS suites)
+        add_test(${name}.\${suite} bash [==[${PROJECT_SOURCE_DIR}/tests/gtest_suite.sh]==]
+                 [==[${CMAKE_BINARY_DIR}/tests/${target}]==] \${suite})
+        set_tests_properties(${name}.\${suite} PROPERTIES LABELS unit SKIP_RETURN_CODE 77
+                             ENVIRONMENT [==[${INLIGHT_TEST_ENV}]==])
+    endforeach()
+else()
+    add_test(${target}_NOT_BUILT ${target}_NOT_BUILT)
+endif()
+")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${include_file})
+endfunction()
+
 # inlight_add_module(name SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...] [TEST_DEPS ...])
 # Builds static library inlight_<name> (alias inlight::<name>) and, when <name>_test.cpp files
 # exist beside it, the test binary inlight_<name>_test registered with ctest under label "unit".
@@ -38,9 +66,7 @@ function(inlight_add_module name)
                 ${ARG_TEST_DEPS} inlight_warnings GTest::gtest_main)
             set_target_properties(inlight_${name}_test PROPERTIES
                 RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
-            gtest_discover_tests(inlight_${name}_test
-                PROPERTIES LABELS unit ENVIRONMENT "${INLIGHT_TEST_ENV}"
-                DISCOVERY_TIMEOUT 60)
+            inlight_add_gtest_suites(${name})
         endif()
     endif()
 endfunction()
