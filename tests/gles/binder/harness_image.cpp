@@ -5,8 +5,9 @@
 // lighting file (zero-padded to the variant's bands, its lights when the variant has them),
 // and encodes the radiance to 8 bits with render's auto exposure and image::srgb_encode.
 //
-//   inlight_gles_harness_image SCENE EXPORT_DIR VARIANT LIGHTING OUT.ppm GRID BAKE_SAMPLES
-//                              MAX_BANDS WIDTH_PX [MAX_TEXTURE_SIZE]
+//   inlight_gles_harness_image SCENE EXPORT_DIR VARIANT[,VARIANT...] LIGHTING OUT.ppm GRID
+//                              BAKE_SAMPLES MAX_BANDS WIDTH_PX [MAX_TEXTURE_SIZE]
+// (several variants: OUT.ppm holds '%', replaced by each variant's name.)
 // (MAX_TEXTURE_SIZE: export-gles' --gles-max-texture-size, default 0; a "...-trilinear" variant
 // is re-exported with --gles-texture-filter trilinear.)
 //   inlight_gles_harness_image --table TABLE.bin MATERIAL.toml EXPORT_DIR VARIANT LIGHTING OUT.ppm N
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 
 #include "brdf/brdf.h"
 #include "brdf/table.h"
@@ -152,36 +154,53 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        const std::string dir = argv[2], variant = argv[3];
+        const std::string dir = argv[2], out_pattern = argv[5];
+        std::vector<std::string> variants;
+        for (std::string list = argv[3]; !list.empty();) {
+            const size_t comma = list.find(',');
+            variants.push_back(list.substr(0, comma));
+            list = comma == std::string::npos ? "" : list.substr(comma + 1);
+        }
+        if (variants.size() > 1 && out_pattern.find('%') == std::string::npos) {
+            throw Error("several variants need OUT.ppm with '%' (replaced by each variant's name)");
+        }
         render::SceneDesc desc = render::load_scene_desc(argv[1]);
         desc.camera.width_px = desc.camera.height_px = std::stoi(argv[9]);
         const render::Scene scene(std::move(desc));
         if (scene.materials().size() != 1) throw Error("the scene must have one material");
         const render::LightingFile lighting = render::read_lighting_file(argv[4]);
-        gles::SceneExportOptions options;
-        options.grid = argv[6];
-        options.bake_samples = std::stoi(argv[7]);
-        options.set.max_sh_bands = std::stoi(argv[8]);
-        if (argc == 11) options.set.max_texture_size = std::stoi(argv[10]);
-        const std::string trilinear = "-trilinear";
-        if (variant.size() > trilinear.size() &&
-            variant.compare(variant.size() - trilinear.size(), trilinear.size(), trilinear) == 0) {
-            options.set.texture_filter = gles::TextureFilter::kTrilinear;
+        // One re-export per (lights, texture filter) the variants ask for: the scene's table
+        // is baked once per set, not once per variant (a process per variant took half the test).
+        std::map<std::pair<bool, bool>, std::vector<gles::Export>> exported;
+        for (const std::string& variant : variants) {
+            gles::SceneExportOptions options;
+            options.grid = argv[6];
+            options.bake_samples = std::stoi(argv[7]);
+            options.set.max_sh_bands = std::stoi(argv[8]);
+            if (argc == 11) options.set.max_texture_size = std::stoi(argv[10]);
+            const std::string trilinear = "-trilinear";
+            const bool is_trilinear = variant.size() > trilinear.size() &&
+                variant.compare(variant.size() - trilinear.size(), trilinear.size(), trilinear) == 0;
+            if (is_trilinear) options.set.texture_filter = gles::TextureFilter::kTrilinear;
+            const bool with_lights = variant.find("-l") != std::string::npos;
+            if (with_lights) options.set.lights = lighting.lights;
+            std::vector<gles::Export>& exports = exported[{with_lights, is_trilinear}];
+            if (exports.empty()) exports = gles::export_scene(scene, options);
+            const auto e = std::find_if(exports.begin(), exports.end(),
+                                        [&](const gles::Export& x) { return x.name == variant; });
+            if (e == exports.end()) throw Error(str("no variant ", variant, " in the re-export"));
+            check_sources(*e, dir);
+            const Eigen::MatrixXd coeffs = padded(lighting, std::max(3, e->variant.sh_bands));
+            const gles::Context context(e->variant.version == gles::GlslVersion::kEs300 ? 3 : 2);
+            const gles::SceneFrame frame = gles::render_scene(context, scene, {*e}, coeffs, 1,
+                                                              e->variant.lights > 0 ? lighting.lights
+                                                                                    : std::vector<envmap::DirectionalLight>{});
+            std::printf("harness: %s on %s\n", variant.c_str(), context.info().summary().c_str());
+            std::string out = out_pattern;
+            if (const size_t at = out.find('%'); at != std::string::npos) out.replace(at, 1, variant);
+            if (!write_codes(out, frame.radiance)) return 1;
         }
-        const bool with_lights = variant.find("-l") != std::string::npos;
-        if (with_lights) options.set.lights = lighting.lights;
-        const std::vector<gles::Export> exports = gles::export_scene(scene, options);
-        const auto e = std::find_if(exports.begin(), exports.end(),
-                                    [&](const gles::Export& x) { return x.name == variant; });
-        if (e == exports.end()) throw Error(str("no variant ", variant, " in the re-export"));
-        check_sources(*e, dir);
-        const Eigen::MatrixXd coeffs = padded(lighting, std::max(3, e->variant.sh_bands));
-        const gles::Context context(e->variant.version == gles::GlslVersion::kEs300 ? 3 : 2);
-        const gles::SceneFrame frame = gles::render_scene(context, scene, {*e}, coeffs, 1,
-                                                          e->variant.lights > 0 ? lighting.lights
-                                                                                : std::vector<envmap::DirectionalLight>{});
-        std::printf("harness: %s on %s\n", variant.c_str(), context.info().summary().c_str());
-        return write_codes(argv[5], frame.radiance) ? 0 : 1;
+        return 0;
     } catch (const std::exception& ex) {
         std::fprintf(stderr, "harness_image: %s\n", ex.what());
         return 1;
