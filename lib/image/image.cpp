@@ -268,11 +268,14 @@ Image read_from(const std::string& path, const ReadOptions& options,
     // Read the stored type, then convert: asked for another type, OIIO 2.4's read_scanlines
     // allocates a 64 MiB staging buffer whatever the image's size (an mmap and munmap per file,
     // which made a BTF of 6561 small images spend most of its time in the kernel). The
-    // conversion is OIIO's own, as inside read_image. Files with a type per channel are read
-    // as float directly.
+    // conversion is OIIO's own, as inside read_image. Files with a type per channel, and those
+    // whose stored pixels exceed that buffer (a large HDRI: a copy of it would cost more memory
+    // than OIIO's staging), are read as float directly.
+    constexpr double kStagingBytes = 64.0 * 1024 * 1024;
+    const double stored_bytes = samples * static_cast<double>(spec.format.size());
     bool read = false;
-    if (spec.channelformats.empty() && spec.format != OIIO::TypeFloat) {
-        std::vector<unsigned char> stored(static_cast<size_t>(samples) * spec.format.size());
+    if (spec.channelformats.empty() && spec.format != OIIO::TypeFloat && stored_bytes <= kStagingBytes) {
+        std::vector<unsigned char> stored(static_cast<size_t>(stored_bytes));
         read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUnknown, stored.data()) &&
                OIIO::convert_image(spec.nchannels, spec.width, spec.height, 1, stored.data(),
                                    spec.format, OIIO::AutoStride, OIIO::AutoStride,
