@@ -20,7 +20,7 @@ int compress(int argc, char** argv) {
                    "images, streaming.tsv/.gp)")->required();
     app.add_option("-k,--view-group-size", o.pca.view_group_size, "Neighbouring views per PCA "
                    "group (1 = PCA RF; >= the view count = one PCA). Larger k: fewer bytes for the same C, more error "
-                   "where neighbouring views differ (woven captures, k 1 -> 3 at C = 8: +47% MAE Lab for 2.2x the "
+                   "where neighbouring views differ (woven captures, k 1 -> 3 at C = 8: +12-47% MAE Lab for 2.2x the "
                    "ratio; docs/btf.md)")->check(CLI::Range(1, 100000))->capture_default_str();
     app.add_option("-c,--components", o.pca.components, "Components per group (with --max-rmse: "
                    "the most a group may keep)")->check(CLI::Range(1, 4096))->capture_default_str();
@@ -58,7 +58,7 @@ int compress(int argc, char** argv) {
                    "uint8 with a scale and offset per component, or uint8-deflate: those codes, each column a "
                    "zlib stream, and with --quant-noise each column's step chosen as the components' (few "
                    "codes, about 4x fewer bytes for V at --quant-noise 0.1). V is 19683 x C values on the Bonn "
-                   "dome: 19-41% of a 64 x 64 px folder, under 1% at 256 x 256. uint8: +0.3% MAE Lab; "
+                   "dome whatever k: 30% of a 64 x 64 px k = 3, C = 8 folder, most of a k = 81 one. uint8: +0.3% MAE Lab; "
                    "uint8-deflate with --quant-noise 0.02: the folder 1:131 -> 1:152 for +3% MAE Lab (denim, k = 3, "
                    "C = 8, lab). The BTF shaders draw every format at the same cost (V is folded at export)")
         ->check(CLI::IsMember({"float32", "float16", "uint8", "uint8-deflate"}))->capture_default_str();

@@ -208,15 +208,11 @@ const OutputTransaction::Entry* OutputTransaction::find_same(const std::vector<E
     return nullptr;
 }
 
-const OutputTransaction::Entry* OutputTransaction::find_same(const std::vector<Entry>& list,
-                                                             const std::string& path) const {
-    return list.empty() ? nullptr : find_same(list, path, resolved(path).string());
-}
-
 void OutputTransaction::add_input(const std::string& path, const std::string& what) {
     std::lock_guard<std::mutex> lock(m_mutex);
+    const std::string key = resolved(path).string();
     for (const auto* list : {&m_outputs, &m_reserved}) {
-        if (const Entry* o = find_same(*list, path)) {
+        if (const Entry* o = find_same(*list, path, key)) {
             if (list == &m_reserved) m_reserved_clash = "it is an input of the run";
             throw UsageError(str("output ", shown(o->path, o->what), " is the input ",
                                  shown(path, what), ": the run would overwrite its input"));
@@ -228,17 +224,18 @@ void OutputTransaction::add_input(const std::string& path, const std::string& wh
                                  ": the run would overwrite its input"));
         }
     }
-    if (!find_same(m_inputs, path)) m_inputs.push_back({path, what, resolved(path).string()});
+    if (!find_same(m_inputs, path, key)) m_inputs.push_back({path, what, key});
 }
 
 void OutputTransaction::add_output(const std::string& path, const std::string& what) {
     std::lock_guard<std::mutex> lock(m_mutex);
-    if (const Entry* i = find_same(m_inputs, path)) {
+    const std::string key = resolved(path).string();
+    if (const Entry* i = find_same(m_inputs, path, key)) {
         throw UsageError(str("output ", shown(path, what), " is the input ", shown(i->path, i->what),
                              ": the run would overwrite its input"));
     }
     for (const auto* list : {&m_outputs, &m_reserved}) {
-        if (const Entry* o = find_same(*list, path)) {
+        if (const Entry* o = find_same(*list, path, key)) {
             if (list == &m_reserved) m_reserved_clash = "it is also an output of the run";
             throw UsageError(str("outputs ", shown(o->path, o->what), " and ", shown(path, what),
                                  " are the same file: one would overwrite the other"));
@@ -260,7 +257,7 @@ void OutputTransaction::add_output(const std::string& path, const std::string& w
         }
         if (p == p.parent_path()) break;
     }
-    m_outputs.push_back({path, what, resolved(path).string()});
+    m_outputs.push_back({path, what, key});
 }
 
 void OutputTransaction::reserve(const std::string& path, const std::string& what) {
@@ -272,7 +269,7 @@ void OutputTransaction::reserve(const std::string& path, const std::string& what
 
 bool OutputTransaction::is_input(const std::string& path) const {
     std::lock_guard<std::mutex> lock(m_mutex);
-    return find_same(m_inputs, path) != nullptr;
+    return find_same(m_inputs, path, resolved(path).string()) != nullptr;
 }
 
 std::string OutputTransaction::stage(const std::string& path) {

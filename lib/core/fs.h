@@ -131,7 +131,6 @@ class OutputTransaction {
     /// a run staging thousands of outputs resolves each new one once, not every entry again.
     const Entry* find_same(const std::vector<Entry>& list, const std::string& path,
                            const std::string& key) const;
-    const Entry* find_same(const std::vector<Entry>& list, const std::string& path) const;
 
     mutable std::mutex m_mutex;
     std::vector<Entry> m_inputs, m_outputs, m_reserved;

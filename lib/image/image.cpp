@@ -265,8 +265,9 @@ Image read_from(const std::string& path, const ReadOptions& options,
     }
 
     Image img(spec.width, spec.height, spec.nchannels);
-    // Read the stored type, then convert: asked for another type, OIIO 2.4's read_scanlines
-    // allocates a 64 MiB staging buffer whatever the image's size (an mmap and munmap per file,
+    // Read the stored type (TypeUnknown), then convert: asked for any named type, even the
+    // stored one (measured), OIIO 2.4's read_scanlines allocates a 64 MiB staging buffer
+    // whatever the image's size (an mmap and munmap per file,
     // which made a BTF of 6561 small images spend most of its time in the kernel). The
     // conversion is OIIO's own, as inside read_image. Files with a type per channel, and those
     // whose stored pixels exceed that buffer (a large HDRI: a copy of it would cost more memory
