@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -238,6 +239,42 @@ Image::Image(int w, int h, int c, ColorSpace cs)
 
 namespace {
 
+/// Integer codes as floats: `stored[code]` is OIIO's conversion of the code (what a read as
+/// float gives), `linear[code]` the sRGB decode of that float (srgb_decode).
+struct CodeTables {
+    std::vector<float> stored, linear;
+};
+
+template <typename Code>
+const CodeTables& code_tables() {
+    static const CodeTables tables = [] {
+        constexpr size_t n = size_t(std::numeric_limits<Code>::max()) + 1;
+        std::vector<Code> codes(n);
+        for (size_t i = 0; i < n; ++i) codes[i] = static_cast<Code>(i);
+        CodeTables t;
+        t.stored.resize(n);
+        const OIIO::TypeDesc type = sizeof(Code) == 1 ? OIIO::TypeUInt8 : OIIO::TypeUInt16;
+        INLIGHT_CHECK(OIIO::convert_pixel_values(type, codes.data(), OIIO::TypeFloat, t.stored.data(), int(n)));
+        t.linear.resize(n);
+        for (size_t i = 0; i < n; ++i) t.linear[i] = srgb_decode(t.stored[i]);
+        return t;
+    }();
+    return tables;
+}
+
+/// img's samples from its codes, sRGB-decoded when `decode` (alpha as stored).
+template <typename Code>
+void map_codes(const Code* codes, const CodeTables& t, bool decode, Image& img) {
+    const size_t n = size_t(img.channels), count = img.pixels.size();
+    const float* colour = decode ? t.linear.data() : t.stored.data();
+    float* out = img.pixels.data();
+    if (!decode || !(n == 2 || n == 4)) {
+        for (size_t i = 0; i < count; ++i) out[i] = colour[codes[i]];
+        return;
+    }
+    for (size_t i = 0; i < count; ++i) out[i] = (i % n == n - 1 ? t.stored.data() : colour)[codes[i]];
+}
+
 constexpr double kMaxSamples = 4.0e9;  // 16 GB of floats: beyond this the header is corrupt
 
 Image read_from(const std::string& path, const ReadOptions& options,
@@ -264,29 +301,6 @@ Image read_from(const std::string& path, const ReadOptions& options,
                         static_cast<uint64_t>(max_samples), " samples)"));
     }
 
-    Image img(spec.width, spec.height, spec.nchannels);
-    // Read the stored type (TypeUnknown), then convert: asked for any named type, even the
-    // stored one (measured), OIIO 2.4's read_scanlines allocates a 64 MiB staging buffer
-    // whatever the image's size (an mmap and munmap per file,
-    // which made a BTF of 6561 small images spend most of its time in the kernel). The
-    // conversion is OIIO's own, as inside read_image. Files with a type per channel, and those
-    // whose stored pixels exceed that buffer (a large HDRI: a copy of it would cost more memory
-    // than OIIO's staging), are read as float directly.
-    constexpr double kStagingBytes = 64.0 * 1024 * 1024;
-    const double stored_bytes = samples * static_cast<double>(spec.format.size());
-    bool read = false;
-    if (spec.channelformats.empty() && spec.format != OIIO::TypeFloat && stored_bytes <= kStagingBytes) {
-        std::vector<unsigned char> stored(static_cast<size_t>(stored_bytes));
-        read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUnknown, stored.data()) &&
-               OIIO::convert_image(spec.nchannels, spec.width, spec.height, 1, stored.data(),
-                                   spec.format, OIIO::AutoStride, OIIO::AutoStride,
-                                   OIIO::AutoStride, img.pixels.data(), OIIO::TypeFloat,
-                                   OIIO::AutoStride, OIIO::AutoStride, OIIO::AutoStride);
-    } else {
-        read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, img.pixels.data());
-    }
-    if (!read) throw Error(str(path, ": cannot read pixels: ", clean(in->geterror())));
-
     // What the file says about itself (only files this module wrote carry the inlight keys).
     const std::string stored_cs = inlight_value(spec, "inlight:color_space");
     const std::string transfer = inlight_value(spec, "inlight:transfer");
@@ -298,16 +312,46 @@ Image read_from(const std::string& path, const ReadOptions& options,
             known = true;
         }
     }
+    const bool integer = is_integer(spec.format);
+    const bool encoded = integer && transfer != "linear";  // third-party integer files: sRGB
+    const bool decode = encoded && options.decode_srgb;
+    if (integer && !decode && (encoded || !known)) tagged = ColorSpace::kData;  // values as stored, in [0, 1]
 
-    if (is_integer(spec.format)) {
-        const bool encoded = transfer != "linear";  // third-party integer files: sRGB
-        if (encoded && options.decode_srgb) {
-            const int n = img.channels;
-            for_each_sample(img,
-                            [n](float v, int c) { return is_alpha(c, n) ? v : srgb_decode(v); });
-        } else if (encoded || !known) {
-            tagged = ColorSpace::kData;  // values as stored, in [0, 1]
+    Image img(spec.width, spec.height, spec.nchannels);
+    // Read the stored type (TypeUnknown), then convert: asked for any named type, even the
+    // stored one (measured), OIIO 2.4's read_scanlines allocates a 64 MiB staging buffer
+    // whatever the image's size (an mmap and munmap per file,
+    // which made a BTF of 6561 small images spend most of its time in the kernel). The
+    // conversion is OIIO's own, as inside read_image. Files with a type per channel, and those
+    // whose stored pixels exceed that buffer (a large HDRI: a copy of it would cost more memory
+    // than OIIO's staging), are read as float directly.
+    constexpr double kStagingBytes = 64.0 * 1024 * 1024;
+    const double stored_bytes = samples * static_cast<double>(spec.format.size());
+    bool read = false, decoded = false;
+    if (spec.channelformats.empty() && spec.format != OIIO::TypeFloat && stored_bytes <= kStagingBytes) {
+        std::vector<unsigned char> stored(static_cast<size_t>(stored_bytes));
+        read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUnknown, stored.data());
+        if (read && spec.format == OIIO::TypeUInt8) {
+            // 8- and 16-bit codes through tables of the same conversions: a lookup per sample
+            // instead of a pow (the sRGB decode was most of a small PNG's read).
+            map_codes(reinterpret_cast<const uint8_t*>(stored.data()), code_tables<uint8_t>(), decode, img);
+            decoded = decode;
+        } else if (read && spec.format == OIIO::TypeUInt16) {
+            map_codes(reinterpret_cast<const uint16_t*>(stored.data()), code_tables<uint16_t>(), decode, img);
+            decoded = decode;
+        } else if (read) {
+            read = OIIO::convert_image(spec.nchannels, spec.width, spec.height, 1, stored.data(),
+                                       spec.format, OIIO::AutoStride, OIIO::AutoStride,
+                                       OIIO::AutoStride, img.pixels.data(), OIIO::TypeFloat,
+                                       OIIO::AutoStride, OIIO::AutoStride, OIIO::AutoStride);
         }
+    } else {
+        read = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeFloat, img.pixels.data());
+    }
+    if (!read) throw Error(str(path, ": cannot read pixels: ", clean(in->geterror())));
+    if (decode && !decoded) {
+        const int n = img.channels;
+        for_each_sample(img, [n](float v, int c) { return is_alpha(c, n) ? v : srgb_decode(v); });
     }
     img.color_space = tagged;
     in->close();

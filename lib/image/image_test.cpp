@@ -308,6 +308,54 @@ TEST(ImageIo, Png8And16RoundTripWithinQuantisation) {
     }
 }
 
+// Every 8- and 16-bit code, as a third-party PNG holds it (no inlight keys: sRGB-encoded), read
+// with and without the sRGB decode, against OpenImageIO's own read as float followed by
+// srgb_decode: bit for bit (the reader maps codes through tables of those same conversions).
+TEST(ImageIo, EveryIntegerCodeReadsAsOiioFloatThenSrgbDecode) {
+    const std::string dir = testing::temp_dir("png-codes");
+    for (const OIIO::TypeDesc& type : {OIIO::TypeUInt8, OIIO::TypeUInt16}) {
+        for (int c : {1, 2, 3, 4}) {
+            const int codes = type == OIIO::TypeUInt8 ? 256 : 65536;
+            const int w = 256, h = (codes + w - 1) / w;
+            std::vector<uint16_t> wide(size_t(w) * h * c);
+            for (size_t i = 0; i < wide.size(); ++i) wide[i] = uint16_t((i * 7919 + size_t(c)) % size_t(codes));
+            for (int k = 0; k < codes; ++k) wide[size_t(k)] = uint16_t(k);  // every code, in every channel position
+            std::vector<uint8_t> narrow(wide.begin(), wide.end());
+            const std::string path = dir + "/c" + std::to_string(type.size() * 8) + "_" + std::to_string(c) + ".png";
+            {
+                auto out = OIIO::ImageOutput::create(path);
+                ASSERT_TRUE(out);
+                ASSERT_TRUE(out->open(path, OIIO::ImageSpec(w, h, c, type)));
+                ASSERT_TRUE(out->write_image(type, type == OIIO::TypeUInt8 ? static_cast<const void*>(narrow.data())
+                                                                           : static_cast<const void*>(wide.data())));
+                ASSERT_TRUE(out->close());
+            }
+            std::vector<float> oiio(wide.size());
+            {
+                OIIO::ImageSpec config;
+                config.attribute("oiio:UnassociatedAlpha", 1);  // alpha as stored, as read_image asks
+                auto in = OIIO::ImageInput::open(path, &config);
+                ASSERT_TRUE(in);
+                ASSERT_TRUE(in->read_image(0, 0, 0, c, OIIO::TypeFloat, oiio.data()));
+            }
+            for (bool decode : {true, false}) {
+                ReadOptions ro;
+                ro.decode_srgb = decode;
+                const Image back = read_image(path, ro);
+                ASSERT_EQ(back.pixels.size(), oiio.size());
+                EXPECT_EQ(back.color_space, decode ? ColorSpace::kLinearSrgb : ColorSpace::kData);
+                size_t differ = 0;
+                for (size_t i = 0; i < oiio.size(); ++i) {
+                    const bool alpha = (c == 2 || c == 4) && i % size_t(c) == size_t(c - 1);
+                    const float want = decode && !alpha ? srgb_decode(oiio[i]) : oiio[i];
+                    differ += std::memcmp(&want, &back.pixels[i], sizeof(float)) != 0;
+                }
+                EXPECT_EQ(differ, 0u) << path << (decode ? ", decoded" : ", as stored");
+            }
+        }
+    }
+}
+
 TEST(ImageIo, PngOutOfRangeValuesAreClamped) {
     const std::string dir = testing::temp_dir("png-clamp");
     Image img(3, 1, 1);
