@@ -95,10 +95,15 @@ void BtfSource::read_group(const std::vector<int>& views, Eigen::MatrixXf& out) 
                       l = static_cast<int>(i % s.n_lights());
             const image::Image img = read_image(l, views[static_cast<size_t>(vi)]);
             INLIGHT_CHECK(img.width == s.width && img.height == s.height && img.channels == 3);
-            for (int c = 0; c < 3; ++c) {
-                float* col = out.col(i * 3 + c).data();
-                for (int64_t p = 0; p < pixels; ++p)
-                    col[p] = img.pixels[static_cast<size_t>(p * 3 + c)];
+            // One pass over the interleaved pixels into the three colour columns.
+            float* red = out.col(i * 3).data();
+            float* green = out.col(i * 3 + 1).data();
+            float* blue = out.col(i * 3 + 2).data();
+            const float* px = img.pixels.data();
+            for (int64_t p = 0; p < pixels; ++p, px += 3) {
+                red[p] = px[0];
+                green[p] = px[1];
+                blue[p] = px[2];
             }
         }
     });
