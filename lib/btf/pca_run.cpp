@@ -30,6 +30,17 @@ using Clock = std::chrono::steady_clock;
 
 int64_t rows_per_block(int64_t cols) { return std::clamp<int64_t>((int64_t(1) << 20) / std::max<int64_t>(cols, 1), 16, 2048); }
 
+/// Sum of x[i]^2 in double, in four interleaved partial sums (vectorised; the order is fixed).
+double sum_squares(const float* x, int64_t n) {
+    double lane[4] = {0, 0, 0, 0};
+    int64_t i = 0;
+    for (; i + 4 <= n; i += 4)
+        for (int k = 0; k < 4; ++k) lane[k] += double(x[i + k]) * double(x[i + k]);
+    double sum = (lane[0] + lane[1]) + (lane[2] + lane[3]);
+    for (; i < n; ++i) sum += double(x[i]) * double(x[i]);
+    return sum;
+}
+
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 /// Display-referred colour errors summed over sampled triples.
@@ -49,14 +60,25 @@ struct ColorSums {
     }
 };
 
-void add_color(ColorSums& s, const Eigen::Vector3d& truth, Eigen::Vector3d test) {
+/// A reference colour's display-referred values, computed once for every model it is compared
+/// with: clamped to [0, 1], its CIELAB and its sRGB encoding.
+struct TruthColor {
+    explicit TruthColor(const Eigen::Vector3d& truth) {
+        const Eigen::Vector3d t = truth.cwiseMax(0.0).cwiseMin(1.0);
+        lab = image::lab_from_linear_srgb(t);
+        for (int c = 0; c < 3; ++c) encoded[c] = image::srgb_encode(float(t[c]));
+    }
+    Eigen::Vector3d lab;
+    float encoded[3];
+};
+
+void add_color(ColorSums& s, const TruthColor& truth, Eigen::Vector3d test) {
     test = test.cwiseMax(0.0).cwiseMin(1.0);
-    const Eigen::Vector3d t = truth.cwiseMax(0.0).cwiseMin(1.0);
-    const Eigen::Vector3d lab_t = image::lab_from_linear_srgb(t), lab = image::lab_from_linear_srgb(test);
-    s.lab_abs += (lab - lab_t).cwiseAbs().sum();
-    s.delta_e2000 += image::delta_e2000(lab_t, lab);
+    const Eigen::Vector3d lab = image::lab_from_linear_srgb(test);
+    s.lab_abs += (lab - truth.lab).cwiseAbs().sum();
+    s.delta_e2000 += image::delta_e2000(truth.lab, lab);
     for (int c = 0; c < 3; ++c) {
-        const double d = 255.0 * (image::srgb_encode(float(test[c])) - image::srgb_encode(float(t[c])));
+        const double d = 255.0 * (image::srgb_encode(float(test[c])) - truth.encoded[c]);
         s.code_abs += std::abs(d);
         s.code_sq += d * d;
     }
@@ -416,21 +438,32 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             const std::vector<double> s_blk = parallel::reduce(
                 P, rows_per_block(nb), std::vector<double>(size_t(C) + 3, 0.0),
                 [&](int64_t b, int64_t e) {
+                    // Column by column: the residual of one column's rows [b, e) stays in L1
+                    // while the components are taken off it one by one (the whole block, 4 MiB,
+                    // went through memory twice per component).
                     std::vector<double> s(size_t(C) + 3, 0.0);
-                    Eigen::MatrixXf err = blk.middleRows(b, e - b);
-                    err.colwise() += dmean.segment(b, e - b);
-                    auto energy = [&] {
-                        double x = 0;
-                        for (int64_t j = 0; j < nb; ++j) x += err.col(j).cast<double>().squaredNorm();
-                        return x;
-                    };
-                    s[0] = energy();
-                    for (int c = 0; c < C; ++c) {
-                        err.noalias() -= q.basis.col(c).segment(b, e - b) * q.weights.col(c).segment(j0, nb).transpose();
-                        s[size_t(c) + 1] = energy();
+                    const int64_t n = e - b;
+                    std::vector<float> err(static_cast<size_t>(n));
+                    const float* dm = dmean.data() + b;
+                    float worst = 0;
+                    for (int64_t j = 0; j < nb; ++j) {
+                        const float* x = blk.col(j).data() + b;
+                        for (int64_t p = 0; p < n; ++p) err[size_t(p)] = x[p] + dm[p];
+                        s[0] += sum_squares(err.data(), n);
+                        for (int c = 0; c < C; ++c) {
+                            const float w = q.weights(j0 + j, c);
+                            const float* basis = q.basis.col(c).data() + b;
+                            for (int64_t p = 0; p < n; ++p) err[size_t(p)] -= basis[p] * w;
+                            s[size_t(c) + 1] += sum_squares(err.data(), n);
+                        }
+                        double abs_sum = 0;
+                        for (int64_t p = 0; p < n; ++p) {
+                            abs_sum += std::fabs(double(err[size_t(p)]));
+                            worst = std::max(worst, std::fabs(err[size_t(p)]));
+                        }
+                        s[size_t(C) + 1] += abs_sum;
                     }
-                    for (int64_t j = 0; j < nb; ++j) s[size_t(C) + 1] += err.col(j).cast<double>().cwiseAbs().sum();
-                    s[size_t(C) + 2] = err.size() ? double(err.cwiseAbs().maxCoeff()) : 0.0;
+                    s[size_t(C) + 2] = double(worst);
                     return s;
                 },
                 [](std::vector<double> a, const std::vector<double>& b) {
@@ -461,14 +494,16 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                             th3[ch] = thd.mean[p] + double(thd.basis.row(p).dot(thd.weights.row(j + ch)));
                         }
                         const Eigen::Vector3d truth_lin = to_linear(truth, space);
-                        add_color(s[0], truth_lin, to_linear(th3, space));
-                        for (int c = 0; c <= C; ++c) add_color(s[2 + size_t(c)], truth_lin, to_linear(prefix.col(c), space));
+                        const TruthColor truth_color(truth_lin);
+                        add_color(s[0], truth_color, to_linear(th3, space));
+                        for (int c = 0; c <= C; ++c) add_color(s[2 + size_t(c)], truth_color, to_linear(prefix.col(c), space));
                         if (reference) {
                             const Eigen::Vector3d r3 =
                                 to_linear(Eigen::Vector3d(ref(p, jb), ref(p, jb + 1), ref(p, jb + 2)), space);
-                            add_color(s[1], r3, truth_lin);
+                            const TruthColor ref_color(r3);
+                            add_color(s[1], ref_color, truth_lin);
                             for (int c = 0; c <= C; ++c)
-                                add_color(s[3 + size_t(C + c)], r3, to_linear(prefix.col(c), space));
+                                add_color(s[3 + size_t(C + c)], ref_color, to_linear(prefix.col(c), space));
                         }
                     }
                     return s;
