@@ -71,6 +71,10 @@ typedef double Lanes __attribute__((vector_size(kGramLanes * sizeof(double))));
 /// its own (a lane per row), rows [r0, r1) of a strip of kTimesRows; no fused multiply-add
 /// (neither target has it), so every target gives the same bits.
 constexpr int64_t kTimesRows = 16;
+/// Rows of A copied into a contiguous panel before sketch_times walks them (a multiple of its
+/// strips). times() reads in place: its one product per group (U Sigma = A V) measured no
+/// faster from a panel.
+constexpr int64_t kPanelRows = 64;
 typedef float Floats __attribute__((vector_size(kGramLanes * sizeof(float))));
 
 inline __attribute__((always_inline)) void times_body(const float* a, int64_t lda, int64_t r0, int64_t r1, int64_t n,
@@ -147,6 +151,153 @@ Eigen::MatrixXd times_transposed(const Eigen::MatrixXf& a, const Eigen::MatrixXd
                         const Eigen::MatrixXd blk = a.middleRows(i, n).cast<double>();
                         acc.noalias() += blk.transpose() * y.middleRows(i, n);
                     });
+}
+
+/// The range finder's products in single precision (randomized method, HMT Algorithm 4.4): they
+/// only choose the subspace, and a float rounding of ~1e-6 of the values moves it by as much,
+/// far below the sketch's own error; the products that give the components (B^T = A^T Q and
+/// U Sigma = A V) stay in double. Vectors of 8 floats, with fused multiply-adds where the CPU
+/// has them; each sum over the same terms in the same order for any thread count.
+typedef float Floats8 __attribute__((vector_size(8 * sizeof(float))));
+constexpr int64_t kSketchStrips = 2;  // 16 rows of A X per walk across the columns
+constexpr int64_t kSketchCols = 6;    // columns of X per walk: 12 accumulators and 3 more registers
+                                      // (AVX2 has 16; measured best of 4x3, 4x2, 3x4, 2x4, 2x6)
+
+
+/// y(r, c) += sum over j in order of a(r, j) x(j, c), rows [r0, r1), each sum carried on from
+/// y's value (so a product split into blocks of columns, out of core, gives the same bits).
+inline __attribute__((always_inline)) void sketch_times_body(const float* a, int64_t lda, int64_t r0, int64_t r1, int64_t n,
+                                                             const float* x, int64_t ldx, int64_t l, float* y, int64_t ldy) {
+    constexpr int64_t kRows = kSketchStrips * 8;
+    int64_t r = r0;
+    for (; r + kRows <= r1; r += kRows) {
+        for (int64_t c0 = 0; c0 < l; c0 += kSketchCols) {
+            const int64_t nc = std::min(kSketchCols, l - c0);
+            const float* xc[kSketchCols];
+            for (int64_t q = 0; q < kSketchCols; ++q) xc[q] = x + std::min(c0 + q, l - 1) * ldx;
+            Floats8 acc[kSketchStrips][kSketchCols];
+            for (int64_t q = 0; q < kSketchCols; ++q)
+                for (int64_t k = 0; k < kSketchStrips; ++k)
+                    std::memcpy(&acc[k][q], y + std::min(c0 + q, l - 1) * ldy + r + 8 * k, sizeof(Floats8));
+            for (int64_t j = 0; j < n; ++j) {
+                const float* col = a + j * lda + r;
+                Floats8 v[kSketchStrips];
+                for (int64_t k = 0; k < kSketchStrips; ++k) std::memcpy(&v[k], col + 8 * k, sizeof(Floats8));
+                for (int64_t q = 0; q < kSketchCols; ++q) {
+                    const float s = xc[q][j];
+                    const Floats8 b = {s, s, s, s, s, s, s, s};
+                    for (int64_t k = 0; k < kSketchStrips; ++k) acc[k][q] += v[k] * b;
+                }
+            }
+            for (int64_t q = 0; q < nc; ++q)
+                for (int64_t k = 0; k < kSketchStrips; ++k) std::memcpy(y + (c0 + q) * ldy + r + 8 * k, &acc[k][q], sizeof(Floats8));
+        }
+    }
+    for (; r < r1; ++r)  // the last rows, one at a time
+        for (int64_t c = 0; c < l; ++c) {
+            float acc = y[c * ldy + r];
+            for (int64_t j = 0; j < n; ++j) acc += a[j * lda + r] * x[c * ldx + j];
+            y[c * ldy + r] = acc;
+        }
+}
+
+/// out(j, c) = sum over rows [r0, r1) of a(r, j) y(r, c), in 8 lanes (lane i: rows r0 + i mod 8,
+/// in order), the lanes then added in order; the rows past the last 8 one at a time.
+inline __attribute__((always_inline)) void sketch_times_transposed_body(const float* a, int64_t lda, int64_t r0, int64_t r1,
+                                                                        int64_t n, const float* y, int64_t ldy, int64_t l,
+                                                                        double* out) {
+    constexpr int64_t kCols = 6;  // columns of Y per pass
+    const int64_t whole = r0 + (r1 - r0) / 8 * 8;
+    for (int64_t j = 0; j < n; ++j) {
+        const float* col = a + j * lda;
+        for (int64_t c0 = 0; c0 < l; c0 += kCols) {
+            const int64_t nc = std::min(kCols, l - c0);
+            Floats8 acc[kCols] = {};
+            const float* yc[kCols];
+            for (int64_t q = 0; q < kCols; ++q) yc[q] = y + std::min(c0 + q, l - 1) * ldy;
+            for (int64_t r = r0; r < whole; r += 8) {
+                Floats8 v;
+                std::memcpy(&v, col + r, sizeof v);
+                for (int64_t q = 0; q < kCols; ++q) {
+                    Floats8 w;
+                    std::memcpy(&w, yc[q] + r, sizeof w);
+                    acc[q] += v * w;
+                }
+            }
+            for (int64_t q = 0; q < nc; ++q) {
+                float sum = acc[q][0];
+                for (int i = 1; i < 8; ++i) sum += acc[q][i];
+                for (int64_t r = whole; r < r1; ++r) sum += col[r] * yc[q][r];
+                out[(c0 + q) * n + j] += double(sum);
+            }
+        }
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2,fma"))) void sketch_times_avx2(const float* a, int64_t lda, int64_t r0, int64_t r1, int64_t n,
+                                                           const float* x, int64_t ldx, int64_t l, float* y, int64_t ldy) {
+    sketch_times_body(a, lda, r0, r1, n, x, ldx, l, y, ldy);
+}
+__attribute__((target("avx2,fma"))) void sketch_times_transposed_avx2(const float* a, int64_t lda, int64_t r0, int64_t r1,
+                                                                      int64_t n, const float* y, int64_t ldy, int64_t l,
+                                                                      double* out) {
+    sketch_times_transposed_body(a, lda, r0, r1, n, y, ldy, l, out);
+}
+bool has_avx2_fma() {
+    static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return yes;
+}
+#else
+bool has_avx2_fma() { return false; }
+#endif
+
+/// y += A X in float (the range finder's), rows in fixed chunks; x: n x l with column stride
+/// ldx (a block of rows of a larger X, out of core).
+void sketch_times_add(const Eigen::MatrixXf& a, const float* x, int64_t ldx, int64_t l, Eigen::MatrixXf& y) {
+    INLIGHT_CHECK(y.rows() == a.rows() && y.cols() == l);
+    // The kernel walks a strip of rows across all N columns once per kSketchCols columns of X:
+    // read in place, the columns lie a whole column apart (a power of two at Bonn size), so
+    // they compete for the same cache sets and pages, and the strip came from memory on every
+    // walk. Copied first into a panel of kPanelRows contiguous rows, it stays in L2.
+    const int64_t n = a.cols();
+    parallel::for_chunks(a.rows(), 4096, [&](int64_t b, int64_t e) {
+        std::vector<float> panel(static_cast<size_t>(kPanelRows * n));
+        for (int64_t r = b; r < e; r += kPanelRows) {
+            const int64_t rows = std::min(kPanelRows, e - r);
+            for (int64_t j = 0; j < n; ++j)
+                std::memcpy(panel.data() + j * kPanelRows, a.data() + j * a.rows() + r, size_t(rows) * sizeof(float));
+#if defined(__x86_64__) && defined(__GNUC__)
+            if (has_avx2_fma()) {
+                sketch_times_avx2(panel.data(), kPanelRows, 0, rows, n, x, ldx, l, y.data() + r, y.rows());
+                continue;
+            }
+#endif
+            sketch_times_body(panel.data(), kPanelRows, 0, rows, n, x, ldx, l, y.data() + r, y.rows());
+        }
+    });
+}
+
+Eigen::MatrixXd sketch_times(const Eigen::MatrixXf& a, const Eigen::MatrixXd& x) {
+    INLIGHT_CHECK_EQ(a.cols(), x.rows());
+    const Eigen::MatrixXf xf = x.cast<float>();
+    Eigen::MatrixXf y = Eigen::MatrixXf::Zero(a.rows(), x.cols());
+    sketch_times_add(a, xf.data(), xf.rows(), xf.cols(), y);
+    return y.cast<double>();
+}
+
+/// A^T Y in float per block of rows (the range finder's), the blocks summed in double.
+Eigen::MatrixXd sketch_times_transposed(const Eigen::MatrixXf& a, const Eigen::MatrixXd& y) {
+    INLIGHT_CHECK_EQ(a.rows(), y.rows());
+    const Eigen::MatrixXf yf = y.cast<float>();
+    constexpr int64_t kRows = 1024;  // a block's rows of A (4 KiB a column) and of Y in L2
+    return sum_over(a.rows(), kRows, a.cols(), y.cols(), [&](Eigen::MatrixXd& acc, int64_t i, int64_t n) {
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (has_avx2_fma())
+            return sketch_times_transposed_avx2(a.data(), a.rows(), i, i + n, a.cols(), yf.data(), yf.rows(), yf.cols(), acc.data());
+#endif
+        sketch_times_transposed_body(a.data(), a.rows(), i, i + n, a.cols(), yf.data(), yf.rows(), yf.cols(), acc.data());
+    });
 }
 
 /// g (n_pad x n_pad, column-major, lower tiles) += X^T X for X: rows x n_pad column-major
@@ -235,6 +386,9 @@ class CentredOp {
     virtual Eigen::MatrixXd gram_rows() const = 0;                                 ///< A_c A_c^T
     virtual Eigen::MatrixXd gram_columns() const = 0;                              ///< A_c^T A_c
     virtual const Eigen::MatrixXf* dense() const { return nullptr; }  ///< the matrix, if held
+    /// The range finder's A_c X and A_c^T Y, where single precision suffices (sketch_times).
+    virtual Eigen::MatrixXd sketch(const Eigen::MatrixXd& x) const = 0;
+    virtual Eigen::MatrixXd sketch_transposed(const Eigen::MatrixXd& y) const = 0;
 };
 
 class InCore : public CentredOp {
@@ -247,6 +401,8 @@ class InCore : public CentredOp {
     Eigen::MatrixXd gram_rows() const override { return btf::gram_of_rows(m_a); }
     Eigen::MatrixXd gram_columns() const override { return gram_of_columns(m_a); }
     const Eigen::MatrixXf* dense() const override { return &m_a; }
+    Eigen::MatrixXd sketch(const Eigen::MatrixXd& x) const override { return btf::sketch_times(m_a, x); }
+    Eigen::MatrixXd sketch_transposed(const Eigen::MatrixXd& y) const override { return btf::sketch_times_transposed(m_a, y); }
 
   private:
     const Eigen::MatrixXf& m_a;
@@ -276,9 +432,9 @@ Eigen::MatrixXd right_vectors(const CentredOp& a, PcaMethod method, int c, const
             Eigen::MatrixXd omega(n, l);
             for (Eigen::Index j = 0; j < omega.cols(); ++j)
                 for (Eigen::Index i = 0; i < omega.rows(); ++i) omega(i, j) = normal(rng);
-            Eigen::MatrixXd q = orthonormal(a.times(omega));
+            Eigen::MatrixXd q = orthonormal(a.sketch(omega));
             for (int it = 0; it < o.power_iterations; ++it)
-                q = orthonormal(a.times(orthonormal(a.times_transposed(q))));
+                q = orthonormal(a.sketch(orthonormal(a.sketch_transposed(q))));
             const Eigen::MatrixXd bt = a.times_transposed(q);  // B^T = A^T Q = V S U_B^T
             Eigen::BDCSVD<Eigen::MatrixXd> svd(bt, Eigen::ComputeThinU);
             return svd.matrixU().leftCols(c);
@@ -406,6 +562,19 @@ class Streamed : public CentredOp {
     Eigen::MatrixXd times_transposed(const Eigen::MatrixXd& y) const override {
         Eigen::MatrixXd z(cols(), y.cols());
         pass(true, [&](int64_t j0, const Eigen::MatrixXf& blk) { z.middleRows(j0, blk.cols()) = btf::times_transposed(blk, y); });
+        return z;
+    }
+    // The range finder's products give the in-core bits: each sum of A X carries on across the
+    // blocks of columns in the same order, and each entry of A^T Y lies within one block.
+    Eigen::MatrixXd sketch(const Eigen::MatrixXd& x) const override {
+        const Eigen::MatrixXf xf = x.cast<float>();
+        Eigen::MatrixXf y = Eigen::MatrixXf::Zero(rows(), x.cols());
+        pass(true, [&](int64_t j0, const Eigen::MatrixXf& blk) { sketch_times_add(blk, xf.data() + j0, xf.rows(), xf.cols(), y); });
+        return y.cast<double>();
+    }
+    Eigen::MatrixXd sketch_transposed(const Eigen::MatrixXd& y) const override {
+        Eigen::MatrixXd z(cols(), y.cols());
+        pass(true, [&](int64_t j0, const Eigen::MatrixXf& blk) { z.middleRows(j0, blk.cols()) = btf::sketch_times_transposed(blk, y); });
         return z;
     }
     Eigen::MatrixXd gram_rows() const override {

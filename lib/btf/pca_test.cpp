@@ -103,6 +103,27 @@ TEST(FitGroup, EveryMethodReachesTheKnownSpectrum) {
     }
 }
 
+// The randomized method finds its subspace with single-precision products (the range finder)
+// and projects onto it in double. A sun-like first component 30,000x the next, over a spectrum
+// falling to 0.09 of those, on sizes that are no multiple of the kernels' strips and panels:
+// the residual after each c >= 1 components (0.1-2.8) must be the full SVD's of the same float
+// data within 1e-6: the residual is total - captured at a total of 9e8, whose ulp in double is
+// 1.2e-7, so a few ulps (measured: one).
+TEST(FitGroup, RandomizedKeepsTheSmallComponentsBesideASun) {
+    std::vector<double> sigma = {3.0e4};
+    for (double x : geometric(12, 1.0, 0.8)) sigma.push_back(x);
+    const Spectrum s = make_spectrum(4133, 277, sigma, 11);
+    const int c = 8;
+    Eigen::MatrixXf a = s.a;
+    const GroupPca g = fit_group(a, {0}, options(PcaMethod::kRandomized, c), 1);
+    a = s.a;
+    const GroupPca full = fit_group(a, {0}, options(PcaMethod::kFullSvd, c), 1);
+    ASSERT_EQ(g.components(), c);
+    for (int i = 1; i <= c; ++i)
+        EXPECT_NEAR(g.residual_energy[size_t(i)], full.residual_energy[size_t(i)], 1e-6)
+            << i << " components; optimum of the exact data " << s.optimal_residual(i);
+}
+
 TEST(FitGroup, AutoPicksGramUpToTheLimitThenRandomized) {
     const Spectrum s = make_spectrum(200, 90, geometric(10, 1.0, 0.5));
     PcaOptions o = options(PcaMethod::kAuto, 4);
