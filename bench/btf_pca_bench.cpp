@@ -18,9 +18,12 @@
 // `btf_bench --write-ubo2003 DIR ...` writes the same data as image files instead: the end-to-end
 // figure (pipelines/btf-pca-bench.sh) decodes them with the btf-pca tool (write_ubo2003_main).
 #include <benchmark/benchmark.h>
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <chrono>
 #include <cstdio>
@@ -33,6 +36,7 @@
 #include <memory>
 #include <string>
 
+#include "btf/archive.h"
 #include "btf/dataset.h"
 #include "btf/pca.h"
 #include "btf/synthetic.h"
@@ -367,10 +371,112 @@ int write_ubo2003_main(int argc, char** argv) {
     return 0;
 }
 
+/// `btf_bench --decode-floor PATH [--threads N]`: the floor a btf-pca run is timed against
+/// (docs/benchmarks.md): every image of a BTF folder or zip file read and decoded to its
+/// stored codes by the decoder btf-pca uses (OpenImageIO's, from the bytes in memory), on N
+/// threads (0 = all cores), and nothing else: no conversion to float, no sRGB decode, no
+/// copy into groups. Images are the files whose extension is png, jpg, jpeg, exr, tif or tiff.
+/// Prints one JSON line: images, samples, bytes read, wall and CPU seconds. Exit 2 on a bad
+/// option (named), 1 on a runtime error (a file that does not decode, named).
+int decode_floor_main(int argc, char** argv) {
+    auto usage = [&](const std::string& why) {
+        std::fprintf(stderr, "btf_bench --decode-floor: %s\nusage: %s --decode-floor PATH [--threads N]\n", why.c_str(),
+                     argv[0]);
+        return 2;
+    };
+    if (argc < 3 || argv[2][0] == '-') return usage("PATH missing");
+    const std::string path = argv[2];
+    int threads = 0;
+    for (int i = 3; i < argc; ++i) {
+        const std::string opt = argv[i];
+        if (opt != "--threads") return usage(opt + ": unknown option");
+        if (i + 1 >= argc) return usage(opt + ": value missing");
+        char* end = nullptr;
+        const long n = std::strtol(argv[++i], &end, 10);
+        if (*end != '\0' || end == argv[i] || n < 0 || n > 1024) return usage(opt + " " + argv[i] + ": not a count in 0..1024");
+        threads = int(n);
+    }
+    namespace stdfs = std::filesystem;
+    try {
+        if (!stdfs::exists(path)) throw inlight::Error(path + ": no such file or folder");
+        auto is_image = [](std::string name) {
+            for (char& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+            for (const char* ext : {".png", ".jpg", ".jpeg", ".exr", ".tif", ".tiff"}) {
+                const size_t n = std::strlen(ext);
+                if (name.size() > n && name.compare(name.size() - n, n, ext) == 0) return true;
+            }
+            return false;
+        };
+        std::unique_ptr<ZipArchive> zip;
+        std::vector<const ArchiveEntry*> entries;
+        std::vector<std::string> files;
+        if (is_zip_path(path)) {
+            zip = ZipArchive::open(path);
+            for (const ArchiveEntry& e : zip->entries())
+                if (!e.is_directory && is_image(e.name)) entries.push_back(&e);
+        } else {
+            for (const auto& e : stdfs::recursive_directory_iterator(path))
+                if (e.is_regular_file() && is_image(e.path().filename().string())) files.push_back(e.path().string());
+            std::sort(files.begin(), files.end());
+        }
+        const int64_t n = zip ? int64_t(entries.size()) : int64_t(files.size());
+        if (n == 0) throw inlight::Error(path + ": no images (png, jpg, jpeg, exr, tif, tiff)");
+        inlight::parallel::set_thread_count(threads);
+        OIIO::attribute("threads", inlight::parallel::thread_count());
+        OIIO::attribute("exr_threads", inlight::parallel::thread_count());
+        const std::clock_t c0 = std::clock();
+        const auto t0 = std::chrono::steady_clock::now();
+        using Sums = std::array<double, 2>;  // samples, bytes read
+        const Sums sums = inlight::parallel::reduce(
+            n, 1, Sums{0, 0},
+            [&](int64_t b, int64_t e) {
+                Sums x{0, 0};
+                std::vector<unsigned char> codes;
+                for (int64_t i = b; i < e; ++i) {
+                    std::string name, bytes;
+                    if (zip) {
+                        name = entries[size_t(i)]->name;
+                        bytes = zip->read(*entries[size_t(i)]);
+                    } else {
+                        name = files[size_t(i)];
+                        std::ifstream f(name, std::ios::binary);
+                        bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+                        if (!f.good() && !f.eof()) throw inlight::Error(name + ": cannot read");
+                    }
+                    OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
+                    OIIO::ImageSpec config, spec;
+                    void* proxy = &memory;
+                    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+                    auto in = OIIO::ImageInput::create(stdfs::path(name).extension().string().substr(1));  // that reader only, as btf-pca
+                    if (!in || !in->open(name, spec, config))
+                        throw inlight::Error(path + ": " + name + ": cannot open: " + (in ? in->geterror() : OIIO::geterror()));
+                    codes.resize(spec.image_bytes(true));
+                    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeUnknown, codes.data()))
+                        throw inlight::Error(path + ": " + name + ": cannot decode: " + in->geterror());
+                    x[0] += double(spec.image_pixels()) * spec.nchannels;
+                    x[1] += double(bytes.size());
+                }
+                return x;
+            },
+            [](Sums a, const Sums& b) { return Sums{a[0] + b[0], a[1] + b[1]}; });
+        const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double cpu_s = double(std::clock() - c0) / CLOCKS_PER_SEC;
+        std::printf("{\"path\": \"%s\", \"images\": %lld, \"samples\": %.0f, \"bytes_read\": %.0f, \"decode_s\": %.3f, "
+                    "\"decode_cpu_s\": %.3f, \"threads\": %d}\n",
+                    path.c_str(), static_cast<long long>(n), sums[0], sums[1], wall_s, cpu_s,
+                    inlight::parallel::thread_count());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "btf_bench --decode-floor: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     if (argc >= 2 && std::strcmp(argv[1], "--write-ubo2003") == 0) return write_ubo2003_main(argc, argv);
+    if (argc >= 2 && std::strcmp(argv[1], "--decode-floor") == 0) return decode_floor_main(argc, argv);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();

@@ -5,8 +5,8 @@
 # (pipelines/render-convergence.sh), and btf-pca end to end on a Bonn-size folder of PNGs
 # (pipelines/btf-pca-bench.sh). Figures are recorded in docs/benchmarks.md.
 #   pipelines/bench.sh [BUILD]
-# BTF_PCA_BENCH_ARGS="SIDE_PX DIRECTIONS K C" sizes the btf-pca run (default "256 81 1 8", Bonn
-# size: 6561 PNGs written once into BUILD/btf-pca-bench; e.g. "64 27 1 8" for a quick one).
+# BTF_PCA_BENCH_ARGS="SIDE_PX DIRECTIONS K C" sizes the btf-pca run (default "256 81 3 8", Bonn
+# size: 6561 PNGs written once into BUILD/btf-pca-bench; e.g. "64 27 3 8" for a quick one).
 # BTF_GLES_BENCH_SIDE_PX sizes btf_gles_bench's fabric (default 256, about a minute of btf-pca
 # before its table; 128 for a quicker run).
 set -euo pipefail
@@ -49,8 +49,8 @@ fi
 # the btf_bench figure's BTF written as real PNGs, then decoded and compressed by the tool.
 if [ -x "$BUILD/bin/btf-pca" ] && [ -x "$BUILD/bench/btf_bench" ]; then
     echo
-    echo "== btf-pca-bench (btf_bench --write-ubo2003, then btf-pca under /usr/bin/time -v)"
+    echo "== btf-pca-bench (btf_bench --write-ubo2003; btf-pca under /usr/bin/time -v against btf_bench --decode-floor)"
     # shellcheck disable=SC2086 # the arguments are a list of words
     INLIGHT_BIN="$BUILD/bin" BTF_BENCH="$BUILD/bench/btf_bench" "$HERE/btf-pca-bench.sh" \
-        "$BUILD/btf-pca-bench" ${BTF_PCA_BENCH_ARGS:-256 81 1 8}
+        "$BUILD/btf-pca-bench" ${BTF_PCA_BENCH_ARGS:-256 81 3 8}
 fi

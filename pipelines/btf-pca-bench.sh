@@ -1,26 +1,30 @@
 #!/usr/bin/env bash
-# btf-pca end to end (docs/benchmarks.md): `btf_bench --write-ubo2003` writes the
-# benchmark's BTF (the analytic BTF of btf_bench's in-process figure, rank RANK at scale SCALE,
-# clipped at 1) as a UBO2003 folder of real 8-bit sRGB PNGs, one folder per view as Bonn ships,
-# then the btf-pca tool compresses it under `/usr/bin/time -v`, decoding every PNG: wall, CPU and
-# peak RSS of the whole process, and the tool's own split (decode, fit, store, measure) from its
-# JSON report. Defaults: Bonn size (81 x 81 directions, 256 x 256 px: 6561 PNGs) with the
-# in-process figure's k = 1, C = 8 on 2 threads. Long at Bonn size (a minute or more): run it
-# under nice on a shared machine.
+# btf-pca end to end against its decode floor (docs/benchmarks.md): `btf_bench --write-ubo2003`
+# writes the benchmark's BTF (the analytic BTF of btf_bench's in-process figure, rank RANK at
+# scale SCALE, clipped at 1) as a UBO2003 folder of real 8-bit sRGB PNGs, one folder per view as
+# Bonn ships, and zips it as Bonn distributes it (stored: the PNGs are deflated already). In
+# one run: the decode floor (`btf_bench --decode-floor`: every PNG of the zip decoded to its
+# 8-bit codes by the same decoder, on the same threads, and nothing else), then btf-pca
+# compressing the zip under `/usr/bin/time -v` (wall, CPU and peak RSS of the whole process,
+# and the tool's own split: decode, fit, store, measure from its JSON report), then the floor
+# again; the ratio is the tool's wall time over the mean of the two floors. Defaults: Bonn size
+# (81 x 81 directions, 256 x 256 px: 6561 PNGs) with the tool's defaults k = 3, C = 8, on 2
+# threads. Long at Bonn size (a minute or more): run it under nice on a shared machine.
 #   pipelines/btf-pca-bench.sh OUT_DIR [SIDE_PX] [DIRECTIONS] [K] [C]
 # DIRECTIONS < 81 takes every (81/DIRECTIONS)-th dome direction for lights and views (a small
 # size for tests). Environment: RANK (6), SCALE (4), THREADS (2), INLIGHT_BIN (the tools),
 # BTF_BENCH (btf_bench; default INLIGHT_BIN/../bench/btf_bench).
-# The folder is OUT_DIR/btf, made once per (size, directions, rank, scale) and reused (its
-# generator.json says how it was made, with its 8-bit quantisation error); OUT_DIR/pca is the
-# tool's output, OUT_DIR/btf-pca.json its report, OUT_DIR/time.txt the `time -v` output.
+# The folder is OUT_DIR/btf and its zip OUT_DIR/btf.zip, made once per (size, directions, rank,
+# scale) and reused (generator.json says how they were made, with the 8-bit quantisation
+# error); OUT_DIR/pca is the tool's output, OUT_DIR/btf-pca.json its report, OUT_DIR/time.txt
+# the `time -v` output, OUT_DIR/floor-1.json and floor-2.json the two floors.
 set -euo pipefail
 # shellcheck source=pipelines/lib.sh
 . "$(dirname "$0")/lib.sh"
 usage_unless $# 1 5 "OUT_DIR [SIDE_PX] [DIRECTIONS] [K] [C]"
 SIDE=${2:-256}
 DIRS=${3:-81}
-K=${4:-1}
+K=${4:-3}
 C=${5:-8}
 RANK=${RANK:-6}
 SCALE=${SCALE:-4}
@@ -51,11 +55,11 @@ want=$(jq -nc --argjson s "$SIDE" --argjson d "$DIRS" --argjson r "$RANK" --argj
     '{side_px: $s, directions: $d, rank: $r, scale: $c}')
 have=$(jq -c '{side_px, directions, rank, scale}' "$GENJSON" 2>/dev/null || echo none)
 echo "btf-pca-bench: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), load $(cut -d' ' -f1-3 /proc/loadavg), $(date -u '+%F %H:%M') UTC, commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [ "$want" = "$have" ] && [ -d "$BTF" ]; then
+if [ "$want" = "$have" ] && [ -d "$BTF" ] && [ -f "$BTF.zip" ]; then
     reused=" (made earlier, reused)"
 else
     reused=""
-    rm -rf "$BTF" "$BTF.directions.txt" "$GENJSON"
+    rm -rf "$BTF" "$BTF.directions.txt" "$BTF.zip" "$GENJSON"
     # The PNGs of smooth images are smaller than the raw 8-bit samples; ask for the raw size.
     need_kb=$(( DIRS * DIRS * SIDE * SIDE * 3 / 1024 + 1024 ))
     avail_kb=$(df -Pk "$OUT" | awk 'NR == 2 { print $4 }')
@@ -65,6 +69,8 @@ else
     fi
     "$GEN" --write-ubo2003 "$BTF" --side-px "$SIDE" --directions "$DIRS" --rank "$RANK" --scale "$SCALE" \
         --check >"$GENJSON.tmp"
+    (cd "$BTF" && zip -q -r -0 ../btf.zip.tmp .)
+    mv "$BTF.zip.tmp" "$BTF.zip"
     mv "$GENJSON.tmp" "$GENJSON"
 fi
 jq -r --arg reused "$reused" '"generated: \(.images) PNGs of \(.side_px) x \(.side_px) px, 8-bit sRGB (\(.directions) x \(.directions) directions, rank \(.rank), scale \(.scale), clipped at 1), \(.stored_bytes / 1048576 * 10 | round / 10) MiB, in \(.write_s) s wall / \(.write_cpu_s) CPU s\($reused); the 8-bit files differ from the analytic values by \(.check.rmse_linear) RMS (linear)"' "$GENJSON"
@@ -73,8 +79,10 @@ DIRARGS=()
 if [ "$DIRS" -lt 81 ]; then DIRARGS=(--light-directions "$BTF.directions.txt" --view-directions "$BTF.directions.txt"); fi
 rm -rf "$OUT/pca"
 load_before=$(cut -d' ' -f1 /proc/loadavg)
-/usr/bin/time -v -o "$OUT/time.txt" "$BIN/btf-pca" compress "$BTF" -o "$OUT/pca" -k "$K" -c "$C" --threads "$THREADS" \
+"$GEN" --decode-floor "$BTF.zip" --threads "$THREADS" >"$OUT/floor-1.json"
+/usr/bin/time -v -o "$OUT/time.txt" "$BIN/btf-pca" compress "$BTF.zip" -o "$OUT/pca" -k "$K" -c "$C" --threads "$THREADS" \
     "${DIRARGS[@]}" --report "$OUT/btf-pca.json" -q
+"$GEN" --decode-floor "$BTF.zip" --threads "$THREADS" >"$OUT/floor-2.json"
 load_after=$(cut -d' ' -f1 /proc/loadavg)
 
 # time -v: "Elapsed (wall clock) time (h:mm:ss or m:ss): 1:02.31" and "Name: value" lines.
@@ -90,3 +98,7 @@ jq -r --arg wall "$wall" --arg user "$user" --arg sys "$sys" --arg rss "$rss_kb"
     "  split (the tool'"'"'s report): decode \(r($m.time.read_s)) s wall / \(r($m.time.read_cpu_s)) CPU s, fit \(r($m.time.fit_s)) s / \(r($m.time.fit_cpu_s)) CPU s, store \(r($m.time.store_s)) s, measure \(r($m.time.measure_s)) s; the tool'"'"'s total \(r($m.time.total_s)) s",
     "  \($m.pca.groups) groups, \($m.pca.components_total) components (\($m.pca.methods | tostring)), \($m.memory.fit); RMSE (linear) \($m.error.rmse_linear_unquantised) unquantised, \($m.error.rmse_linear) stored; MAE Lab \(r($m.error.mae_lab)), 1:\($m.compression_ratio.raw_8bit_to_stored | . * 10 | round / 10) of the raw 8-bit samples"' \
     "$OUT/btf-pca.json"
+jq -rs --arg wall "$wall" --arg th "$THREADS" 'def r(x): x * 1000 | round / 1000;
+    ((.[0].decode_s + .[1].decode_s) / 2) as $floor |
+    "  decode floor (btf_bench --decode-floor, the same zip, \($th) threads: \(.[0].images) PNGs to 8-bit codes): \(r(.[0].decode_s)) s wall / \(r(.[0].decode_cpu_s)) CPU s before the tool, \(r(.[1].decode_s)) s / \(r(.[1].decode_cpu_s)) CPU s after; btf-pca / floor = \(($wall | tonumber) / $floor | . * 100 | round / 100) x wall (goal: at most 2 x)"' \
+    "$OUT/floor-1.json" "$OUT/floor-2.json"

@@ -26,6 +26,12 @@ out=$(cat "$WORK/stdout")
 expect_true "the summary gives wall, CPU, peak RSS and the decode/fit split" -- \
     grep -qE 'decoding 81 PNGs\): [0-9.]+ s wall, [0-9.]+ CPU s .*peak RSS [0-9]+ MiB' <<<"$out"
 expect_true "... and the split" -- grep -qE 'split .*: decode [0-9.e-]+ s wall / [0-9.e-]+ CPU s, fit ' <<<"$out"
+expect_true "... and the decode floor of the same zip with the ratio" -- \
+    grep -qE 'decode floor .*81 PNGs to 8-bit codes\): [0-9.]+ s wall .* btf-pca / floor = [0-9.]+ x wall' <<<"$out"
+# The floor decoded every image of the zip the tool read: 81 images of 16 x 16 x 3 samples.
+expect_true "both floors decoded the 81 PNGs of btf.zip, 81 x 16 x 16 x 3 samples" -- jq -se \
+    'length == 2 and all(.[]; .images == 81 and .samples == 81 * 16 * 16 * 3 and (.path | endswith("btf.zip")))' \
+    "$WORK/b/floor-1.json" "$WORK/b/floor-2.json"
 G="$WORK/b/generator.json"
 REP="$WORK/b/btf-pca.json"
 expect_true "81 PNG files in 9 per-view folders, UBO2003 names" -- bash -c \
@@ -64,6 +70,17 @@ expect_stderr "SIDE_PX 16x" "the bad argument is named"
 expect_true "nothing made after a bad argument" -- test ! -e "$WORK/bad"
 expect_exit 2 "generator: --rank 7" -- "$BTF_BENCH" --write-ubo2003 "$WORK/g7" --rank 7
 expect_stderr "rank" "the generator names the option"
+expect_exit 2 "decode floor: an unknown option" -- "$BTF_BENCH" --decode-floor "$WORK/b/btf.zip" --fast
+expect_stderr "--fast: unknown option" "the floor names the option"
+expect_exit 2 "decode floor: --threads x" -- "$BTF_BENCH" --decode-floor "$WORK/b/btf.zip" --threads x
+expect_stderr "--threads x" "the floor names the bad value"
+mkdir -p "$WORK/bad-png/tv000_pv000"
+printf 'not a png' >"$WORK/bad-png/tv000_pv000/tl000 pl000 tv000 pv000.png"
+expect_exit 1 "decode floor: a file that does not decode" -- "$BTF_BENCH" --decode-floor "$WORK/bad-png"
+expect_stderr "tl000 pl000 tv000 pv000.png" "the floor names the file"
+mkdir -p "$WORK/no-images"
+expect_exit 1 "decode floor: a folder without images" -- "$BTF_BENCH" --decode-floor "$WORK/no-images"
+expect_stderr "no images" "the floor says why"
 expect_exit 1 "generator: an existing folder is not overwritten" -- "$BTF_BENCH" --write-ubo2003 "$BTF" --side-px 4 --directions 2
 expect_stderr "exists" "the generator refuses an existing folder"
 expect_true "the existing folder is untouched" -- test "$(find "$BTF" -name '*.png' | wc -l)" -eq 81
