@@ -31,7 +31,7 @@ using Clock = std::chrono::steady_clock;
 int64_t rows_per_block(int64_t cols) { return std::clamp<int64_t>((int64_t(1) << 20) / std::max<int64_t>(cols, 1), 16, 2048); }
 
 /// Sum of x[i]^2 in double, in four interleaved partial sums (vectorised; the order is fixed).
-double sum_squares(const float* x, int64_t n) {
+inline __attribute__((always_inline)) double sum_squares(const float* x, int64_t n) {
     double lane[4] = {0, 0, 0, 0};
     int64_t i = 0;
     for (; i + 4 <= n; i += 4)
@@ -39,6 +39,34 @@ double sum_squares(const float* x, int64_t n) {
     double sum = (lane[0] + lane[1]) + (lane[2] + lane[3]);
     for (; i < n; ++i) sum += double(x[i]) * double(x[i]);
     return sum;
+}
+
+/// The exact errors of one column's rows after 0..C components of the stored model: `err` (n
+/// floats) starts as the centred column x plus the mean's quantisation dm and loses one
+/// component (basis[c] x w[c * ldw]) at a time; s[c] += its energy after c components, and the
+/// absolute sum and largest magnitude of the last residual are returned. An AVX2 clone where
+/// the CPU has it (no fused multiply-add, and the sums' lanes fixed: the same bits).
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void residual_energies(const float* x, const float* dm, int64_t n, const float* const* basis, const float* w, int64_t ldw,
+                       int C, float* err, double* s, double& abs_sum, float& worst) {
+    for (int64_t p = 0; p < n; ++p) err[p] = x[p] + dm[p];
+    s[0] += sum_squares(err, n);
+    for (int c = 0; c < C; ++c) {
+        const float wc = w[c * ldw];
+        const float* b = basis[c];
+        for (int64_t p = 0; p < n; ++p) err[p] -= b[p] * wc;
+        s[c + 1] += sum_squares(err, n);
+    }
+    double lane[4] = {0, 0, 0, 0};  // as sum_squares
+    int64_t p = 0;
+    for (; p + 4 <= n; p += 4)
+        for (int k = 0; k < 4; ++k) lane[k] += std::fabs(double(err[p + k]));
+    double sum = (lane[0] + lane[1]) + (lane[2] + lane[3]);
+    for (; p < n; ++p) sum += std::fabs(double(err[p]));
+    for (p = 0; p < n; ++p) worst = std::max(worst, std::fabs(err[p]));
+    abs_sum += sum;
 }
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -364,11 +392,23 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
         };
         // One quantisation step for the group's components: their C P values.
         const float step = o.quant_noise > 0 && C > 0 ? noise_step(double(C) * double(P)) : 0.0f;
-        for (int c = 0; c < C; ++c) {
-            bytes = thesis_codec ? encode_codes(th.u_codes[size_t(c)].data(), shape.width, shape.height, th.basis_scale(c),
-                                                th.basis_offset(c), group_file(fit.index, c, ext), meta, q.basis.col(c).data())
+        // The component images are encoded in parallel (each its own file and column of q),
+        // then written and recorded in order.
+        std::vector<std::string> encoded(static_cast<size_t>(C));
+        std::vector<StoredImage> metas(static_cast<size_t>(C));
+        parallel::for_chunks(C, 1, [&](int64_t b, int64_t e) {
+            for (int64_t i = b; i < e; ++i) {
+                const int c = int(i);
+                encoded[size_t(c)] =
+                    thesis_codec ? encode_codes(th.u_codes[size_t(c)].data(), shape.width, shape.height, th.basis_scale(c),
+                                                th.basis_offset(c), group_file(fit.index, c, ext), metas[size_t(c)], q.basis.col(c).data())
                                  : encode_column(pca.basis.col(c).data(), shape.width, shape.height, o.encoding,
-                                                 group_file(fit.index, c, ext), meta, q.basis.col(c).data(), step);
+                                                 group_file(fit.index, c, ext), metas[size_t(c)], q.basis.col(c).data(), step);
+            }
+        });
+        for (int c = 0; c < C; ++c) {
+            bytes = std::move(encoded[size_t(c)]);
+            meta = metas[size_t(c)];
             rec.component_bytes.push_back(bytes.size());
             rec.energy.push_back(pca.component_energy(c));
             write_file(meta.file, bytes, "btf_pca_component");
@@ -409,8 +449,15 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
             return uint64_t(encode_codes(codes, w, h, 1.0f, 0.0f, "t.png", unused, values.data()).size());
         };
         thesis_mean_bytes += thesis_codec ? rec.mean_bytes : png_bytes(th.mean_codes.data(), shape.width, shape.height);
-        for (int c = 0; c < C; ++c)
-            thesis_u_bytes += thesis_codec ? rec.component_bytes[size_t(c)] : png_bytes(th.u_codes[size_t(c)].data(), shape.width, shape.height);
+        if (thesis_codec) {
+            for (int c = 0; c < C; ++c) thesis_u_bytes += rec.component_bytes[size_t(c)];
+        } else {
+            std::vector<uint64_t> u_bytes(static_cast<size_t>(C));
+            parallel::for_chunks(C, 1, [&](int64_t b, int64_t e) {
+                for (int64_t c = b; c < e; ++c) u_bytes[size_t(c)] = png_bytes(th.u_codes[size_t(c)].data(), shape.width, shape.height);
+            });
+            for (uint64_t x : u_bytes) thesis_u_bytes += x;
+        }
         if (C > 0) {
             std::vector<uint8_t> v_image;
             for (const auto& col : th.v_codes) v_image.insert(v_image.end(), col.begin(), col.end());
@@ -444,23 +491,13 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                     std::vector<double> s(size_t(C) + 3, 0.0);
                     const int64_t n = e - b;
                     std::vector<float> err(static_cast<size_t>(n));
-                    const float* dm = dmean.data() + b;
+                    std::vector<const float*> basis(size_t(C) + 1);
+                    for (int c = 0; c < C; ++c) basis[size_t(c)] = q.basis.col(c).data() + b;
                     float worst = 0;
                     for (int64_t j = 0; j < nb; ++j) {
-                        const float* x = blk.col(j).data() + b;
-                        for (int64_t p = 0; p < n; ++p) err[size_t(p)] = x[p] + dm[p];
-                        s[0] += sum_squares(err.data(), n);
-                        for (int c = 0; c < C; ++c) {
-                            const float w = q.weights(j0 + j, c);
-                            const float* basis = q.basis.col(c).data() + b;
-                            for (int64_t p = 0; p < n; ++p) err[size_t(p)] -= basis[p] * w;
-                            s[size_t(c) + 1] += sum_squares(err.data(), n);
-                        }
                         double abs_sum = 0;
-                        for (int64_t p = 0; p < n; ++p) {
-                            abs_sum += std::fabs(double(err[size_t(p)]));
-                            worst = std::max(worst, std::fabs(err[size_t(p)]));
-                        }
+                        residual_energies(blk.col(j).data() + b, dmean.data() + b, n, basis.data(), q.weights.data() + j0 + j,
+                                          q.weights.rows(), C, err.data(), s.data(), abs_sum, worst);
                         s[size_t(C) + 1] += abs_sum;
                     }
                     s[size_t(C) + 2] = double(worst);
