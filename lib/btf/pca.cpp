@@ -883,6 +883,7 @@ CompressStats compress_btf(const BtfSource& source, const PcaOptions& options,
         const std::clock_t c0 = std::clock();
         auto cpu_since = [](std::clock_t c) { return double(std::clock() - c) / CLOCKS_PER_SEC; };
         if (options.stream_views > 0 && groups[gi].size() > static_cast<size_t>(options.stream_views)) {
+            buffer = Eigen::MatrixXf();  // a streamed group's memory plan holds no whole group
             StreamStats st;
             fit.pca = fit_group_streamed(source, groups[gi], options, gi, &st);
             stats.read_time_s += st.read_time_s;
