@@ -164,7 +164,6 @@ constexpr int64_t kSketchStrips = 2;  // 16 rows of A X per walk across the colu
 constexpr int64_t kSketchCols = 6;    // columns of X per walk: 12 accumulators and 3 more registers
                                       // (AVX2 has 16; measured best of 4x3, 4x2, 3x4, 2x4, 2x6)
 
-
 /// y(r, c) += sum over j in order of a(r, j) x(j, c), rows [r0, r1), each sum carried on from
 /// y's value (so a product split into blocks of columns, out of core, gives the same bits).
 inline __attribute__((always_inline)) void sketch_times_body(const float* a, int64_t lda, int64_t r0, int64_t r1, int64_t n,
