@@ -30,43 +30,40 @@ using Clock = std::chrono::steady_clock;
 
 int64_t rows_per_block(int64_t cols) { return std::clamp<int64_t>((int64_t(1) << 20) / std::max<int64_t>(cols, 1), 16, 2048); }
 
-/// Sum of x[i]^2 in double, in four interleaved partial sums (vectorised; the order is fixed).
-inline __attribute__((always_inline)) double sum_squares(const float* x, int64_t n) {
+/// Sum of f(double(x[i])) in four interleaved partial sums (vectorised; the order is fixed).
+template <typename F>
+inline __attribute__((always_inline)) double lane_sum(const float* x, int64_t n, F f) {
     double lane[4] = {0, 0, 0, 0};
     int64_t i = 0;
     for (; i + 4 <= n; i += 4)
-        for (int k = 0; k < 4; ++k) lane[k] += double(x[i + k]) * double(x[i + k]);
+        for (int k = 0; k < 4; ++k) lane[k] += f(double(x[i + k]));
     double sum = (lane[0] + lane[1]) + (lane[2] + lane[3]);
-    for (; i < n; ++i) sum += double(x[i]) * double(x[i]);
+    for (; i < n; ++i) sum += f(double(x[i]));
     return sum;
 }
 
 /// The exact errors of one column's rows after 0..C components of the stored model: `err` (n
 /// floats) starts as the centred column x plus the mean's quantisation dm and loses one
-/// component (basis[c] x w[c * ldw]) at a time; s[c] += its energy after c components, and the
-/// absolute sum and largest magnitude of the last residual are returned. An AVX2 clone where
-/// the CPU has it (no fused multiply-add, and the sums' lanes fixed: the same bits).
+/// component (basis[c] x w[c * ldw]) at a time. Adds its energy after c components to s[c],
+/// the last residual's absolute sum to s[C + 1], and keeps its largest magnitude in `worst`.
+/// An AVX2 clone where the CPU has it (no fused multiply-add, and the sums' lanes fixed: the
+/// same bits).
 #if defined(__x86_64__) && defined(__GNUC__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 void residual_energies(const float* x, const float* dm, int64_t n, const float* const* basis, const float* w, int64_t ldw,
-                       int C, float* err, double* s, double& abs_sum, float& worst) {
+                       int C, float* err, double* s, float& worst) {
+    const auto square = [](double v) { return v * v; };
     for (int64_t p = 0; p < n; ++p) err[p] = x[p] + dm[p];
-    s[0] += sum_squares(err, n);
+    s[0] += lane_sum(err, n, square);
     for (int c = 0; c < C; ++c) {
         const float wc = w[c * ldw];
         const float* b = basis[c];
         for (int64_t p = 0; p < n; ++p) err[p] -= b[p] * wc;
-        s[c + 1] += sum_squares(err, n);
+        s[c + 1] += lane_sum(err, n, square);
     }
-    double lane[4] = {0, 0, 0, 0};  // as sum_squares
-    int64_t p = 0;
-    for (; p + 4 <= n; p += 4)
-        for (int k = 0; k < 4; ++k) lane[k] += std::fabs(double(err[p + k]));
-    double sum = (lane[0] + lane[1]) + (lane[2] + lane[3]);
-    for (; p < n; ++p) sum += std::fabs(double(err[p]));
-    for (p = 0; p < n; ++p) worst = std::max(worst, std::fabs(err[p]));
-    abs_sum += sum;
+    s[C + 1] += lane_sum(err, n, [](double v) { return std::fabs(v); });
+    for (int64_t p = 0; p < n; ++p) worst = std::max(worst, std::fabs(err[p]));
 }
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -491,15 +488,12 @@ nlohmann::json compress_to_folder(const BtfSource& source, const PcaRunOptions& 
                     std::vector<double> s(size_t(C) + 3, 0.0);
                     const int64_t n = e - b;
                     std::vector<float> err(static_cast<size_t>(n));
-                    std::vector<const float*> basis(size_t(C) + 1);
+                    std::vector<const float*> basis(static_cast<size_t>(C));
                     for (int c = 0; c < C; ++c) basis[size_t(c)] = q.basis.col(c).data() + b;
                     float worst = 0;
-                    for (int64_t j = 0; j < nb; ++j) {
-                        double abs_sum = 0;
+                    for (int64_t j = 0; j < nb; ++j)
                         residual_energies(blk.col(j).data() + b, dmean.data() + b, n, basis.data(), q.weights.data() + j0 + j,
-                                          q.weights.rows(), C, err.data(), s.data(), abs_sum, worst);
-                        s[size_t(C) + 1] += abs_sum;
-                    }
+                                          q.weights.rows(), C, err.data(), s.data(), worst);
                     s[size_t(C) + 2] = double(worst);
                     return s;
                 },

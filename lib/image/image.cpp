@@ -265,14 +265,10 @@ const CodeTables& code_tables() {
 /// img's samples from its codes, sRGB-decoded when `decode` (alpha as stored).
 template <typename Code>
 void map_codes(const Code* codes, const CodeTables& t, bool decode, Image& img) {
-    const size_t n = size_t(img.channels), count = img.pixels.size();
+    const int n = img.channels;
     const float* colour = decode ? t.linear.data() : t.stored.data();
-    float* out = img.pixels.data();
-    if (!decode || !(n == 2 || n == 4)) {
-        for (size_t i = 0; i < count; ++i) out[i] = colour[codes[i]];
-        return;
-    }
-    for (size_t i = 0; i < count; ++i) out[i] = (i % n == n - 1 ? t.stored.data() : colour)[codes[i]];
+    for (size_t i = 0; i < img.pixels.size(); ++i)
+        img.pixels[i] = (is_alpha(int(i % size_t(n)), n) ? t.stored.data() : colour)[codes[i]];
 }
 
 constexpr double kMaxSamples = 4.0e9;  // 16 GB of floats: beyond this the header is corrupt
@@ -320,11 +316,11 @@ Image read_from(const std::string& path, const ReadOptions& options,
     Image img(spec.width, spec.height, spec.nchannels);
     // Read the stored type (TypeUnknown), then convert: asked for any named type, even the
     // stored one (measured), OIIO 2.4's read_scanlines allocates a 64 MiB staging buffer
-    // whatever the image's size (an mmap and munmap per file,
-    // which made a BTF of 6561 small images spend most of its time in the kernel). The
-    // conversion is OIIO's own, as inside read_image. Files with a type per channel, and those
-    // whose stored pixels exceed that buffer (a large HDRI: a copy of it would cost more memory
-    // than OIIO's staging), are read as float directly.
+    // whatever the image's size (an mmap and munmap per file, which made a BTF of 6561 small
+    // images spend most of its time in the kernel). The conversion is OIIO's own, as inside
+    // read_image. Files with a type per channel, and those whose stored pixels exceed that
+    // buffer (a large HDRI: a copy of it would cost more memory than OIIO's staging), are read
+    // as float directly.
     constexpr double kStagingBytes = 64.0 * 1024 * 1024;
     const double stored_bytes = samples * static_cast<double>(spec.format.size());
     bool read = false, decoded = false;
